@@ -1,0 +1,188 @@
+#include "contact/collision_world.h"
+
+#include "contact/narrow_phase.h"
+
+#include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/narrowphase/collision_object.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace csim {
+
+namespace {
+
+// An FCL collision object whose world AABB we set ourselves: the tight box of the shape widened by the
+// margin (FCL's computeAABB() bounds a rotated shape by its circumscribed sphere, and has no margin).
+class MarginCollisionObject : public fcl::CollisionObjectd {
+ public:
+  explicit MarginCollisionObject(const std::shared_ptr<fcl::CollisionGeometryd>& geometry)
+      : fcl::CollisionObjectd(geometry) {}
+
+  void set_world_aabb(const Eigen::Vector3d& centre, const Eigen::Vector3d& half_size) {
+    aabb.min_ = centre - half_size;
+    aabb.max_ = centre + half_size;
+  }
+};
+
+// Half size (m) of the world AABB of a sphere or box at `pose`.
+Eigen::Vector3d world_half_size(const Shape& shape, const Eigen::Isometry3d& pose) {
+  if (const auto* box = std::get_if<Box>(&shape)) {
+    return pose.linear().cwiseAbs() * box->half_extents;
+  }
+  return Eigen::Vector3d::Constant(std::get<Sphere>(shape).radius);
+}
+
+void* id_as_user_data(int id) { return reinterpret_cast<void*>(static_cast<std::intptr_t>(id)); }
+int id_of(const fcl::CollisionObjectd* object) {
+  return static_cast<int>(reinterpret_cast<std::intptr_t>(object->getUserData()));
+}
+
+void check_shape(const Shape& shape, bool fixed) {
+  if (const auto* sphere = std::get_if<Sphere>(&shape)) {
+    if (!(sphere->radius > 0.0)) throw std::invalid_argument("Sphere radius must be > 0");
+  } else if (const auto* box = std::get_if<Box>(&shape)) {
+    if (!(box->half_extents.minCoeff() > 0.0)) throw std::invalid_argument("Box half extents must be > 0");
+  } else {
+    if (!(std::get<Halfspace>(shape).normal.norm() > 0.0)) {
+      throw std::invalid_argument("Halfspace normal must be non-zero");
+    }
+    // Halfspace pairs are only formed with non-fixed objects (see collision_world.h).
+    if (!fixed) throw std::invalid_argument("a Halfspace must be on a fixed body");
+  }
+}
+
+// Unit normal, offset scaled alike: the same solid, and the narrow phase may assume |n| = 1.
+Shape normalised(Shape shape) {
+  if (auto* halfspace = std::get_if<Halfspace>(&shape)) {
+    const double norm = halfspace->normal.norm();
+    halfspace->normal /= norm;
+    halfspace->offset /= norm;
+  }
+  return shape;
+}
+
+}  // namespace
+
+struct CollisionWorld::Impl {
+  struct Object {
+    ShapeInstance instance;
+    int body = -1;
+    bool fixed = false;
+    std::unique_ptr<MarginCollisionObject> fcl_object;  // null for halfspaces (kept out of the tree)
+  };
+
+  explicit Impl(bool planar_scene)
+      : planar(planar_scene),
+        narrow_phase(planar_scene),
+        manager(std::make_unique<fcl::DynamicAABBTreeCollisionManagerd>()) {}
+
+  bool can_collide(int a, int b) const {
+    const Object& oa = objects[a];
+    const Object& ob = objects[b];
+    return oa.body != ob.body && !(oa.fixed && ob.fixed);
+  }
+
+  void refresh_aabb(Object& object) const {
+    object.fcl_object->set_world_aabb(
+        object.instance.pose.translation(),
+        world_half_size(object.instance.shape, object.instance.pose).array() + margin);
+  }
+
+  void gather_candidate_pairs() const;
+  static bool gather_pair(fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data);
+
+  bool planar;
+  double margin = 0.0;  // m, of the last update()
+  std::vector<Object> objects;
+  std::vector<int> halfspaces;      // ids, all fixed
+  std::vector<int> moving_in_tree;  // ids of non-fixed spheres and boxes
+  mutable NarrowPhase narrow_phase;
+  std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
+  mutable std::vector<std::pair<int, int>> candidates;  // (lower id, higher id), scratch
+};
+
+// FCL's pair callback (data: the Impl); returning false asks the manager for the remaining pairs.
+bool CollisionWorld::Impl::gather_pair(fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2,
+                                       void* data) {
+  const auto& world = *static_cast<const Impl*>(data);
+  const int a = id_of(o1);
+  const int b = id_of(o2);
+  if (world.can_collide(a, b)) world.candidates.emplace_back(std::min(a, b), std::max(a, b));
+  return false;
+}
+
+void CollisionWorld::Impl::gather_candidate_pairs() const {
+  candidates.clear();
+  manager->collide(const_cast<Impl*>(this), &gather_pair);
+  // Halfspaces have infinite AABBs, which FCL 0.7's DynamicAABBTree cannot hold (its tree build and
+  // rebalancing crash on them), so each is paired with every moving object directly; the pair
+  // function culls far objects exactly and cheaply.
+  for (int h : halfspaces) {
+    for (int m : moving_in_tree) {
+      if (can_collide(h, m)) candidates.emplace_back(std::min(h, m), std::max(h, m));
+    }
+  }
+  // The manager reports pairs in hash-table order: sort for deterministic results.
+  std::sort(candidates.begin(), candidates.end());
+}
+
+CollisionWorld::CollisionWorld(bool planar) : impl_(std::make_unique<Impl>(planar)) {}
+
+CollisionWorld::~CollisionWorld() = default;
+
+int CollisionWorld::add_object(int body, const Shape& shape, bool fixed) {
+  check_shape(shape, fixed);
+  const int id = object_count();
+  Impl::Object& object = impl_->objects.emplace_back();
+  object.instance.id = id;
+  object.instance.shape = normalised(shape);
+  object.instance.geometry = make_fcl_geometry(shape);
+  object.body = body;
+  object.fixed = fixed;
+  if (std::holds_alternative<Halfspace>(shape)) {
+    impl_->halfspaces.push_back(id);
+    return id;
+  }
+  object.fcl_object = std::make_unique<MarginCollisionObject>(object.instance.geometry);
+  object.fcl_object->setUserData(id_as_user_data(id));
+  impl_->refresh_aabb(object);
+  impl_->manager->registerObject(object.fcl_object.get());
+  if (!fixed) impl_->moving_in_tree.push_back(id);
+  return id;
+}
+
+void CollisionWorld::set_pose(int object, const Eigen::Isometry3d& pose) {
+  Impl::Object& o = impl_->objects.at(object);
+  o.instance.pose = pose;
+  if (o.fcl_object) o.fcl_object->setTransform(pose);
+}
+
+void CollisionWorld::update(double margin) {
+  impl_->margin = margin;
+  for (Impl::Object& object : impl_->objects) {
+    if (object.fcl_object) impl_->refresh_aabb(object);
+  }
+  impl_->manager->update();
+}
+
+void CollisionWorld::find_contacts(std::vector<ContactPoint>& out) const {
+  out.clear();
+  impl_->gather_candidate_pairs();
+  for (const auto& [a, b] : impl_->candidates) {
+    impl_->narrow_phase.collide(impl_->objects[a].instance, impl_->objects[b].instance,
+                                impl_->margin, out);
+  }
+  // Pairs come sorted and features ascend within a pair; the sort only guards that invariant.
+  std::sort(out.begin(), out.end(),
+            [](const ContactPoint& x, const ContactPoint& y) { return x.key < y.key; });
+}
+
+int CollisionWorld::body_of(int object) const { return impl_->objects.at(object).body; }
+
+int CollisionWorld::object_count() const { return static_cast<int>(impl_->objects.size()); }
+
+}  // namespace csim

@@ -1,0 +1,60 @@
+// Contact detection with FCL: a DynamicAABBTree collision manager for the broad phase, FCL queries
+// for the narrow phase, behind our own ContactPoint type (contact_point.h for the sign conventions).
+//
+// Contacts are wanted before they close (Moreau–Jean activation by predicted gap), so every object's
+// AABB is inflated by `margin` for the broad phase and the narrow phase reports pairs whose gap is
+// ≤ margin. The caller then keeps those whose predicted gap is ≤ 0.
+//
+// Manifolds: FCL returns one point per pair. A box resting flat on a halfspace needs its vertices, so
+// box–halfspace contacts are generated per box vertex (feature = vertex index; 4 in-plane corners in
+// plane scenes, 8 in 3D), each with its exact gap. The other pairs give one point (feature 0).
+//
+// Plane scenes (planar = true) live in z = 0 of FCL's 3D world: normals and points have z = 0.
+// Objects of the same body never collide, nor do two fixed objects.
+//
+// Halfspaces stay out of FCL's DynamicAABBTree: their AABB is infinite, and FCL 0.7 crashes building
+// or rebalancing a tree that holds one (tested in collision_world_test.cpp). Each halfspace (always
+// fixed) is paired directly with every non-fixed object; the closed-form pair functions cull far
+// objects exactly. Halfspace–halfspace pairs give nothing.
+//
+// find_contacts() is const but reuses internal scratch: one thread per CollisionWorld.
+#pragma once
+
+#include "contact/contact_point.h"
+#include "contact/shape.h"
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+namespace csim {
+
+class CollisionWorld {
+ public:
+  explicit CollisionWorld(bool planar);
+  ~CollisionWorld();
+  CollisionWorld(const CollisionWorld&) = delete;
+  CollisionWorld& operator=(const CollisionWorld&) = delete;
+
+  // Registers a shape carried by `body` (any id of the caller's; `fixed` bodies never move).
+  // Returns the object id (0, 1, 2, ... in call order).
+  int add_object(int body, const Shape& shape, bool fixed);
+
+  // World pose of the object's shape frame. Call for the moving objects, then update().
+  void set_pose(int object, const Eigen::Isometry3d& pose);
+
+  // Refreshes AABBs (inflated by margin, m) and the manager (FCL's update()).
+  void update(double margin);
+
+  // All contact points with gap ≤ margin (the margin of the last update), sorted by key.
+  void find_contacts(std::vector<ContactPoint>& out) const;
+
+  int body_of(int object) const;
+  int object_count() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace csim

@@ -1,0 +1,44 @@
+// A contact point between two collision objects, as returned by detection.
+//
+// Sign conventions (stated once, used everywhere):
+//   normal  : unit, pointing from object A to object B;
+//   gap     : signed distance along the normal, positive when open, negative when penetrating (m);
+//   point_a, point_b : the closest (or deepest) points on A's and B's surfaces, world frame (m), with
+//             point_b − point_a = gap·normal (exact for the analytic pairs);
+//   (normal, t1, t2) : right-handed orthonormal frame; in plane scenes t1 lies in the plane z = 0 and
+//             t2 = e_z is unused.
+#pragma once
+
+#include <Eigen/Dense>
+#include <compare>
+#include <cstdint>
+
+namespace csim {
+
+// Identity of a contact across steps (warm start, output, sorting): the two objects and the feature
+// that touches (the box vertex index for box–halfspace, whichever of the two is A; 0 for pairs with
+// one contact point). object_a < object_b.
+struct ContactKey {
+  int object_a = -1;
+  int object_b = -1;
+  int feature = 0;
+  auto operator<=>(const ContactKey&) const = default;
+};
+
+struct ContactPoint {
+  ContactKey key;
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d t1 = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d t2 = Eigen::Vector3d::UnitY();
+  double gap = 0.0;
+};
+
+// Completes (n, t1, t2). When `direction` has a component orthogonal to n, t1 is that component
+// normalised (anisotropic friction axes are given this way); otherwise a deterministic choice.
+// planar: t1 = e_z × n, t2 = e_z.
+void complete_frame(ContactPoint& contact, bool planar,
+                    const Eigen::Vector3d& direction = Eigen::Vector3d::Zero());
+
+}  // namespace csim

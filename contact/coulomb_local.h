@@ -1,0 +1,30 @@
+// Exact solution of the one-contact Coulomb problem u = W r + q (see friction_contact_problem.h for the
+// law and sign conventions). These are the local solves of projected Gauss–Seidel: with the other
+// contacts frozen, each contact's problem is solved exactly, not by a projection step.
+//
+// Method (enumeration of the three cases of the law, each solved in closed form or by a 1-D root):
+//   open  : r = 0 when q_n ≥ 0;
+//   stick : r = −W⁻¹q when r_n > 0 and r_t lies in the (elliptic) disk D(r_n);
+//   slip  : u_n = 0 and r_t = r_n·M s on the boundary of D, M = diag(μ1, μ2), |s| = 1, with s
+//           opposite to M u_t (maximal dissipation). In 2D, s = ±1 in closed form; in 3D, s = (cos φ,
+//           sin φ) is found as the root in φ of s × (M u_t(φ)) = 0 with s·(M u_t) < 0 (Newton from the
+//           decoupled guess, bracketed bisection as fallback). When W_nt = 0 and W_tt ∝ I (point masses)
+//           the first guess is exact.
+// μ = 0 (or μ_i = 0) reduces to the frictionless (or unidirectional) law exactly.
+#pragma once
+
+#include <Eigen/Dense>
+
+namespace csim {
+
+enum class ContactStatus { open, stick, slip };
+
+const char* to_string(ContactStatus status);
+
+// W must be symmetric with W(0,0) > 0. On return r holds the solution; the status says which case.
+ContactStatus solve_local_2d(const Eigen::Matrix2d& W, const Eigen::Vector2d& q, double mu,
+                             Eigen::Vector2d& r);
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r);
+
+}  // namespace csim

@@ -1,0 +1,180 @@
+#include "contact/friction_contact_problem.h"
+
+#include <charconv>
+#include <istream>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+
+// File layout (whitespace between tokens is free; one line per item for readability):
+//
+//   csim-friction-contact-problem 1
+//   dimension 3
+//   contacts 2
+//   equalities 1
+//   mu
+//   0.3 0.3
+//   0.1 0
+//   q
+//   q_0 q_1 ... q_{n-1}
+//   W
+//   W_00 ... W_0,n-1          (one row per line)
+//   ...
+//   end
+//
+// Numbers are written with std::to_chars' shortest round-trip form (never fewer digits than needed for
+// an exact round trip, so at most max_digits10 = 17 significant digits, and "0.3" rather than
+// "0.29999999999999999") and read with std::from_chars: both are locale-independent, and nan/inf
+// survive, so a problem that went wrong in a run replays bit for bit.
+
+namespace csim {
+namespace {
+
+constexpr const char* kKeyword = "csim-friction-contact-problem";
+constexpr int kVersion = 1;
+// A corrupt count must not turn into a multi-gigabyte allocation of W: 65536 rows is already 32 GiB.
+constexpr long long kMaxRows = 65536;
+
+std::string format_number(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  if (result.ec != std::errc()) throw std::runtime_error("write_problem: cannot format a number");
+  return std::string(buffer, result.ptr);
+}
+
+class TokenReader {
+ public:
+  explicit TokenReader(std::istream& in) : in_(in) {}
+
+  std::string next(const char* what) {
+    std::string token;
+    if (!(in_ >> token)) fail(std::string("unexpected end of input while reading ") + what);
+    return token;
+  }
+
+  void expect(const char* keyword) {
+    const std::string token = next(keyword);
+    if (token != keyword)
+      fail(std::string("expected keyword '") + keyword + "', found '" + token + "'");
+  }
+
+  double number(const char* what) {
+    const std::string token = next(what);
+    double value = 0.0;
+    const char* first = token.data();
+    const char* last = first + token.size();
+    // from_chars rejects a leading '+', which printf-style writers produce in exponents only.
+    const auto result = std::from_chars(first, last, value);
+    if (result.ec != std::errc() || result.ptr != last)
+      fail(std::string("malformed number '") + token + "' in " + what);
+    return value;
+  }
+
+  long long integer(const char* what) {
+    const std::string token = next(what);
+    long long value = 0;
+    const char* first = token.data();
+    const char* last = first + token.size();
+    const auto result = std::from_chars(first, last, value);
+    if (result.ec != std::errc() || result.ptr != last)
+      fail(std::string("malformed integer '") + token + "' for " + what);
+    return value;
+  }
+
+  [[noreturn]] void fail(const std::string& message) const {
+    throw std::runtime_error("read_problem: " + message);
+  }
+
+ private:
+  std::istream& in_;
+};
+
+void check_consistent(const FrictionContactProblem& problem) {
+  const auto fail = [](const std::string& message) {
+    throw std::runtime_error("write_problem: " + message);
+  };
+  if (problem.dimension != 2 && problem.dimension != 3)
+    fail("dimension must be 2 or 3, not " + std::to_string(problem.dimension));
+  if (problem.contacts < 0 || problem.equalities < 0) fail("negative contact or equality count");
+  const Eigen::Index n = problem.size();
+  if (problem.W.rows() != n || problem.W.cols() != n)
+    fail("W is " + std::to_string(problem.W.rows()) + "x" + std::to_string(problem.W.cols()) +
+         ", expected " + std::to_string(n) + "x" + std::to_string(n));
+  if (problem.q.size() != n)
+    fail("q has " + std::to_string(problem.q.size()) + " rows, expected " + std::to_string(n));
+  if (static_cast<int>(problem.mu.size()) != problem.contacts)
+    fail("mu has " + std::to_string(problem.mu.size()) + " entries, expected " +
+         std::to_string(problem.contacts));
+}
+
+}  // namespace
+
+void write_problem(std::ostream& out, const FrictionContactProblem& problem) {
+  check_consistent(problem);
+  const Eigen::Index n = problem.size();
+  // Built in a string so the caller's stream flags and locale play no part in the numbers.
+  std::string text;
+  text += std::string(kKeyword) + " " + std::to_string(kVersion) + "\n";
+  text += "dimension " + std::to_string(problem.dimension) + "\n";
+  text += "contacts " + std::to_string(problem.contacts) + "\n";
+  text += "equalities " + std::to_string(problem.equalities) + "\n";
+  text += "mu\n";
+  for (const Eigen::Vector2d& mu : problem.mu)
+    text += format_number(mu(0)) + " " + format_number(mu(1)) + "\n";
+  text += "q\n";
+  for (Eigen::Index i = 0; i < n; ++i) text += (i ? " " : "") + format_number(problem.q(i));
+  text += "\nW\n";
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < n; ++j) text += (j ? " " : "") + format_number(problem.W(i, j));
+    text += "\n";
+  }
+  text += "end\n";
+  out << text;
+  if (!out) throw std::runtime_error("write_problem: stream write failed");
+}
+
+FrictionContactProblem read_problem(std::istream& in) {
+  TokenReader reader(in);
+  reader.expect(kKeyword);
+  const long long version = reader.integer("the format version");
+  if (version != kVersion)
+    reader.fail("unsupported format version " + std::to_string(version) + " (this build reads " +
+                std::to_string(kVersion) + ")");
+
+  FrictionContactProblem problem;
+  reader.expect("dimension");
+  const long long dimension = reader.integer("dimension");
+  if (dimension != 2 && dimension != 3)
+    reader.fail("dimension must be 2 or 3, not " + std::to_string(dimension));
+  reader.expect("contacts");
+  const long long contacts = reader.integer("contacts");
+  reader.expect("equalities");
+  const long long equalities = reader.integer("equalities");
+  if (contacts < 0 || equalities < 0) reader.fail("negative contact or equality count");
+  if (contacts > kMaxRows || equalities > kMaxRows || dimension * contacts + equalities > kMaxRows)
+    reader.fail("problem size exceeds " + std::to_string(kMaxRows) + " rows (corrupt header?)");
+  problem.dimension = static_cast<int>(dimension);
+  problem.contacts = static_cast<int>(contacts);
+  problem.equalities = static_cast<int>(equalities);
+  const Eigen::Index n = problem.size();
+
+  reader.expect("mu");
+  problem.mu.resize(problem.contacts);
+  for (Eigen::Vector2d& mu : problem.mu) {
+    mu(0) = reader.number("mu");
+    mu(1) = reader.number("mu");
+  }
+  reader.expect("q");
+  problem.q.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) problem.q(i) = reader.number("q");
+  reader.expect("W");
+  problem.W.resize(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) problem.W(i, j) = reader.number("W");
+  // The closing keyword catches a W with more entries than the header announced.
+  reader.expect("end");
+  return problem;
+}
+
+}  // namespace csim

@@ -1,0 +1,44 @@
+// The one-step frictional contact problem of a nonsmooth time-stepper, as a plain value.
+//
+//   u = W r + q
+//
+// r  : impulses (N·s), u : local relative velocities (m/s) after the step, W : Delassus operator (s/kg
+// in impulse-to-velocity units), q : local free velocity (m/s, with the Newton impact term e·u_n⁻ already
+// folded into its normal rows).
+//
+// Row layout: contacts first, `dimension` rows each, ordered [n, t1] (dimension 2) or [n, t1, t2]
+// (dimension 3); then `equalities` bilateral rows (linear kinematic constraints, u = 0, r free).
+//
+// Per contact c, the Coulomb law with anisotropic (orthotropic) coefficients mu[c] = (μ1, μ2) along
+// (t1, t2) (Signorini + Coulomb, De Saxcé & Feng 1998):
+//   0 ≤ u_n ⊥ r_n ≥ 0
+//   r_t ∈ D(r_n) = { r_t : (r_t1/μ1)² + (r_t2/μ2)² ≤ r_n² }   (a zero μ_i forces r_ti = 0)
+//   r_t maximises dissipation:  -r_t·u_t = max over D(r_n)   (stick: u_t = 0; slip: r_t on ∂D)
+// The sign convention is that of the contact frame: n points from body A to body B, u = v_B − v_A at
+// the contact point, and a positive r_n pushes B away from A.
+#pragma once
+
+#include <Eigen/Dense>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace csim {
+
+struct FrictionContactProblem {
+  int dimension = 3;        // 2 (plane problems) or 3
+  int contacts = 0;         // number of contacts
+  int equalities = 0;       // number of bilateral rows after the contact rows
+  Eigen::MatrixXd W;        // Delassus, (dimension·contacts + equalities)², symmetric positive semi-definite
+  Eigen::VectorXd q;        // free local velocity, same size
+  std::vector<Eigen::Vector2d> mu;  // per contact (μ1, μ2), dimensionless, ≥ 0; dimension 2 uses μ1 only
+
+  int size() const { return dimension * contacts + equalities; }
+};
+
+// Plain-text format (one keyword line, then numbers), so a problem met in a run can be dumped and
+// replayed in a unit test. Throws std::runtime_error on malformed input.
+void write_problem(std::ostream& out, const FrictionContactProblem& problem);
+FrictionContactProblem read_problem(std::istream& in);
+
+}  // namespace csim

@@ -1,0 +1,268 @@
+#include "contact/narrow_phase.h"
+
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+#include <variant>
+
+namespace csim {
+
+namespace {
+
+static_assert(std::is_same_v<std::variant_alternative_t<0, Shape>, Sphere> &&
+                  std::is_same_v<std::variant_alternative_t<1, Shape>, Box> &&
+                  std::is_same_v<std::variant_alternative_t<2, Shape>, Halfspace>,
+              "the pair table below is indexed by Shape's alternative order");
+
+// Below this separation (m) the direction between GJK's witness points is dominated by rounding, so
+// touching boxes take their normal from FCL's SAT instead (see touching_box_box).
+constexpr double kTouchingGap = 1e-9;
+// How far (m) touching boxes are pushed into each other to let the SAT name the contact axis.
+constexpr double kProbeDepth = 1e-6;
+
+struct PairQuery {
+  double margin;  // m
+  NarrowPhase::FclScratch& fcl;
+};
+
+// A pair function appends contacts between `first` and `second`, normal from first to second,
+// feature set, keys and frames left to the caller.
+using PairFunction = void (*)(const ShapeInstance& first, const ShapeInstance& second,
+                              PairQuery& query, std::vector<ContactPoint>& out);
+
+void add_contact(const Eigen::Vector3d& point_first, const Eigen::Vector3d& point_second,
+                 const Eigen::Vector3d& normal, double gap, int feature,
+                 std::vector<ContactPoint>& out) {
+  ContactPoint& c = out.emplace_back();
+  c.key.feature = feature;
+  c.point_a = point_first;
+  c.point_b = point_second;
+  c.normal = normal;
+  c.gap = gap;
+}
+
+// The halfspace { x : n·x ≤ offset } in world coordinates (unit n).
+struct WorldPlane {
+  Eigen::Vector3d normal;
+  double offset;  // m
+};
+
+WorldPlane world_plane(const ShapeInstance& instance) {
+  const auto& halfspace = std::get<Halfspace>(instance.shape);
+  const Eigen::Vector3d n = instance.pose.linear() * halfspace.normal;
+  return {n, halfspace.offset + n.dot(instance.pose.translation())};
+}
+
+// FCL's deepest penetration point as a contact (pos is FCL's midpoint between the two surfaces).
+bool add_deepest_fcl_contact(const ShapeInstance& first, const ShapeInstance& second,
+                             PairQuery& query, std::vector<ContactPoint>& out) {
+  auto& result = query.fcl.collision_result;
+  result.clear();
+  fcl::collide(first.geometry.get(), first.pose, second.geometry.get(), second.pose,
+               query.fcl.collision_request, result);
+  if (result.numContacts() == 0) return false;
+  const fcl::Contactd& contact = result.getContact(0);  // num_max_contacts = 1: the deepest
+  const double depth = contact.penetration_depth;
+  const Eigen::Vector3d n = contact.normal;
+  add_contact(contact.pos + 0.5 * depth * n, contact.pos - 0.5 * depth * n, n, -depth, 0, out);
+  return true;
+}
+
+// FCL's separation distance (≥ 0), or a negative value when FCL finds the shapes overlapping.
+double fcl_distance(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query) {
+  auto& result = query.fcl.distance_result;
+  result.clear();
+  fcl::distance(first.geometry.get(), first.pose, second.geometry.get(), second.pose,
+                query.fcl.distance_request, result);
+  return result.min_distance;
+}
+
+void sphere_sphere(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+                   std::vector<ContactPoint>& out) {
+  const double r1 = std::get<Sphere>(first.shape).radius;
+  const double r2 = std::get<Sphere>(second.shape).radius;
+  const Eigen::Vector3d c1 = first.pose.translation();
+  const Eigen::Vector3d c2 = second.pose.translation();
+  const Eigen::Vector3d delta = c2 - c1;
+  const double distance = delta.norm();
+  const double gap = distance - r1 - r2;
+  if (gap > query.margin) return;
+  // Concentric spheres have no preferred direction; any fixed one keeps the result deterministic.
+  const Eigen::Vector3d n = distance > 0.0 ? Eigen::Vector3d(delta / distance) : Eigen::Vector3d::UnitX();
+  add_contact(c1 + r1 * n, c2 - r2 * n, n, gap, 0, out);
+}
+
+void sphere_box(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+                std::vector<ContactPoint>& out) {
+  const double gap = fcl_distance(first, second, query);
+  if (gap < 0.0) {  // FCL's sphere–box distance only proves separation; -1 means overlapping
+    add_deepest_fcl_contact(first, second, query, out);
+    return;
+  }
+  if (gap > query.margin) return;
+  const auto& result = query.fcl.distance_result;
+  const Eigen::Vector3d& on_sphere = result.nearest_points[0];
+  const Eigen::Vector3d& on_box = result.nearest_points[1];
+  // From the centre rather than between the witness points: |on_box − centre| ≥ radius, so the
+  // direction stays well conditioned as the gap closes.
+  const Eigen::Vector3d n = (on_box - first.pose.translation()).normalized();
+  add_contact(on_sphere, on_box, n, gap, 0, out);
+}
+
+// Boxes closer than kTouchingGap: push the second into the first along the line of centres (which
+// has a positive component on any separating normal of two convex bodies) and let FCL's SAT name
+// the contact normal.
+void touching_box_box(const ShapeInstance& first, const ShapeInstance& second, double gjk_gap,
+                      PairQuery& query, std::vector<ContactPoint>& out) {
+  const Eigen::Vector3d centres = second.pose.translation() - first.pose.translation();
+  const Eigen::Vector3d u = centres.norm() > 0.0 ? Eigen::Vector3d(centres.normalized())
+                                                 : Eigen::Vector3d::UnitX();
+  ShapeInstance pushed = second;
+  pushed.pose.translation() -= kProbeDepth * u;
+  const std::size_t before = out.size();
+  if (!add_deepest_fcl_contact(first, pushed, query, out)) {
+    // Only when the line of centres is almost tangent to the contact: keep GJK's witness direction.
+    const auto& result = query.fcl.distance_result;
+    const Eigen::Vector3d n = gjk_gap > 0.0
+        ? Eigen::Vector3d((result.nearest_points[1] - result.nearest_points[0]) / gjk_gap)
+        : u;
+    add_contact(result.nearest_points[0], result.nearest_points[1], n, std::max(gjk_gap, 0.0), 0,
+                out);
+    return;
+  }
+  // Undo the push: the second box's point moves back by kProbeDepth·u, the gap grows by
+  // kProbeDepth·(u·n); the first box's point is then the second's less the (≤ kTouchingGap) gap.
+  ContactPoint& c = out[before];
+  c.point_b += kProbeDepth * u;
+  c.gap = gjk_gap >= 0.0 ? gjk_gap : c.gap + kProbeDepth * u.dot(c.normal);
+  c.point_a = c.point_b - c.gap * c.normal;
+}
+
+void box_box(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+             std::vector<ContactPoint>& out) {
+  if (add_deepest_fcl_contact(first, second, query, out)) return;
+  const double gap = fcl_distance(first, second, query);
+  if (gap > query.margin) return;
+  if (gap < kTouchingGap) {  // includes GJK reporting overlap where the SAT did not
+    touching_box_box(first, second, gap, query, out);
+    return;
+  }
+  const auto& result = query.fcl.distance_result;
+  const Eigen::Vector3d& p1 = result.nearest_points[0];
+  const Eigen::Vector3d& p2 = result.nearest_points[1];
+  add_contact(p1, p2, (p2 - p1) / gap, gap, 0, out);
+}
+
+void sphere_halfspace(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+                      std::vector<ContactPoint>& out) {
+  const double r = std::get<Sphere>(first.shape).radius;
+  const WorldPlane plane = world_plane(second);
+  const Eigen::Vector3d c = first.pose.translation();
+  const double gap = plane.normal.dot(c) - plane.offset - r;
+  if (gap > query.margin) return;
+  const Eigen::Vector3d on_sphere = c - r * plane.normal;
+  // The sphere looks into the halfspace: normal −n; the plane point is on_sphere's projection.
+  add_contact(on_sphere, on_sphere - gap * plane.normal, -plane.normal, gap, 0, out);
+}
+
+template <bool kPlanar>
+void box_halfspace(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+                   std::vector<ContactPoint>& out) {
+  const Box& box = std::get<Box>(first.shape);
+  const WorldPlane plane = world_plane(second);
+  const Eigen::Matrix3d& R = first.pose.linear();
+  const Eigen::Vector3d c = first.pose.translation();
+  const double centre_height = plane.normal.dot(c) - plane.offset;
+  // Lowest vertex height, exact: skips the vertex loop for boxes well above the plane.
+  const Eigen::Vector3d n_box = R.transpose() * plane.normal;
+  double reach = box.half_extents.x() * std::abs(n_box.x()) + box.half_extents.y() * std::abs(n_box.y());
+  if (!kPlanar) reach += box.half_extents.z() * std::abs(n_box.z());
+  if (centre_height - reach > query.margin) return;
+
+  for (int i = 0; i < box_vertex_count(kPlanar); ++i) {
+    const Eigen::Vector3d vertex = first.pose * box_vertex(box, i, kPlanar);
+    const double gap = plane.normal.dot(vertex) - plane.offset;
+    if (gap > query.margin) continue;
+    add_contact(vertex, vertex - gap * plane.normal, -plane.normal, gap, i, out);
+  }
+}
+
+// [first type][second type], first type ≤ second type.
+constexpr PairFunction kPairTable[2][3][3] = {
+    {{sphere_sphere, sphere_box, sphere_halfspace},
+     {nullptr, box_box, box_halfspace<false>},
+     {nullptr, nullptr, nullptr}},
+    {{sphere_sphere, sphere_box, sphere_halfspace},
+     {nullptr, box_box, box_halfspace<true>},
+     {nullptr, nullptr, nullptr}},
+};
+
+void flip(ContactPoint& c) {
+  std::swap(c.point_a, c.point_b);
+  c.normal = -c.normal;
+}
+
+// Plane scenes: FCL works in 3D, so clear the rounding (or depth-direction) part out of the plane.
+void project_to_plane(ContactPoint& c) {
+  c.normal.z() = 0.0;
+  c.normal.normalize();
+  c.point_a.z() = 0.0;
+  c.point_b.z() = 0.0;
+}
+
+}  // namespace
+
+std::shared_ptr<fcl::CollisionGeometryd> make_fcl_geometry(const Shape& shape) {
+  if (const auto* sphere = std::get_if<Sphere>(&shape)) {
+    return std::make_shared<fcl::Sphered>(sphere->radius);
+  }
+  if (const auto* box = std::get_if<Box>(&shape)) {
+    return std::make_shared<fcl::Boxd>(2.0 * box->half_extents);  // FCL takes full side lengths
+  }
+  return nullptr;
+}
+
+Eigen::Vector3d box_vertex(const Box& box, int vertex, bool planar) {
+  const Eigen::Vector3d& h = box.half_extents;
+  return {(vertex & 1) ? h.x() : -h.x(), (vertex & 2) ? h.y() : -h.y(),
+          planar ? 0.0 : ((vertex & 4) ? h.z() : -h.z())};
+}
+
+int box_vertex_count(bool planar) { return planar ? 4 : 8; }
+
+NarrowPhase::NarrowPhase(bool planar) : planar_(planar) {
+  scratch_.collision_request.enable_contact = true;
+  scratch_.collision_request.num_max_contacts = 1;  // FCL keeps the deepest
+  scratch_.collision_request.gjk_solver_type = fcl::GST_LIBCCD;
+  scratch_.distance_request.enable_nearest_points = true;
+  scratch_.distance_request.enable_signed_distance = false;
+  scratch_.distance_request.gjk_solver_type = fcl::GST_LIBCCD;
+}
+
+void NarrowPhase::collide(const ShapeInstance& a, const ShapeInstance& b, double margin,
+                          std::vector<ContactPoint>& out) {
+  const bool swapped = a.shape.index() > b.shape.index();
+  const ShapeInstance& first = swapped ? b : a;
+  const ShapeInstance& second = swapped ? a : b;
+  const PairFunction pair = kPairTable[planar_][first.shape.index()][second.shape.index()];
+  if (pair == nullptr) return;
+
+  const std::size_t begin = out.size();
+  PairQuery query{margin, scratch_};
+  pair(first, second, query, out);
+  for (std::size_t i = begin; i < out.size(); ++i) {
+    ContactPoint& c = out[i];
+    if (swapped) flip(c);
+    if (planar_) project_to_plane(c);
+    c.key.object_a = a.id;
+    c.key.object_b = b.id;
+    complete_frame(c, planar_);
+  }
+}
+
+}  // namespace csim

@@ -1,0 +1,80 @@
+// Narrow phase of CollisionWorld (internal: included by collision_world.cpp and the tests only, never
+// by a public header, because it exposes FCL types).
+//
+// One function per shape pair, MuJoCo-style, in a table indexed by the Shape variant index
+// (Sphere < Box < Halfspace). Each function is written for its canonical order; a pair met in the
+// other order is computed swapped and then flipped (points exchanged, normal negated).
+//
+// Who computes what (lengths in m):
+//   sphere–sphere     closed form (exact; FCL's own sphere–sphere routine is the same formula).
+//   sphere–box        FCL: fcl::distance when separated (FCL's exact sphere–box distance), fcl::collide
+//                     with contacts when penetrating (FCL's sphere–box intersection: depth + normal).
+//   box–box           FCL: fcl::collide (ODE's SAT box–box) when penetrating, keeping the deepest of
+//                     its points; fcl::distance (GJK, libccd) when separated. One point only: a
+//                     full box–box manifold is not generated.
+//   sphere–halfspace  closed form: FCL has no distance to a halfspace (nothing for separated pairs),
+//                     and one formula on both sides of contact keeps the gap continuous through 0.
+//   box–halfspace     closed form, a manifold: one point per box vertex whose gap ≤ margin (FCL's
+//                     box–halfspace gives a single penetrating point and nothing when separated).
+//   halfspace–halfspace  none.
+//
+// Box vertices (feature index of box–halfspace contacts), in the box frame with half extents h:
+//   3D: vertex i = ((i&1 ? +1 : −1) hx, (i&2 ? +1 : −1) hy, (i&4 ? +1 : −1) hz), i = 0..7;
+//   plane scenes: the 4 corners of the box's z = 0 section, i = 0..3, z = 0.
+#pragma once
+
+#include "contact/contact_point.h"
+#include "contact/shape.h"
+
+#include <fcl/geometry/collision_geometry.h>
+#include <fcl/narrowphase/collision_request.h>
+#include <fcl/narrowphase/collision_result.h>
+#include <fcl/narrowphase/distance_request.h>
+#include <fcl/narrowphase/distance_result.h>
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+namespace csim {
+
+// One collision object as the narrow phase sees it. Halfspaces are normalised at registration
+// (unit normal). `geometry` is FCL's copy of the shape (null for halfspaces, which FCL is not asked
+// about).
+struct ShapeInstance {
+  int id = -1;
+  Shape shape;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // shape frame in world
+  std::shared_ptr<fcl::CollisionGeometryd> geometry;
+};
+
+// The FCL geometry for a sphere or a box (null for a halfspace).
+std::shared_ptr<fcl::CollisionGeometryd> make_fcl_geometry(const Shape& shape);
+
+// Corner `vertex` of a box in its own frame (numbering above).
+Eigen::Vector3d box_vertex(const Box& box, int vertex, bool planar);
+int box_vertex_count(bool planar);
+
+class NarrowPhase {
+ public:
+  explicit NarrowPhase(bool planar);
+
+  // Appends the contacts between a and b (a.id < b.id) whose gap ≤ margin (m): keys set, normal from
+  // a to b, planar projection applied, frame completed with the default direction.
+  void collide(const ShapeInstance& a, const ShapeInstance& b, double margin,
+               std::vector<ContactPoint>& out);
+
+  // Scratch reused by the FCL-backed pair functions (no per-query setup beyond FCL's own).
+  struct FclScratch {
+    fcl::CollisionRequestd collision_request;
+    fcl::CollisionResultd collision_result;
+    fcl::DistanceRequestd distance_request;
+    fcl::DistanceResultd distance_result;
+  };
+
+ private:
+  bool planar_;
+  FclScratch scratch_;
+};
+
+}  // namespace csim

@@ -1,0 +1,278 @@
+#include "contact/pgs_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+// Implementation notes.
+// - W is symmetric (friction_contact_problem.h), so the coupling of contact c with the others is read
+//   from W's columns, which are contiguous in Eigen's column-major storage, rather than from its rows.
+// - Per-contact work is templated on the contact dimension and uses fixed-size Eigen objects: a solve
+//   without equality rows does not allocate at all; with equalities it allocates the LDLT of W_ee and
+//   one right-hand side, once per solve.
+
+namespace csim {
+namespace {
+
+template <int D>
+using Vector = Eigen::Matrix<double, D, 1>;
+template <int D>
+using Matrix = Eigen::Matrix<double, D, D>;
+
+// An impulse whose elliptic radius is within this relative distance of r_n is reported as slip: the
+// local solves put slipping impulses on the boundary to round-off, and a stick solution lying on the
+// boundary to the same precision is at the stick/slip threshold, where both descriptions hold.
+constexpr double kBoundaryTolerance = 1e-9;
+
+void check_problem(const FrictionContactProblem& problem) {
+  const auto fail = [](const std::string& message) {
+    throw std::invalid_argument("PgsSolver: " + message);
+  };
+  if (problem.dimension != 2 && problem.dimension != 3)
+    fail("dimension must be 2 or 3, not " + std::to_string(problem.dimension));
+  if (problem.contacts < 0 || problem.equalities < 0) fail("negative contact or equality count");
+  const Eigen::Index n = problem.size();
+  if (problem.W.rows() != n || problem.W.cols() != n)
+    fail("W is " + std::to_string(problem.W.rows()) + "x" + std::to_string(problem.W.cols()) +
+         ", expected " + std::to_string(n) + "x" + std::to_string(n));
+  if (problem.q.size() != n) fail("q has the wrong size");
+  if (static_cast<int>(problem.mu.size()) != problem.contacts) fail("mu has the wrong size");
+}
+
+template <int D>
+ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::Vector2d& mu,
+                          Vector<D>& r) {
+  if constexpr (D == 2) {
+    return solve_local_2d(W, q, mu(0), r);
+  } else {
+    return solve_local_3d(W, q, mu, r);
+  }
+}
+
+// Free velocity of the contact whose rows start at `first`, with every other impulse frozen at r
+// (m/s): q_c + Σ_{d≠c} W_cd r_d. The own block is skipped rather than subtracted, so that with a
+// single contact this is q_c exactly and the local solve is the global one to the last bit.
+template <int D>
+Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
+                               Eigen::Index first) {
+  const Eigen::Index n = r.size();
+  const Eigen::Index after = n - first - D;
+  Vector<D> q_c = problem.q.template segment<D>(first);
+  if (first > 0)
+    q_c.noalias() += problem.W.template block<Eigen::Dynamic, D>(0, first, first, D).transpose() *
+                     r.head(first);
+  if (after > 0)
+    q_c.noalias() +=
+        problem.W.template block<Eigen::Dynamic, D>(first + D, first, after, D).transpose() *
+        r.tail(after);
+  return q_c;
+}
+
+// Elliptic radius of r_t over r_n, on the rough axes only; 1 (on the boundary) for a frictionless
+// contact, whose disk is the single point r_t = 0.
+template <int D>
+double cone_ratio(const Vector<D>& r, const Eigen::Vector2d& mu) {
+  double radius_squared = 0.0;
+  bool rough = false;
+  for (int k = 1; k < D; ++k) {
+    if (mu(k - 1) > 0) {
+      rough = true;
+      radius_squared += (r(k) / mu(k - 1)) * (r(k) / mu(k - 1));
+    }
+  }
+  return rough ? std::sqrt(radius_squared) / r(0) : 1.0;
+}
+
+template <int D>
+ContactStatus status_of(const Vector<D>& r, const Eigen::Vector2d& mu) {
+  if (!(r(0) > 0)) return ContactStatus::open;
+  return cone_ratio<D>(r, mu) < 1.0 - kBoundaryTolerance ? ContactStatus::stick : ContactStatus::slip;
+}
+
+// Over-relaxation (omega > 1) can carry an impulse out of the cone; pull it back radially (in the
+// elliptic metric) so that every iterate stays admissible. Smooth axes are zeroed.
+template <int D>
+void keep_in_cone(Vector<D>& r, const Eigen::Vector2d& mu) {
+  r(0) = std::max(r(0), 0.0);
+  for (int k = 1; k < D; ++k)
+    if (!(mu(k - 1) > 0)) r(k) = 0.0;
+  const double ratio = cone_ratio<D>(r, mu);
+  if (ratio > 1.0) r.template tail<D - 1>() *= r(0) > 0 ? 1.0 / ratio : 0.0;
+}
+
+// ‖W r‖ (m/s) without a temporary: by symmetry (W r)_j = W.col(j)·r.
+double norm_of_product(const Eigen::MatrixXd& W, const Eigen::VectorXd& r) {
+  double sum = 0.0;
+  for (Eigen::Index j = 0; j < W.cols(); ++j) {
+    const double row = W.col(j).dot(r);
+    sum += row * row;
+  }
+  return std::sqrt(sum);
+}
+
+// Denominator of the relative residuals: the velocity scale of the problem.
+double velocity_scale(double norm_q, double norm_Wr) {
+  return std::max({norm_q, norm_Wr, 1e-300});
+}
+
+struct SweepResult {
+  double increment_squared = 0.0;  // Σ (W_ii Δr_i)², (m/s)²
+  double Wr_squared = 0.0;         // ≈ ‖W r‖², from the velocities seen during the sweep, (m/s)²
+};
+
+// Equality block: u_e = W_ec r_c + W_ee r_e + q_e = 0 solved for r_e exactly, contacts frozen.
+struct EqualityBlock {
+  Eigen::LDLT<Eigen::MatrixXd> W_ee;
+  Eigen::VectorXd rhs;
+};
+
+template <int D>
+SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& parameters,
+                  EqualityBlock* equalities, Eigen::VectorXd& r, int& rejected) {
+  SweepResult result;
+  for (int c = 0; c < problem.contacts; ++c) {
+    const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
+    const Vector<D> q_c = frozen_free_velocity<D>(problem, r, first);
+    const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
+    const Eigen::Vector2d& mu = problem.mu[c];
+    Vector<D> r_local;
+    solve_local<D>(W_cc, q_c, mu, r_local);
+    const Vector<D> r_old = r.template segment<D>(first);
+    if (!r_local.allFinite()) {
+      ++rejected;
+      result.Wr_squared += (q_c - problem.q.template segment<D>(first) + W_cc * r_old).squaredNorm();
+      continue;
+    }
+    Vector<D> r_new = r_local;
+    if (parameters.omega != 1.0) {
+      r_new = r_old + parameters.omega * (r_local - r_old);
+      if (parameters.omega > 1.0) keep_in_cone<D>(r_new, mu);
+    }
+    result.increment_squared += W_cc.diagonal().cwiseProduct(r_new - r_old).squaredNorm();
+    result.Wr_squared += (q_c - problem.q.template segment<D>(first) + W_cc * r_new).squaredNorm();
+    r.template segment<D>(first) = r_new;
+  }
+
+  if (equalities != nullptr) {
+    const Eigen::Index first = static_cast<Eigen::Index>(D) * problem.contacts;
+    const Eigen::Index count = problem.equalities;
+    Eigen::VectorXd& rhs = equalities->rhs;
+    rhs = problem.q.tail(count);
+    if (first > 0) rhs.noalias() += problem.W.block(first, 0, count, first) * r.head(first);
+    rhs = -equalities->W_ee.solve(rhs);
+    if (!rhs.allFinite()) {
+      ++rejected;
+    } else {
+      result.increment_squared += problem.W.diagonal()
+                                      .tail(count)
+                                      .cwiseProduct(rhs - r.tail(count))
+                                      .squaredNorm();
+      r.tail(count) = rhs;
+    }
+    // With u_e = 0 solved for, (W r)_e = −q_e.
+    result.Wr_squared += problem.q.tail(count).squaredNorm();
+  }
+  return result;
+}
+
+// Σ_c ‖W_cc (r_c − local_c(r))‖² + ‖u_e‖², (m/s)²; infinite if a local solution is not finite.
+template <int D>
+double residual_squared(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+  double sum = 0.0;
+  for (int c = 0; c < problem.contacts; ++c) {
+    const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
+    const Vector<D> q_c = frozen_free_velocity<D>(problem, r, first);
+    const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
+    Vector<D> r_local;
+    solve_local<D>(W_cc, q_c, problem.mu[c], r_local);
+    if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
+    sum += (W_cc * (r.template segment<D>(first) - r_local)).squaredNorm();
+  }
+  const Eigen::Index first = static_cast<Eigen::Index>(D) * problem.contacts;
+  for (Eigen::Index j = first; j < problem.size(); ++j) {
+    const double u_j = problem.W.col(j).dot(r) + problem.q(j);
+    sum += u_j * u_j;
+  }
+  return sum;
+}
+
+double relative_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+  const double error_squared = problem.dimension == 2 ? residual_squared<2>(problem, r)
+                                                      : residual_squared<3>(problem, r);
+  const double residual = std::sqrt(error_squared) /
+                          velocity_scale(problem.q.norm(), norm_of_product(problem.W, r));
+  return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
+}
+
+template <int D>
+PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsParameters& parameters,
+                              Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+  PgsStatistics statistics;
+  EqualityBlock equality_block;
+  EqualityBlock* equalities = nullptr;
+  if (problem.equalities > 0) {
+    const Eigen::Index first = static_cast<Eigen::Index>(D) * problem.contacts;
+    equality_block.W_ee.compute(problem.W.block(first, first, problem.equalities, problem.equalities));
+    equality_block.rhs.resize(problem.equalities);
+    equalities = &equality_block;
+  }
+
+  const double norm_q = problem.q.norm();
+  bool residual_is_current = false;
+  for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
+    const SweepResult swept = sweep<D>(problem, parameters, equalities, r, statistics.rejected_local_solutions);
+    statistics.iterations = iteration;
+    residual_is_current = false;
+    // Cheap test: a sweep that barely moved r. Only then is the full residual (about one more sweep of
+    // work) worth computing; it decides.
+    const double scale = velocity_scale(norm_q, std::sqrt(swept.Wr_squared));
+    if (std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
+      statistics.residual = relative_residual(problem, r);
+      residual_is_current = true;
+      if (statistics.residual <= parameters.tolerance) {
+        statistics.converged = true;
+        break;
+      }
+    }
+  }
+  if (!residual_is_current) {
+    statistics.residual = relative_residual(problem, r);
+    statistics.converged = statistics.residual <= parameters.tolerance;
+  }
+
+  if (status != nullptr) {
+    status->resize(problem.contacts);
+    for (int c = 0; c < problem.contacts; ++c)
+      (*status)[c] = status_of<D>(r.template segment<D>(static_cast<Eigen::Index>(D) * c), problem.mu[c]);
+  }
+  return statistics;
+}
+
+}  // namespace
+
+PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::VectorXd& r,
+                               std::vector<ContactStatus>* status) const {
+  check_problem(problem);
+  // A warm start of the wrong size, or one carrying NaN/inf from an earlier failure, is worthless.
+  if (r.size() != problem.size() || !r.allFinite()) r = Eigen::VectorXd::Zero(problem.size());
+  if (problem.size() == 0) {
+    if (status != nullptr) status->clear();
+    PgsStatistics statistics;
+    statistics.converged = true;
+    return statistics;
+  }
+  return problem.dimension == 2 ? solve_dimension<2>(problem, parameters_, r, status)
+                                : solve_dimension<3>(problem, parameters_, r, status);
+}
+
+double PgsSolver::residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+  check_problem(problem);
+  if (r.size() != problem.size())
+    throw std::invalid_argument("PgsSolver::residual: r has the wrong size");
+  if (problem.size() == 0) return 0.0;
+  return relative_residual(problem, r);
+}
+
+}  // namespace csim

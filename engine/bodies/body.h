@@ -1,0 +1,61 @@
+// The body interface shared by every kind of body the stepper moves.
+//
+// Each body owns a slice of the generalized coordinates: `position_size()` entries of q (m, rad or a
+// unit quaternion) and `velocity_size()` entries of v (m/s, rad/s). Lumped bodies have a constant
+// mass matrix in these coordinates; material points are addressed by their coordinates in the body
+// frame (m), and their world velocity is J(q)·v (point_jacobian).
+//
+// Displacements are measured from the reference configuration q_ref (the `position` of the scene);
+// the initial state may differ from it (`initial_displacement`), as in SDND100 where the pad is
+// released away from the spring's rest point.
+#pragma once
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <string>
+
+namespace csim {
+
+using Vector = Eigen::VectorXd;
+using VectorRef = Eigen::Ref<Eigen::VectorXd>;
+using ConstVectorRef = Eigen::Ref<const Eigen::VectorXd>;
+using Matrix = Eigen::MatrixXd;
+using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+
+class Body {
+ public:
+  virtual ~Body() = default;
+
+  virtual int position_size() const = 0;
+  virtual int velocity_size() const = 0;
+  bool fixed() const { return velocity_size() == 0; }
+
+  // Adds the body's (constant) mass matrix into the velocity_size² block M (kg, kg·m²).
+  virtual void add_mass(Eigen::Ref<Matrix> M) const = 0;
+  virtual double mass() const = 0;  // kg (0 for a fixed body)
+
+  // World pose of the body frame for positions q (this body's slice).
+  virtual Eigen::Isometry3d pose(const ConstVectorRef& q) const = 0;
+  Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
+    return pose(q) * local;
+  }
+
+  // World velocity of a material point = J v; J is 3 × velocity_size.
+  virtual void point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                              Eigen::Ref<Matrix3X> J) const = 0;
+
+  // q_next = q + h·v_theta, with the rotation part integrated on the rotation group where needed.
+  virtual void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
+                                  VectorRef q_next) const = 0;
+
+  // Velocity-dependent generalized force that is not a load (gyroscopic terms), N and N·m.
+  virtual void add_inertial_force(const ConstVectorRef& v, VectorRef f) const {}
+
+  // Index of a named velocity component ("x", "y", "z", "rx", "ry", "rz"), or -1.
+  virtual int velocity_index(const std::string& component) const = 0;
+
+  // Radius of a sphere about the body origin that contains all its shapes (m), for speed bounds.
+  double bounding_radius = 0.0;
+};
+
+}  // namespace csim

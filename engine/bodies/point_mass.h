@@ -1,0 +1,29 @@
+// A point mass in the plane (x, y) or in space (x, y, z); q = v-coordinates = position (m).
+// Shapes attached to it translate with it and never rotate.
+#pragma once
+
+#include "engine/bodies/body.h"
+
+namespace csim {
+
+class PointMass final : public Body {
+ public:
+  PointMass(int dimension, double mass) : dimension_(dimension), mass_(mass) {}
+
+  int position_size() const override { return dimension_; }
+  int velocity_size() const override { return dimension_; }
+  double mass() const override { return mass_; }
+  void add_mass(Eigen::Ref<Matrix> M) const override;
+  Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
+  void point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                      Eigen::Ref<Matrix3X> J) const override;
+  void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
+                          VectorRef q_next) const override;
+  int velocity_index(const std::string& component) const override;
+
+ private:
+  int dimension_;
+  double mass_;  // kg
+};
+
+}  // namespace csim

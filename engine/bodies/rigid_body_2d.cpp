@@ -1,0 +1,43 @@
+#include "engine/bodies/rigid_body_2d.h"
+
+namespace csim {
+
+void RigidBody2d::add_mass(Eigen::Ref<Matrix> M) const {
+  M(0, 0) += mass_;
+  M(1, 1) += mass_;
+  M(2, 2) += inertia_;
+}
+
+Eigen::Isometry3d RigidBody2d::pose(const ConstVectorRef& q) const {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() << q(0), q(1), 0.0;
+  pose.linear() = Eigen::AngleAxisd(q(2), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return pose;
+}
+
+// v_point = v + ω e_z × (R r): the rotation column is e_z × (R r) = (−(Rr)_y, (Rr)_x, 0).
+void RigidBody2d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                                 Eigen::Ref<Matrix3X> J) const {
+  const double c = std::cos(q(2)), s = std::sin(q(2));
+  const double rx = c * local.x() - s * local.y();
+  const double ry = s * local.x() + c * local.y();
+  J.setZero();
+  J(0, 0) = 1.0;
+  J(1, 1) = 1.0;
+  J(0, 2) = -ry;
+  J(1, 2) = rx;
+}
+
+void RigidBody2d::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta,
+                                     double h, VectorRef q_next) const {
+  q_next = q + h * v_theta;
+}
+
+int RigidBody2d::velocity_index(const std::string& component) const {
+  if (component == "x") return 0;
+  if (component == "y") return 1;
+  if (component == "rz") return 2;
+  return -1;
+}
+
+}  // namespace csim

@@ -1,0 +1,31 @@
+// A rigid body in the plane: q = v-coordinates = (x, y, φ) — centre of mass (m) and rotation about
+// e_z (rad, counter-clockwise). Mass matrix diag(m, m, I) with I the moment of inertia about the
+// centre of mass (kg·m²).
+#pragma once
+
+#include "engine/bodies/body.h"
+
+namespace csim {
+
+class RigidBody2d final : public Body {
+ public:
+  RigidBody2d(double mass, double inertia) : mass_(mass), inertia_(inertia) {}
+
+  int position_size() const override { return 3; }
+  int velocity_size() const override { return 3; }
+  double mass() const override { return mass_; }
+  double inertia() const { return inertia_; }
+  void add_mass(Eigen::Ref<Matrix> M) const override;
+  Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
+  void point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                      Eigen::Ref<Matrix3X> J) const override;
+  void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
+                          VectorRef q_next) const override;
+  int velocity_index(const std::string& component) const override;
+
+ private:
+  double mass_;     // kg
+  double inertia_;  // kg·m²
+};
+
+}  // namespace csim

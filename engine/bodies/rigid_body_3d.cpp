@@ -1,0 +1,59 @@
+#include "engine/bodies/rigid_body_3d.h"
+
+namespace csim {
+
+namespace {
+Eigen::Quaterniond orientation(const ConstVectorRef& q) {
+  return Eigen::Quaterniond(q(3), q(4), q(5), q(6));
+}
+}  // namespace
+
+void RigidBody3d::add_mass(Eigen::Ref<Matrix> M) const {
+  for (int i = 0; i < 3; ++i) M(i, i) += mass_;
+  for (int i = 0; i < 3; ++i) M(3 + i, 3 + i) += inertia_(i);
+}
+
+Eigen::Isometry3d RigidBody3d::pose(const ConstVectorRef& q) const {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = q.head<3>();
+  pose.linear() = orientation(q).normalized().toRotationMatrix();
+  return pose;
+}
+
+// v_point = v + R(ω × r) = v − R [r]× ω.
+void RigidBody3d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                                 Eigen::Ref<Matrix3X> J) const {
+  const Eigen::Matrix3d R = orientation(q).normalized().toRotationMatrix();
+  Eigen::Matrix3d r_cross;
+  r_cross << 0, -local.z(), local.y(), local.z(), 0, -local.x(), -local.y(), local.x(), 0;
+  J.leftCols<3>().setIdentity();
+  J.rightCols<3>() = -R * r_cross;
+}
+
+void RigidBody3d::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta,
+                                     double h, VectorRef q_next) const {
+  q_next.head<3>() = q.head<3>() + h * v_theta.head<3>();
+  const Eigen::Vector3d rotation = h * v_theta.tail<3>();
+  const double angle = rotation.norm();
+  Eigen::Quaterniond increment = Eigen::Quaterniond::Identity();
+  if (angle > 0.0) increment = Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation / angle));
+  const Eigen::Quaterniond next = (orientation(q) * increment).normalized();
+  q_next(3) = next.w();
+  q_next(4) = next.x();
+  q_next(5) = next.y();
+  q_next(6) = next.z();
+}
+
+void RigidBody3d::add_inertial_force(const ConstVectorRef& v, VectorRef f) const {
+  const Eigen::Vector3d omega = v.tail<3>();
+  f.tail<3>() -= omega.cross(inertia_.cwiseProduct(omega));
+}
+
+int RigidBody3d::velocity_index(const std::string& component) const {
+  static const char* names[] = {"x", "y", "z", "rx", "ry", "rz"};
+  for (int i = 0; i < 6; ++i)
+    if (component == names[i]) return i;
+  return -1;
+}
+
+}  // namespace csim

@@ -1,0 +1,35 @@
+// A rigid body in space.
+//   q = (x, y, z, q_w, q_x, q_y, q_z): centre of mass (m) and unit quaternion (body → world);
+//   v = (v_x, v_y, v_z, ω_x, ω_y, ω_z): centre-of-mass velocity in the world frame (m/s) and angular
+//       velocity in the body frame (rad/s), so that the mass matrix diag(m, m, m, I₁, I₂, I₃) is
+//       constant (principal inertia, kg·m²); the gyroscopic term −ω × Iω is an inertial force.
+// The rotation is advanced on the group: R_{k+1} = R_k exp(h ω_θ).
+#pragma once
+
+#include "engine/bodies/body.h"
+
+namespace csim {
+
+class RigidBody3d final : public Body {
+ public:
+  RigidBody3d(double mass, const Eigen::Vector3d& principal_inertia)
+      : mass_(mass), inertia_(principal_inertia) {}
+
+  int position_size() const override { return 7; }
+  int velocity_size() const override { return 6; }
+  double mass() const override { return mass_; }
+  void add_mass(Eigen::Ref<Matrix> M) const override;
+  Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
+  void point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                      Eigen::Ref<Matrix3X> J) const override;
+  void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
+                          VectorRef q_next) const override;
+  void add_inertial_force(const ConstVectorRef& v, VectorRef f) const override;
+  int velocity_index(const std::string& component) const override;
+
+ private:
+  double mass_;               // kg
+  Eigen::Vector3d inertia_;   // kg·m², principal, body frame
+};
+
+}  // namespace csim

@@ -1,0 +1,12 @@
+// Output files are written completely or not at all: the text goes to NAME.tmp, which is renamed over
+// NAME only once it has been written and closed without error.
+#pragma once
+
+#include <string>
+
+namespace csim {
+
+// Throws std::runtime_error naming the file when it cannot be written.
+void write_file_atomically(const std::string& path, const std::string& contents);
+
+}  // namespace csim

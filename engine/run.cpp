@@ -1,0 +1,175 @@
+#include "engine/run.h"
+
+#include "engine/output/atomic_file.h"
+#include "engine/output/json_writer.h"
+#include "engine/probes.h"
+#include "engine/steppers/moreau_jean.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+namespace csim {
+
+namespace {
+
+State initial_state(const World& world) {
+  State state;
+  state.q.setZero(world.position_size);
+  state.v.setZero(world.velocity_size);
+  for (const BodyInstance& b : world.bodies) {
+    if (b.body->fixed()) continue;
+    state.q.segment(b.position_offset, b.body->position_size()) = b.initial_position;
+    state.v.segment(b.velocity_offset, b.body->velocity_size()) = b.initial_velocity;
+  }
+  return state;
+}
+
+void append_row(std::ostringstream& csv, double t, const std::vector<double>& values) {
+  csv << t;
+  for (double v : values) csv << ',' << v;
+  csv << '\n';
+}
+
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled), start_(Clock::now()), last_(start_) {}
+  void update(double t, double end) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < 1.0 ||
+        std::chrono::duration<double>(now - start_).count() < 2.0)
+      return;
+    last_ = now;
+    shown_ = true;
+    std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f %%)", t, end, 100.0 * t / end);
+    std::fflush(stderr);
+  }
+  ~Progress() {
+    if (shown_) std::fprintf(stderr, "\r%60s\r", "");
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  bool enabled_, shown_ = false;
+  Clock::time_point start_, last_;
+};
+
+}  // namespace
+
+RunReport run_scene(const Scene& scene, const RunOptions& options) {
+  const RunSettings& run = scene.run;
+  MoreauJean stepper(scene.world, run.moreau_jean);
+  ProbeEvaluator probes(scene.world, run);
+  CheckEvaluator checks(run, scene.document.scope);
+  RunReport report;
+  State& state = report.state;
+  state = initial_state(scene.world);
+  stepper.initialize(state);
+
+  std::ostringstream csv;
+  csv << std::setprecision(15) << 't';
+  for (const ProbeDefinition& p : run.probes) csv << ',' << p.name;
+  csv << '\n';
+
+  const double h = run.moreau_jean.step;
+  const long steps = std::lround(std::ceil(run.end_time / h - 1e-9));
+  const double rate = std::max(run.output_rate, h);
+  std::vector<double> values;
+  probes.evaluate(state, values);
+  checks.add_sample(state.t, values);
+  append_row(csv, state.t, values);
+  double next_output = rate;
+
+  Progress progress(options.progress);
+  const auto start = std::chrono::steady_clock::now();
+  for (long k = 0; k < steps; ++k) {
+    stepper.step(state);
+    probes.evaluate(state, values);
+    checks.add_sample(state.t, values);
+    if (state.t >= next_output - 0.5 * h || k + 1 == steps) {
+      append_row(csv, state.t, values);
+      while (next_output <= state.t + 0.5 * h) next_output += rate;
+    }
+    progress.update(state.t, run.end_time);
+  }
+  report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.checks = checks.finish(state.t);
+
+  if (!options.output_directory.empty()) {
+    std::filesystem::create_directories(options.output_directory);
+    const std::filesystem::path dir(options.output_directory);
+    write_file_atomically((dir / "probes.csv").string(), csv.str());
+    write_file_atomically((dir / "summary.json").string(), summary_json(scene, report));
+  }
+  return report;
+}
+
+std::string summary_json(const Scene& scene, const RunReport& report) {
+  const State& s = report.state;
+  const SolverCounters& c = s.counters;
+  const RunSettings& run = scene.run;
+  JsonWriter json;
+  json.begin_object();
+  json.value("scene", scene.name).value("file", scene.document.file);
+  json.value("integrator", run.integrator).value("theta", run.moreau_jean.theta);
+  json.value("dimension", scene.world.dimension);
+  json.value("time_step", run.moreau_jean.step).value("end_time", run.end_time);
+  json.value("steps", c.steps).value("wall_time", report.wall_time);
+  json.value("steps_per_second", report.wall_time > 0 ? c.steps / report.wall_time : 0.0);
+  json.begin_object("contact_solver")
+      .value("method", "projected Gauss-Seidel")
+      .value("tolerance", run.moreau_jean.solver.tolerance)
+      .value("max_iterations", run.moreau_jean.solver.max_iterations)
+      .value("solves", c.solves)
+      .value("total_iterations", c.total_iterations)
+      .value("mean_iterations", c.solves > 0 ? double(c.total_iterations) / c.solves : 0.0)
+      .value("max_iterations_used", c.max_iterations)
+      .value("not_converged", c.not_converged)
+      .value("first_not_converged_time", c.first_not_converged_time)
+      .value("max_residual", c.max_residual)
+      .value("rejected_local_solutions", c.rejected_local_solutions)
+      .end_object();
+  json.begin_object("contacts")
+      .value("max_active", c.max_contact_points)
+      .value("mean_active", c.steps > 0 ? double(c.contact_points) / c.steps : 0.0)
+      .end_object();
+  const EnergyBalance& e = s.energy;
+  const double scale = std::max({std::abs(e.initial_kinetic) + std::abs(e.initial_elastic),
+                                 std::abs(e.work_of_loads), std::abs(e.kinetic) + std::abs(e.elastic), 1e-300});
+  json.begin_object("energy")
+      .value("kinetic", e.kinetic).value("elastic", e.elastic)
+      .value("initial_kinetic", e.initial_kinetic).value("initial_elastic", e.initial_elastic)
+      .value("work_of_loads", e.work_of_loads)
+      .value("contact_dissipation", e.contact_dissipation)
+      .value("numerical_dissipation", e.numerical_dissipation)
+      .value("balance_residual", e.residual())
+      .value("max_abs_balance_residual", e.max_abs_residual)
+      .value("relative_balance_residual", e.max_abs_residual / scale)
+      .end_object();
+  json.begin_object("timers")
+      .value("free_velocity", s.timers.free_velocity).value("detection", s.timers.detection)
+      .value("assembly", s.timers.assembly).value("solve", s.timers.solve).value("update", s.timers.update)
+      .end_object();
+  json.begin_array("checks");
+  for (const CheckResult& r : report.checks) {
+    json.begin_object()
+        .value("name", r.name).value("probe", r.probe).value("kind", r.kind).value("source", r.source)
+        .value("time", r.time).value("reference", r.reference).value("value", r.value)
+        .value("error", r.error)
+        .value("relative_error", r.reference != 0.0 ? r.error / std::abs(r.reference) : 0.0);
+    json.begin_object("tolerance")
+        .value("absolute", r.absolute_tolerance).value("relative", r.relative_tolerance).end_object();
+    json.value("passed", r.passed).value("skipped", r.skipped);
+    if (!r.note.empty()) json.value("note", r.note);
+    json.end_object();
+  }
+  json.end_array();
+  json.value("passed", report.all_passed());
+  json.end_object();
+  return json.str();
+}
+
+}  // namespace csim

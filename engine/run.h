@@ -1,0 +1,36 @@
+// Running a loaded scene end to end: the time loop, probes sampled every step, checks evaluated,
+// and the outputs of DESIGN.md §4 (summary.json, probes.csv) written to the output folder.
+#pragma once
+
+#include "engine/checks.h"
+#include "engine/scene/scene.h"
+#include "engine/state.h"
+
+#include <string>
+#include <vector>
+
+namespace csim {
+
+struct RunOptions {
+  std::string output_directory;  // empty: write nothing
+  bool progress = false;         // progress line on stderr for runs longer than ~2 s
+};
+
+struct RunReport {
+  State state;                   // final state
+  std::vector<CheckResult> checks;
+  double wall_time = 0.0;        // s
+  bool all_passed() const {
+    for (const CheckResult& c : checks)
+      if (!c.passed) return false;
+    return true;
+  }
+};
+
+// Throws RunError on a numerical failure (no output file is left half-written).
+RunReport run_scene(const Scene& scene, const RunOptions& options);
+
+// The summary.json text of a finished run.
+std::string summary_json(const Scene& scene, const RunReport& report);
+
+}  // namespace csim

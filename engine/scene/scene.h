@@ -1,0 +1,70 @@
+// A loaded scene: the World it describes plus how to run it (time window, integrator, contact solver,
+// probes, checks, output rate). Produced by load_scene(); see DESIGN.md §4 for the file contract.
+#pragma once
+
+#include "engine/scene/scene_node.h"
+#include "engine/steppers/moreau_jean.h"
+#include "engine/world.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace csim {
+
+// A named time series sampled every step.
+struct ProbeDefinition {
+  enum class Kind { displacement, position, velocity, energy, contact_force };
+  std::string name;
+  Kind kind = Kind::displacement;
+  int body = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();      // body frame (m)
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX(); // unit; the component measured
+  int velocity_index = -1;                              // velocity probes
+  std::string energy_term;                              // kinetic, elastic, work, contact_dissipation, numerical_dissipation, balance
+  int contact_law = -1;                                 // contact_force probes: force on the law's first body
+  std::string force_component;                          // normal, tangential, x, y, z
+};
+
+// What a check compares with its reference.
+struct CheckDefinition {
+  enum class Mode { at, extremum, maximum, minimum, extremum_time, final_value };
+  std::string name;
+  int probe = -1;
+  Mode mode = Mode::final_value;
+  double time = 0.0;         // Mode::at (s)
+  int index = 0;             // extremum index, from 1
+  std::string reference;     // expression text ('=' stripped) or a number; may use t, the check's time
+  int reference_line = 0;
+  double absolute_tolerance = 0.0;
+  double relative_tolerance = 0.0;
+  std::string kind;          // analytical | literature | non-regression
+  std::string source;
+  bool enabled = true;       // false when only_if evaluates to 0 for these parameters
+  std::string only_if;
+};
+
+struct RunSettings {
+  std::string integrator = "moreau-jean";
+  double end_time = 1.0;     // s
+  MoreauJeanParameters moreau_jean;
+  double output_rate = 0.0;  // s between rows of probes.csv; 0 = every step
+  std::vector<ProbeDefinition> probes;
+  std::vector<CheckDefinition> checks;
+};
+
+struct Scene {
+  SceneDocument document;
+  std::string name;          // the scene folder's name
+  std::string description;
+  World world;
+  RunSettings run;
+};
+
+// Reads, validates and builds a scene; the overrides (KEY=VALUE) are applied first. Throws SceneError.
+std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std::string>& overrides);
+
+// The effective configuration (file + overrides + defaults) as YAML text.
+std::string dump_config(const Scene& scene);
+
+}  // namespace csim

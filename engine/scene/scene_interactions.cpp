@@ -1,0 +1,127 @@
+// springs, loads, constraints and contacts: what acts on the bodies.
+#include "engine/scene/scene_parts.h"
+
+namespace csim::scene_parts {
+
+namespace {
+
+Eigen::Vector3d point(const SceneNode& node, const std::string& key, int dimension) {
+  return node.has(key) ? node.vector(key, dimension, dimension) : Eigen::Vector3d::Zero();
+}
+
+}  // namespace
+
+// A spring: {body, point, other (default: the ground), other_point, stiffness, direction (optional)}.
+void read_springs(const SceneNode& root, World& world) {
+  if (!root.has("springs")) return;
+  const int d = world.dimension;
+  for (const auto& [name, node] : root.child("springs").entries()) {
+    node.allow_only({"body", "point", "other", "other_point", "stiffness", "direction"});
+    Spring s;
+    s.name = name;
+    s.body_a = body_named(node, "body", world);
+    s.point_a = point(node, "point", d);
+    if (node.has("other")) {
+      s.body_b = body_named(node, "other", world);
+      if (world.bodies[s.body_b].body->fixed()) s.body_b = -1;  // a fixed body is the ground
+      s.point_b = point(node, "other_point", d);
+    }
+    s.stiffness = node.positive("stiffness");
+    if (node.has("direction")) {
+      s.direction = node.vector("direction", d, d);
+      if (s.direction.norm() == 0.0) node.fail_at("direction", "must not be zero");
+      s.direction.normalize();
+    }
+    if (world.bodies[s.body_a].body->fixed()) node.fail_at("body", "the first body of a spring must move");
+    world.springs.push_back(s);
+  }
+}
+
+// A load: {body, point, force, ramp (s) | table [[t, λ], ...]}.
+void read_loads(const SceneNode& root, World& world) {
+  if (!root.has("loads")) return;
+  const int d = world.dimension;
+  for (const auto& [name, node] : root.child("loads").entries()) {
+    node.allow_only({"body", "point", "force", "ramp", "table"});
+    Load load;
+    load.name = name;
+    load.body = body_named(node, "body", world);
+    if (world.bodies[load.body].body->fixed()) node.fail_at("body", "a load on a fixed body does nothing");
+    load.point = point(node, "point", d);
+    load.force = node.vector("force", d, d);
+    if (node.has("ramp") && node.has("table")) node.fail("give either ramp or table, not both");
+    load.multiplier.ramp_time = node.non_negative("ramp", 0.0);
+    if (node.has("table")) {
+      for (const SceneNode& row : node.child("table").items()) {
+        const Eigen::Vector3d entry = row.as_vector(2, 2);
+        if (!load.multiplier.table.empty() && entry(0) <= load.multiplier.table.back().first)
+          row.fail("table times must increase");
+        load.multiplier.table.emplace_back(entry(0), entry(1));
+      }
+      if (load.multiplier.table.empty()) node.fail_at("table", "must not be empty");
+    }
+    world.loads.push_back(load);
+  }
+}
+
+// A linear constraint: {terms: {BODY.COMPONENT: coefficient, ...}, value (m)}.
+void read_constraints(const SceneNode& root, World& world) {
+  if (!root.has("constraints")) return;
+  for (const auto& [name, node] : root.child("constraints").entries()) {
+    node.allow_only({"terms", "value"});
+    LinearConstraint c;
+    c.name = name;
+    for (const auto& [term, coefficient] : node.child("terms").entries()) {
+      const std::size_t dot = term.rfind('.');
+      const int body = dot == std::string::npos ? -1 : world.body_index(term.substr(0, dot));
+      if (body < 0) coefficient.fail("expected BODY.COMPONENT with a known body");
+      const BodyInstance& b = world.bodies[body];
+      const int local = b.body->velocity_index(term.substr(dot + 1));
+      if (local < 0) coefficient.fail("body '" + b.name + "' has no component '" + term.substr(dot + 1) + "'");
+      c.terms.emplace_back(b.velocity_offset + local, coefficient.as_number());
+    }
+    if (c.terms.empty()) node.fail_at("terms", "a constraint needs at least one term");
+    c.value = node.number("value", 0.0);
+    world.constraints.push_back(c);
+  }
+}
+
+// A contact law: {between: [A, B], mu: μ | [μ1, μ2], friction_direction, restitution}.
+void read_contacts(const SceneNode& root, World& world) {
+  if (!root.has("contacts")) return;
+  for (const auto& [name, node] : root.child("contacts").entries()) {
+    node.allow_only({"between", "mu", "friction_direction", "restitution"});
+    ContactLaw law;
+    law.name = name;
+    const auto pair = node.child("between").items();
+    if (pair.size() != 2) node.fail_at("between", "expected two body names");
+    for (int i = 0; i < 2; ++i) {
+      const int body = world.body_index(pair[i].as_string());
+      if (body < 0) pair[i].fail("no body named '" + pair[i].as_string() + "'");
+      (i == 0 ? law.body_a : law.body_b) = body;
+    }
+    if (law.body_a == law.body_b) node.fail_at("between", "a body cannot touch itself");
+    for (const ContactLaw& other : world.contact_laws)
+      if ((other.body_a == law.body_a && other.body_b == law.body_b) ||
+          (other.body_a == law.body_b && other.body_b == law.body_a))
+        node.fail_at("between", "these bodies already have the contact law '" + other.name + "'");
+    if (node.has("mu") && node.child("mu").is_sequence()) {
+      law.mu = node.vector("mu", 2, 2).head<2>();
+      if (!node.has("friction_direction"))
+        node.fail_at("friction_direction", "required with an anisotropic mu [mu1, mu2]: the axis of mu1");
+    } else {
+      law.mu.setConstant(node.number("mu", 0.0));
+    }
+    if ((law.mu.array() < 0.0).any()) node.fail_at("mu", "the friction coefficient must be >= 0");
+    if (node.has("friction_direction"))
+      law.friction_direction = node.vector("friction_direction", world.dimension, world.dimension);
+    law.restitution = node.number("restitution", 0.0);
+    if (law.restitution < 0.0 || law.restitution > 1.0)
+      node.fail_at("restitution", "must lie in [0, 1]");
+    if (world.bodies[law.body_a].shapes.empty()) node.fail_at("between", "body '" + world.bodies[law.body_a].name + "' has no shapes");
+    if (world.bodies[law.body_b].shapes.empty()) node.fail_at("between", "body '" + world.bodies[law.body_b].name + "' has no shapes");
+    world.contact_laws.push_back(law);
+  }
+}
+
+}  // namespace csim::scene_parts

@@ -1,0 +1,145 @@
+// probes (named time series) and checks (a probe against a reference, with a tolerance).
+#include "engine/scene/scene_parts.h"
+
+namespace csim::scene_parts {
+
+namespace {
+
+Eigen::Vector3d component_direction(const SceneNode& node, int dimension) {
+  if (node.has("direction")) {
+    const Eigen::Vector3d d = node.vector("direction", dimension, dimension);
+    if (d.norm() == 0.0) node.fail_at("direction", "must not be zero");
+    return d.normalized();
+  }
+  const std::string component = node.string("component");
+  if (component == "x") return Eigen::Vector3d::UnitX();
+  if (component == "y") return Eigen::Vector3d::UnitY();
+  if (component == "z" && dimension == 3) return Eigen::Vector3d::UnitZ();
+  node.fail_at("component", "expected x, y" + std::string(dimension == 3 ? " or z" : "") + " (or give a direction)");
+}
+
+ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const World& world) {
+  ProbeDefinition p;
+  p.name = name;
+  node.expect_map();
+  const auto entries = node.entries();
+  if (entries.size() != 1)
+    node.fail("a probe has exactly one kind: displacement, position, velocity, energy or contact_force");
+  const auto& [kind, spec] = entries.front();
+  const int d = world.dimension;
+  if (kind == "displacement" || kind == "position") {
+    spec.allow_only({"body", "point", "component", "direction"});
+    p.kind = kind == "position" ? ProbeDefinition::Kind::position : ProbeDefinition::Kind::displacement;
+    p.body = body_named(spec, "body", world);
+    if (spec.has("point")) p.point = spec.vector("point", d, d);
+    p.direction = component_direction(spec, d);
+  } else if (kind == "velocity") {
+    spec.allow_only({"body", "component"});
+    p.kind = ProbeDefinition::Kind::velocity;
+    p.body = body_named(spec, "body", world);
+    const BodyInstance& b = world.bodies[p.body];
+    const std::string component = spec.string("component");
+    const int local = b.body->velocity_index(component);
+    if (local < 0) spec.fail_at("component", "body '" + b.name + "' has no velocity component '" + component + "'");
+    p.velocity_index = b.velocity_offset + local;
+  } else if (kind == "energy") {
+    p.kind = ProbeDefinition::Kind::energy;
+    p.energy_term = spec.as_string();
+    const char* terms[] = {"kinetic", "elastic", "work", "contact_dissipation", "numerical_dissipation", "balance"};
+    bool known = false;
+    for (const char* t : terms) known = known || p.energy_term == t;
+    if (!known) spec.fail("unknown energy term (expected kinetic, elastic, work, contact_dissipation, numerical_dissipation or balance)");
+  } else if (kind == "contact_force") {
+    spec.allow_only({"contact", "component"});
+    p.kind = ProbeDefinition::Kind::contact_force;
+    const std::string law = spec.string("contact");
+    for (std::size_t i = 0; i < world.contact_laws.size(); ++i)
+      if (world.contact_laws[i].name == law) p.contact_law = static_cast<int>(i);
+    if (p.contact_law < 0) spec.fail_at("contact", "no contact law named '" + law + "'");
+    p.force_component = spec.string("component");
+    const char* components[] = {"normal", "tangential", "x", "y", "z"};
+    bool known = false;
+    for (const char* c : components) known = known || p.force_component == c;
+    if (!known) spec.fail_at("component", "expected normal, tangential, x, y or z");
+  } else {
+    spec.fail("unknown probe kind '" + kind + "' (expected displacement, position, velocity, energy or contact_force)");
+  }
+  return p;
+}
+
+CheckDefinition read_check(const std::string& name, const SceneNode& node, const RunSettings& run,
+                           const ExpressionScope& scope) {
+  node.allow_only({"probe", "at", "extremum", "maximum", "minimum", "extremum_time", "final", "reference",
+                   "tolerance", "kind", "source", "only_if"});
+  CheckDefinition c;
+  c.name = name;
+  const std::string probe = node.string("probe");
+  for (std::size_t i = 0; i < run.probes.size(); ++i)
+    if (run.probes[i].name == probe) c.probe = static_cast<int>(i);
+  if (c.probe < 0) node.fail_at("probe", "no probe named '" + probe + "'");
+
+  int modes = 0;
+  auto index_of = [&](const char* key) {
+    const double value = node.number(key);
+    if (value < 1 || value != static_cast<int>(value)) node.fail_at(key, "must be a whole number >= 1");
+    return static_cast<int>(value);
+  };
+  if (node.has("at")) { ++modes; c.mode = CheckDefinition::Mode::at; c.time = node.number("at");
+    if (c.time < 0 || c.time > run.end_time) node.fail_at("at", "must lie in the time window"); }
+  if (node.has("extremum")) { ++modes; c.mode = CheckDefinition::Mode::extremum; c.index = index_of("extremum"); }
+  if (node.has("maximum")) { ++modes; c.mode = CheckDefinition::Mode::maximum; c.index = index_of("maximum"); }
+  if (node.has("minimum")) { ++modes; c.mode = CheckDefinition::Mode::minimum; c.index = index_of("minimum"); }
+  if (node.has("extremum_time")) { ++modes; c.mode = CheckDefinition::Mode::extremum_time; c.index = index_of("extremum_time"); }
+  if (node.has("final")) { ++modes; c.mode = CheckDefinition::Mode::final_value;
+    if (!node.child("final").as_bool()) node.fail_at("final", "write final: true"); }
+  if (modes != 1) node.fail("give exactly one of: at, extremum, maximum, minimum, extremum_time, final");
+
+  // The reference is checked now (names known, syntax) and evaluated after the run, with t bound.
+  const SceneNode reference = node.child("reference");
+  c.reference = reference.as_string();
+  c.reference_line = reference.line();
+  if (!c.reference.empty() && c.reference[0] == '=') {
+    c.reference.erase(0, 1);
+    try {
+      for (const std::string& n : Expression::parse(c.reference).names())
+        if (n != "t" && !scope.variables.count(n) && !scope.functions.count(n))
+          reference.fail("unknown name '" + n + "' (not a parameter, a reference function or t)");
+    } catch (const ExpressionError& e) {
+      reference.fail(std::string("in expression: ") + e.what());
+    }
+  } else {
+    reference.as_number();
+  }
+
+  const SceneNode tolerance = node.child("tolerance");
+  tolerance.allow_only({"absolute", "relative"});
+  if (!tolerance.has("absolute") && !tolerance.has("relative")) tolerance.fail("give absolute and/or relative");
+  c.absolute_tolerance = tolerance.non_negative("absolute", 0.0);
+  c.relative_tolerance = tolerance.non_negative("relative", 0.0);
+  c.kind = node.string("kind");
+  if (c.kind != "analytical" && c.kind != "literature" && c.kind != "non-regression")
+    node.fail_at("kind", "expected analytical, literature or non-regression");
+  c.source = node.string("source");
+  if (node.has("only_if")) {
+    const SceneNode condition = node.child("only_if");
+    c.only_if = condition.as_string();
+    c.enabled = condition.as_number() != 0.0;
+  }
+  return c;
+}
+
+}  // namespace
+
+void read_probes(const SceneNode& root, const World& world, RunSettings& run) {
+  if (!root.has("probes")) return;
+  for (const auto& [name, node] : root.child("probes").entries())
+    run.probes.push_back(read_probe(name, node, world));
+}
+
+void read_checks(const SceneNode& root, RunSettings& run) {
+  if (!root.has("checks")) return;
+  for (const auto& [name, node] : root.child("checks").entries())
+    run.checks.push_back(read_check(name, node, run, root.document().scope));
+}
+
+}  // namespace csim::scene_parts

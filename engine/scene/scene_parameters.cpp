@@ -1,0 +1,68 @@
+// parameters: the physical inputs of a scene, each a number or an expression of the ones above it;
+// references: named analytical solutions built from them, callable in expressions as NAME.QUANTITY(…).
+#include "engine/reference/coulomb_oscillator.h"
+#include "engine/scene/scene_parts.h"
+
+#include <memory>
+
+namespace csim::scene_parts {
+
+void read_parameters(const SceneNode& root, SceneDocument& document) {
+  if (!root.has("parameters")) return;
+  for (const auto& [name, node] : root.child("parameters").entries()) {
+    if (name == "t" || name == "pi" || name == "e")
+      node.fail("'" + name + "' is a reserved name in expressions");
+    document.scope.variables[name] = node.as_number();
+  }
+}
+
+namespace {
+
+void add_coulomb_oscillator(const std::string& name, const SceneNode& node, double end_time,
+                            SceneDocument& document) {
+  node.allow_only({"model", "mass", "stiffness", "force", "normal_force", "mu", "ramp_time",
+                   "initial_position", "initial_velocity"});
+  CoulombOscillator model;
+  model.mass = node.positive("mass");
+  model.stiffness = node.positive("stiffness");
+  model.force = node.number("force", 0.0);
+  model.normal_force = node.non_negative("normal_force", 0.0);
+  model.mu = node.non_negative("mu", 0.0);
+  model.ramp_time = node.non_negative("ramp_time", 0.0);
+  model.x0 = node.number("initial_position", 0.0);
+  model.v0 = node.number("initial_velocity", 0.0);
+  auto solution = std::make_shared<CoulombOscillatorSolution>(model, end_time);
+  auto index = [](std::span<const double> args) {
+    if (args.size() != 1) throw ExpressionError("expects one argument (an index from 1)");
+    return static_cast<int>(args[0]);
+  };
+  auto& f = document.scope.functions;
+  f[name + ".extremum"] = [solution, index](std::span<const double> a) { return solution->extremum_value(index(a)); };
+  f[name + ".extremum_time"] = [solution, index](std::span<const double> a) { return solution->extremum_time(index(a)); };
+  f[name + ".extremum_count"] = [solution](std::span<const double>) { return double(solution->extremum_count()); };
+  f[name + ".position"] = [solution](std::span<const double> a) {
+    if (a.size() != 1) throw ExpressionError("position(t) expects one argument");
+    return solution->position(a[0]);
+  };
+  f[name + ".velocity"] = [solution](std::span<const double> a) {
+    if (a.size() != 1) throw ExpressionError("velocity(t) expects one argument");
+    return solution->velocity(a[0]);
+  };
+  f[name + ".rest_position"] = [solution](std::span<const double>) { return solution->rest_position(); };
+  f[name + ".rest_time"] = [solution](std::span<const double>) { return solution->rest_time(); };
+}
+
+}  // namespace
+
+void read_references(const SceneNode& root, SceneDocument& document) {
+  if (!root.has("references")) return;
+  const double end_time = root.child("time").positive("end");
+  for (const auto& [name, node] : root.child("references").entries()) {
+    node.expect_map();
+    const std::string model = node.string("model");
+    if (model == "coulomb-oscillator") add_coulomb_oscillator(name, node, end_time, document);
+    else node.fail_at("model", "unknown reference model '" + model + "' (available: coulomb-oscillator)");
+  }
+}
+
+}  // namespace csim::scene_parts

@@ -1,0 +1,21 @@
+// The readers of each section of a scene file (internal to load_scene).
+#pragma once
+
+#include "engine/scene/scene.h"
+
+namespace csim::scene_parts {
+
+void read_parameters(const SceneNode& root, SceneDocument& document);
+void read_references(const SceneNode& root, SceneDocument& document);
+void read_bodies(const SceneNode& root, World& world);
+void read_springs(const SceneNode& root, World& world);
+void read_loads(const SceneNode& root, World& world);
+void read_constraints(const SceneNode& root, World& world);
+void read_contacts(const SceneNode& root, World& world);
+void read_probes(const SceneNode& root, const World& world, RunSettings& run);
+void read_checks(const SceneNode& root, RunSettings& run);
+
+// A body named by the value of `key`, or an error naming the key.
+int body_named(const SceneNode& node, const std::string& key, const World& world);
+
+}  // namespace csim::scene_parts

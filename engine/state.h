@@ -1,0 +1,67 @@
+// The mutable part of a simulation: time, coordinates, the contact set of the last step (its impulses
+// are the next step's warm start, matched by contact key), solver counters, the energy balance and
+// per-phase timers.
+#pragma once
+
+#include "contact/coulomb_local.h"
+#include "contact/contact_point.h"
+#include "engine/bodies/body.h"
+
+#include <vector>
+
+namespace csim {
+
+// One active contact of the last step. impulse = (r_n, r_t1, r_t2) in N·s over the step, in the frame
+// of `point` (normal from the law's body A to body B).
+struct ActiveContact {
+  ContactPoint point;
+  int law = -1;
+  int body_a = -1, body_b = -1;  // bodies of the point's objects A and B
+  Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+  ContactStatus status = ContactStatus::open;
+};
+
+struct SolverCounters {
+  long steps = 0;
+  long solves = 0;                // steps with a non-empty contact problem
+  long total_iterations = 0;      // PGS sweeps, summed
+  int max_iterations = 0;
+  long not_converged = 0;         // solves whose residual stayed above the tolerance
+  double max_residual = 0.0;      // worst final residual over the run (relative)
+  double first_not_converged_time = -1.0;  // s
+  long rejected_local_solutions = 0;
+  long contact_points = 0;        // active contacts, summed over steps
+  int max_contact_points = 0;
+};
+
+// Energy bookkeeping (J), accumulated from t = 0. The discrete balance of the θ-method,
+//   ΔE_kinetic + ΔE_elastic = W_loads − D_contact − D_numerical,
+// holds to solver tolerance for linear springs (see moreau_jean.h for the derivation);
+// D_numerical = (θ − ½)(|Δv|²_M + |Δq|²_K) ≥ 0 is the θ-method's own dissipation.
+struct EnergyBalance {
+  double kinetic = 0.0, elastic = 0.0;            // current values
+  double initial_kinetic = 0.0, initial_elastic = 0.0;
+  double work_of_loads = 0.0;                     // loads, gravity and inertial forces
+  double contact_dissipation = 0.0;               // −Σ rᵀ H v_θ (contacts and constraints)
+  double numerical_dissipation = 0.0;
+  double max_abs_residual = 0.0;                  // worst |balance| over the run
+  double residual() const {
+    return kinetic + elastic - initial_kinetic - initial_elastic - work_of_loads + contact_dissipation +
+           numerical_dissipation;
+  }
+};
+
+struct PhaseTimers {  // s, wall clock, summed over steps
+  double free_velocity = 0.0, detection = 0.0, assembly = 0.0, solve = 0.0, update = 0.0;
+};
+
+struct State {
+  double t = 0.0;  // s
+  Vector q, v;
+  std::vector<ActiveContact> contacts;  // sorted by key
+  SolverCounters counters;
+  EnergyBalance energy;
+  PhaseTimers timers;
+};
+
+}  // namespace csim

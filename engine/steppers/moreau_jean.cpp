@@ -1,0 +1,348 @@
+#include "engine/steppers/moreau_jean.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace csim {
+
+namespace {
+
+constexpr double kActivationGamma = 0.5;  // γ of the predicted-gap activation rule
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
+  return q.segment(b.position_offset, b.body->position_size());
+}
+
+// Rows of one contact: u = [n t1 (t2)]ᵀ (v_B(p_b) − v_A(p_a)), into rows (dimension × n).
+void contact_rows(const World& world, const Vector& q, int body_a, int body_b, const ContactPoint& c,
+                  int dimension, Eigen::Ref<Matrix> rows) {
+  rows.setZero();
+  Eigen::Matrix<double, 3, 3> frame;
+  frame.col(0) = c.normal;
+  frame.col(1) = c.t1;
+  frame.col(2) = c.t2;
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6> J;
+  const int ids[2] = {body_a, body_b};
+  const Eigen::Vector3d* points[2] = {&c.point_a, &c.point_b};
+  for (int side = 0; side < 2; ++side) {
+    const BodyInstance& b = world.bodies[ids[side]];
+    if (b.body->fixed()) continue;
+    const ConstVectorRef qb = positions_of(b, q);
+    const Eigen::Vector3d local = b.body->pose(qb).inverse() * *points[side];
+    J.resize(3, b.body->velocity_size());
+    b.body->point_jacobian(qb, local, J);
+    const double sign = side == 0 ? -1.0 : 1.0;
+    rows.middleCols(b.velocity_offset, b.body->velocity_size()) =
+        sign * frame.leftCols(dimension).transpose() * J;
+  }
+}
+
+}  // namespace
+
+MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameters)
+    : world_(world),
+      parameters_(parameters),
+      forces_(world),
+      pgs_(parameters.solver),
+      contact_dimension_(world.dimension == 2 ? 2 : 3) {
+  const int n = world.velocity_size;
+  M_.setZero(n, n);
+  for (const BodyInstance& b : world.bodies)
+    b.body->add_mass(M_.block(b.velocity_offset, b.velocity_offset, b.body->velocity_size(),
+                              b.body->velocity_size()));
+  K_.setZero(n, n);
+
+  // Collision objects only for bodies that some contact law names: a scene without contact builds
+  // no collision world at all.
+  const int nb = static_cast<int>(world.bodies.size());
+  law_of_pair_.assign(nb * nb, -1);
+  std::vector<bool> in_contact(nb, false);
+  for (std::size_t l = 0; l < world.contact_laws.size(); ++l) {
+    const ContactLaw& law = world.contact_laws[l];
+    law_of_pair_[law.body_a * nb + law.body_b] = static_cast<int>(l);
+    law_of_pair_[law.body_b * nb + law.body_a] = static_cast<int>(l);
+    in_contact[law.body_a] = in_contact[law.body_b] = true;
+  }
+  if (!world.contact_laws.empty()) {
+    collision_ = std::make_unique<CollisionWorld>(world.dimension == 2);
+    for (int i = 0; i < nb; ++i) {
+      if (!in_contact[i]) continue;
+      const BodyInstance& b = world.bodies[i];
+      for (const ShapeInstance& s : b.shapes) {
+        const int object = collision_->add_object(i, s.shape, b.body->fixed());
+        object_body_.resize(object + 1);
+        object_shape_.resize(object + 1);
+        object_body_[object] = i;
+        object_shape_[object] = static_cast<int>(&s - b.shapes.data());
+        collision_->set_pose(object, b.body->pose(b.initial_position) * s.local_pose);
+      }
+    }
+  }
+
+  // Linear constraints: rows of C, and the position index of each term when it has one.
+  const int ne = static_cast<int>(world.constraints.size());
+  constraint_rows_.setZero(ne, n);
+  constraint_positions_.resize(ne);
+  for (int e = 0; e < ne; ++e) {
+    for (const auto& [index, coefficient] : world.constraints[e].terms) {
+      constraint_rows_(e, index) += coefficient;
+      int position = -1;
+      for (const BodyInstance& b : world.bodies) {
+        const int local = index - b.velocity_offset;
+        if (local < 0 || local >= b.body->velocity_size()) continue;
+        // Coordinates and velocities coincide except for the rotation of a 3D rigid body.
+        if (b.body->position_size() == b.body->velocity_size() || local < 3)
+          position = b.position_offset + local;
+      }
+      constraint_positions_[e].push_back(position);
+    }
+  }
+}
+
+MoreauJean::~MoreauJean() = default;
+
+void MoreauJean::initialize(State& state) {
+  const Vector& v = state.v;
+  state.energy.kinetic = state.energy.initial_kinetic = 0.5 * v.dot(M_ * v);
+  state.energy.elastic = state.energy.initial_elastic = forces_.elastic_energy(state.q);
+}
+
+void MoreauJean::factor_iteration_matrix(const Vector& q) {
+  if (factored_ && forces_.constant_stiffness()) return;
+  const double h = parameters_.step, theta = parameters_.theta;
+  if (forces_.has_springs()) forces_.spring_stiffness(q, K_);
+  iteration_matrix_ = M_ + (h * h * theta * theta) * K_;
+  factorization_.compute(iteration_matrix_);
+  factored_ = true;
+}
+
+void MoreauJean::compute_free_velocity(const State& state) {
+  const double h = parameters_.step, theta = parameters_.theta;
+  factor_iteration_matrix(state.q);
+  // Loads at both ends of the step (their points taken at q_k), and the inertial force at v_k.
+  forces_.external(state.q, state.t + h, f_total_);
+  f_loads_ = theta * f_total_;
+  forces_.external(state.q, state.t, f_total_);
+  f_loads_ += (1.0 - theta) * f_total_;
+  for (const BodyInstance& b : world_.bodies)
+    b.body->add_inertial_force(state.v.segment(b.velocity_offset, b.body->velocity_size()),
+                               f_loads_.segment(b.velocity_offset, b.body->velocity_size()));
+  f_total_ = f_loads_;
+  if (forces_.has_springs()) {
+    forces_.add_spring_forces(state.q, f_total_);
+    f_total_.noalias() -= (theta * h) * (K_ * state.v);
+  }
+  v_free_ = state.v + factorization_.solve(h * f_total_);
+}
+
+void MoreauJean::detect(const State& state) {
+  candidates_.clear();
+  active_.clear();
+  if (!collision_) return;
+  const double h = parameters_.step;
+  // Broad-phase margin: no point can travel farther than this in one step.
+  double speed = 0.0;
+  for (const BodyInstance& b : world_.bodies) {
+    if (b.body->fixed()) continue;
+    for (const Vector* v : {static_cast<const Vector*>(&state.v), static_cast<const Vector*>(&v_free_)}) {
+      const auto vb = v->segment(b.velocity_offset, b.body->velocity_size());
+      const int nt = std::min<int>(world_.dimension, vb.size());
+      double s = vb.head(nt).norm();
+      if (vb.size() > nt) s += vb.tail(vb.size() - nt).norm() * b.body->bounding_radius;
+      speed = std::max(speed, s);
+    }
+  }
+  const double margin = 2.0 * h * speed + 1e-12;
+  for (std::size_t o = 0; o < object_body_.size(); ++o) {
+    const BodyInstance& b = world_.bodies[object_body_[o]];
+    if (b.body->fixed()) continue;
+    collision_->set_pose(static_cast<int>(o),
+                         b.body->pose(positions_of(b, state.q)) * b.shapes[object_shape_[o]].local_pose);
+  }
+  collision_->update(margin);
+  collision_->find_contacts(candidates_);
+
+  const int nb = static_cast<int>(world_.bodies.size());
+  const int n = world_.velocity_size;
+  Matrix& rows = candidate_rows_;
+  rows.resize(contact_dimension_, n);
+  for (ContactPoint& c : candidates_) {
+    const int body_a = object_body_[c.key.object_a], body_b = object_body_[c.key.object_b];
+    const int law_index = law_of_pair_[body_a * nb + body_b];
+    if (law_index < 0) continue;
+    const ContactLaw& law = world_.contact_laws[law_index];
+    if (!law.isotropic()) complete_frame(c, world_.dimension == 2, law.friction_direction);
+    contact_rows(world_, state.q, body_a, body_b, c, contact_dimension_, rows);
+    const double normal_velocity = rows.row(0).dot(state.v);
+    if (c.gap + kActivationGamma * h * normal_velocity > 0.0) continue;
+    ActiveContact a;
+    a.point = c;
+    a.law = law_index;
+    a.body_a = body_a;
+    a.body_b = body_b;
+    active_.push_back(a);
+  }
+}
+
+void MoreauJean::assemble(const State& state) {
+  const int n = world_.velocity_size;
+  const int d = contact_dimension_;
+  const int nc = static_cast<int>(active_.size());
+  const int ne = static_cast<int>(world_.constraints.size());
+  const int m = d * nc + ne;
+  const double h = parameters_.step, theta = parameters_.theta;
+
+  H_.resize(m, n);
+  problem_.dimension = d;
+  problem_.contacts = nc;
+  problem_.equalities = ne;
+  problem_.mu.resize(nc);
+  for (int i = 0; i < nc; ++i) {
+    const ActiveContact& a = active_[i];
+    const ContactLaw& law = world_.contact_laws[a.law];
+    contact_rows(world_, state.q, a.body_a, a.body_b, a.point, d, H_.middleRows(d * i, d));
+    problem_.mu[i] = law.mu;
+  }
+  if (ne > 0) H_.bottomRows(ne) = constraint_rows_;
+
+  X_ = factorization_.solve(H_.transpose());
+  problem_.W.noalias() = H_ * X_;
+  problem_.q.noalias() = H_ * v_free_;
+  for (int i = 0; i < nc; ++i) {
+    const double e = world_.contact_laws[active_[i].law].restitution;
+    if (e > 0.0) problem_.q(d * i) += e * H_.row(d * i).dot(state.v);
+  }
+  // Constraint targets: C v_{k+1} such that C (q_{k+1} − q_ref) = value exactly.
+  for (int e = 0; e < ne; ++e) {
+    const LinearConstraint& constraint = world_.constraints[e];
+    double target = 0.0;
+    bool position_level = true;
+    double displacement = 0.0;
+    for (std::size_t t = 0; t < constraint.terms.size(); ++t) {
+      const int p = constraint_positions_[e][t];
+      if (p < 0) { position_level = false; break; }
+      const auto [index, coefficient] = constraint.terms[t];
+      double reference = 0.0;
+      for (const BodyInstance& b : world_.bodies)
+        if (p >= b.position_offset && p < b.position_offset + b.body->position_size())
+          reference = b.reference_position(p - b.position_offset);
+      displacement += coefficient * (state.q(p) - reference);
+    }
+    if (position_level) {
+      const double rate_k = constraint_rows_.row(e).dot(state.v);
+      target = (constraint.value - displacement - h * (1.0 - theta) * rate_k) / (h * theta);
+    }
+    problem_.q(d * nc + e) -= target;
+  }
+}
+
+void MoreauJean::solve(State& state) {
+  const int d = contact_dimension_;
+  const int nc = static_cast<int>(active_.size());
+  const int m = problem_.size();
+  r_.setZero(m);
+  // Warm start: the previous step's impulse of the contact with the same key (both lists sorted).
+  std::size_t j = 0;
+  for (int i = 0; i < nc; ++i) {
+    const ContactKey& key = active_[i].point.key;
+    while (j < state.contacts.size() && state.contacts[j].point.key < key) ++j;
+    if (j < state.contacts.size() && state.contacts[j].point.key == key)
+      r_.segment(d * i, d) = state.contacts[j].impulse.head(d);
+  }
+  if (m == 0) return;
+  const PgsStatistics stats = pgs_.solve(problem_, r_, &status_);
+  SolverCounters& c = state.counters;
+  ++c.solves;
+  c.total_iterations += stats.iterations;
+  c.max_iterations = std::max(c.max_iterations, stats.iterations);
+  c.max_residual = std::max(c.max_residual, stats.residual);
+  c.rejected_local_solutions += stats.rejected_local_solutions;
+  if (!stats.converged) {
+    if (c.not_converged++ == 0) c.first_not_converged_time = state.t + parameters_.step;
+    if (!(stats.residual <= parameters_.failure_residual)) {
+      std::ostringstream message;
+      message << "contact solver failed at t = " << state.t + parameters_.step << " s: residual "
+              << stats.residual << " after " << stats.iterations
+              << " iterations (failure threshold contact_solver.failure_residual = "
+              << parameters_.failure_residual << ")";
+      throw RunError(state.t + parameters_.step, message.str());
+    }
+  }
+  for (int i = 0; i < nc; ++i) {
+    active_[i].impulse.head(d) = r_.segment(d * i, d);
+    active_[i].status = status_.empty() ? ContactStatus::open : status_[i];
+  }
+}
+
+void MoreauJean::update(State& state) {
+  const double h = parameters_.step, theta = parameters_.theta;
+  v_next_ = v_free_;
+  if (r_.size() > 0) v_next_.noalias() += X_ * r_;
+  v_theta_ = (1.0 - theta) * state.v + theta * v_next_;
+  q_next_.resize(state.q.size());
+  for (const BodyInstance& b : world_.bodies) {
+    if (b.body->fixed()) continue;
+    b.body->integrate_position(positions_of(b, state.q),
+                               v_theta_.segment(b.velocity_offset, b.body->velocity_size()), h,
+                               q_next_.segment(b.position_offset, b.body->position_size()));
+  }
+}
+
+void MoreauJean::account_energy(State& state) {
+  const double h = parameters_.step, theta = parameters_.theta;
+  EnergyBalance& e = state.energy;
+  const Vector dv = v_next_ - state.v;
+  e.work_of_loads += h * f_loads_.dot(v_theta_);
+  if (r_.size() > 0) e.contact_dissipation -= r_.dot(H_ * v_theta_);
+  double numerical = dv.dot(M_ * dv);
+  if (forces_.has_springs()) numerical += h * h * v_theta_.dot(K_ * v_theta_);
+  e.numerical_dissipation += (theta - 0.5) * numerical;
+  e.kinetic = 0.5 * v_next_.dot(M_ * v_next_);
+  e.elastic = forces_.elastic_energy(q_next_);
+  e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
+}
+
+void MoreauJean::step(State& state) {
+  auto start = Clock::now();
+  compute_free_velocity(state);
+  state.timers.free_velocity += seconds_since(start);
+
+  start = Clock::now();
+  detect(state);
+  state.timers.detection += seconds_since(start);
+
+  start = Clock::now();
+  assemble(state);
+  state.timers.assembly += seconds_since(start);
+
+  start = Clock::now();
+  solve(state);
+  state.timers.solve += seconds_since(start);
+
+  start = Clock::now();
+  update(state);
+  account_energy(state);
+  if (!v_next_.allFinite() || !q_next_.allFinite()) {
+    std::ostringstream message;
+    message << "non-finite state at t = " << state.t + parameters_.step
+            << " s (check the time step, stiffness and loads)";
+    throw RunError(state.t + parameters_.step, message.str());
+  }
+  state.q.swap(q_next_);
+  state.v.swap(v_next_);
+  SolverCounters& c = state.counters;
+  ++c.steps;
+  state.t = static_cast<double>(c.steps) * parameters_.step;  // no accumulated round-off
+  state.contacts.swap(active_);
+  c.contact_points += static_cast<long>(state.contacts.size());
+  c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
+  state.timers.update += seconds_since(start);
+}
+
+}  // namespace csim

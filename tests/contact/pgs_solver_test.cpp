@@ -1,0 +1,324 @@
+// Projected Gauss–Seidel on small problems whose solutions are known by hand.
+#include "contact/pgs_solver.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace csim {
+namespace {
+
+constexpr double kGravity = 9.81;  // m/s²
+constexpr double kStep = 0.01;     // s
+
+// A 2D rigid box (mass m, inertia I about its centre) at rest on the ground, touching it at its two
+// bottom corners (∓a, −b) relative to the centre, frame n = (0, 1), t = (1, 0). Generalised velocity
+// (v_x, v_y, ω); the velocity of the corner p is v + ω × p = (v_x − ω p_y, v_y + ω p_x), so the rows of
+// H are n: (0, 1, p_x), t: (1, 0, −p_y). A horizontal push F through the centre acts for one step.
+struct BoxOnTwoCorners {
+  double m = 2.0;       // kg
+  double a = 1.0;       // m, half width
+  double b = 0.5;       // m, half height
+  double I = m * (4 * a * a + 4 * b * b) / 12.0;  // kg·m²
+  double mu = 0.3;
+
+  Eigen::Matrix<double, 4, 3> H() const {
+    Eigen::Matrix<double, 4, 3> H;
+    H << 0, 1, -a,  // corner 1 normal
+        1, 0, b,    // corner 1 tangent
+        0, 1, a,    // corner 2 normal
+        1, 0, b;    // corner 2 tangent
+    return H;
+  }
+
+  FrictionContactProblem problem(double push) const {
+    const Eigen::Matrix3d M_inverse = Eigen::Vector3d(1 / m, 1 / m, 1 / I).asDiagonal();
+    const Eigen::Vector3d v_free(kStep * push / m, -kGravity * kStep, 0.0);
+    FrictionContactProblem problem;
+    problem.dimension = 2;
+    problem.contacts = 2;
+    problem.W = H() * M_inverse * H().transpose();
+    problem.q = H() * v_free;
+    problem.mu = {Eigen::Vector2d(mu, mu), Eigen::Vector2d(mu, mu)};
+    return problem;
+  }
+
+  double weight_impulse() const { return m * kGravity * kStep; }  // N·s
+};
+
+Eigen::VectorXd velocity(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+  return problem.W * r + problem.q;
+}
+
+TEST(PgsSolver, EmptyProblemConvergesImmediately) {
+  FrictionContactProblem problem;
+  problem.W.resize(0, 0);
+  problem.q.resize(0);
+  Eigen::VectorXd r(3);
+  std::vector<ContactStatus> status(4);
+  const PgsStatistics statistics = PgsSolver().solve(problem, r, &status);
+  EXPECT_TRUE(statistics.converged);
+  EXPECT_EQ(statistics.iterations, 0);
+  EXPECT_EQ(statistics.residual, 0.0);
+  EXPECT_EQ(r.size(), 0);
+  EXPECT_TRUE(status.empty());
+}
+
+TEST(PgsSolver, SingleContactConvergesToTheLocalSolution) {
+  // 3D, coupled W, sliding: the local solve is the global solve.
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.contacts = 1;
+  problem.W.resize(3, 3);
+  problem.W << 1.0, 0.1, -0.05, 0.1, 0.9, 0.2, -0.05, 0.2, 0.7;
+  problem.q = Eigen::Vector3d(-1.0, 0.6, -0.4);
+  problem.mu = {Eigen::Vector2d(0.3, 0.2)};
+  Eigen::VectorXd r;  // wrong size: zeroed
+  std::vector<ContactStatus> status;
+  const PgsStatistics statistics = PgsSolver().solve(problem, r, &status);
+  EXPECT_TRUE(statistics.converged);
+  EXPECT_LE(statistics.iterations, 2);
+  EXPECT_LE(statistics.residual, 1e-14);
+
+  Eigen::Vector3d r_local;
+  const ContactStatus local_status =
+      solve_local_3d(problem.W, Eigen::Vector3d(problem.q), problem.mu[0], r_local);
+  EXPECT_EQ(Eigen::Vector3d(r), r_local);
+  ASSERT_EQ(status.size(), 1u);
+  EXPECT_EQ(status[0], local_status);
+  EXPECT_EQ(status[0], ContactStatus::slip);
+
+  // 2D, sticking.
+  FrictionContactProblem plane;
+  plane.dimension = 2;
+  plane.contacts = 1;
+  plane.W.resize(2, 2);
+  plane.W << 2.0, 0.5, 0.5, 1.0;
+  plane.q = -plane.W * Eigen::Vector2d(1.0, 0.1);  // stick at r = (1, 0.1), inside μ = 0.5
+  plane.mu = {Eigen::Vector2d(0.5, 0.0)};
+  Eigen::VectorXd r2 = Eigen::VectorXd::Zero(2);
+  const PgsStatistics plane_statistics = PgsSolver().solve(plane, r2, &status);
+  EXPECT_TRUE(plane_statistics.converged);
+  EXPECT_LE(plane_statistics.iterations, 2);
+  EXPECT_LE(velocity(plane, r2).norm(), 1e-15);
+  EXPECT_NEAR(r2(0), 1.0, 1e-15);
+  EXPECT_NEAR(r2(1), 0.1, 1e-15);
+  EXPECT_EQ(status[0], ContactStatus::stick);
+}
+
+TEST(PgsSolver, BoxPushedBelowThresholdSticks) {
+  const BoxOnTwoCorners box;
+  const FrictionContactProblem problem = box.problem(0.5 * box.mu * box.m * kGravity);
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver().solve(problem, r);
+  EXPECT_TRUE(statistics.converged);
+  EXPECT_LE(statistics.residual, 1e-12);
+  const Eigen::VectorXd u = velocity(problem, r);
+  EXPECT_NEAR(u(1), 0.0, 1e-12);
+  EXPECT_NEAR(u(3), 0.0, 1e-12);
+  EXPECT_NEAR(u(0), 0.0, 1e-12);
+  EXPECT_NEAR(u(2), 0.0, 1e-12);
+  // Newton's second law on the box at rest: total impulses cancel gravity and the push.
+  EXPECT_NEAR(r(0) + r(2), box.weight_impulse(), 1e-12);
+  EXPECT_NEAR(r(1) + r(3), -0.5 * box.mu * box.weight_impulse(), 1e-12);
+}
+
+TEST(PgsSolver, BoxPushedAboveThresholdSlidesOnBothCorners) {
+  const BoxOnTwoCorners box;
+  const FrictionContactProblem problem = box.problem(2.0 * box.mu * box.m * kGravity);
+  Eigen::VectorXd r;
+  std::vector<ContactStatus> status;
+  const PgsStatistics statistics = PgsSolver().solve(problem, r, &status);
+  EXPECT_TRUE(statistics.converged);
+  EXPECT_LE(statistics.residual, 1e-12);
+  ASSERT_EQ(status.size(), 2u);
+  EXPECT_EQ(status[0], ContactStatus::slip);
+  EXPECT_EQ(status[1], ContactStatus::slip);
+  const Eigen::VectorXd u = velocity(problem, r);
+  EXPECT_GT(u(1), 0.0);
+  EXPECT_GT(u(3), 0.0);
+  const double normal_total = r(0) + r(2);
+  const double tangential_total = r(1) + r(3);
+  EXPECT_NEAR(tangential_total, -box.mu * normal_total, 1e-12 * box.mu * normal_total);
+  // The push tilts the load to the front corner (corner 2 at +a): r_n2 − r_n1 = (b/a) μ·(weight).
+  EXPECT_GT(r(2), r(0));
+}
+
+TEST(PgsSolver, BoxPushedExactlyAtThresholdSticksOnTheBoundary) {
+  const BoxOnTwoCorners box;
+  const FrictionContactProblem problem = box.problem(box.mu * box.m * kGravity);
+  Eigen::VectorXd r;
+  const PgsSolver solver;
+  const PgsStatistics statistics = solver.solve(problem, r);
+  EXPECT_TRUE(statistics.converged);
+  EXPECT_LE(statistics.residual, solver.parameters().tolerance);
+  const Eigen::VectorXd u = velocity(problem, r);
+  EXPECT_LE(std::abs(u(1)), 1e-12);
+  EXPECT_LE(std::abs(u(3)), 1e-12);
+  // At the threshold the solution is unique: both corners on the cone, normal loads from the torque
+  // balance a (r_n2 − r_n1) = b μ·(weight).
+  const double weight = box.weight_impulse();
+  EXPECT_NEAR(r(0), 0.5 * weight * (1 - box.b / box.a * box.mu), 1e-9 * weight);
+  EXPECT_NEAR(r(2), 0.5 * weight * (1 + box.b / box.a * box.mu), 1e-9 * weight);
+}
+
+TEST(PgsSolver, BilateralConstraintWithUnidirectionalFriction) {
+  // Point mass m on z = 0, frame (n, t1, t2) = (e_z, e_x, e_y), plus the bilateral row v_x − v_y = 0.
+  // H rows: n (0,0,1), t1 (1,0,0), t2 (0,1,0), equality (1,−1,0); W = H Hᵀ / m. Free velocity: falling
+  // at g h and sliding at V along (1,1,0)/√2. Friction μ = (0.1, 0) along x only. By hand:
+  //   r_n = m g h, r_x = −μ1 r_n, r_y = 0, and v_x = v_y gives λ = −r_x / 2, so
+  //   v_x = v_y = V/√2 − μ1 g h / 2, speed along the line V − μ1 g h cos45°.
+  const double m = 3.0, V = 2.0, mu1 = 0.1;
+  Eigen::Matrix<double, 4, 3> H;
+  H << 0, 0, 1, 1, 0, 0, 0, 1, 0, 1, -1, 0;
+  const Eigen::Vector3d v_free(V / std::sqrt(2.0), V / std::sqrt(2.0), -kGravity * kStep);
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.contacts = 1;
+  problem.equalities = 1;
+  problem.W = H * H.transpose() / m;
+  problem.q = H * v_free;
+  problem.mu = {Eigen::Vector2d(mu1, 0.0)};
+  Eigen::VectorXd r;
+  std::vector<ContactStatus> status;
+  const PgsStatistics statistics = PgsSolver().solve(problem, r, &status);
+  EXPECT_TRUE(statistics.converged);
+  EXPECT_LE(statistics.residual, 1e-12);
+  EXPECT_EQ(status[0], ContactStatus::slip);
+
+  const Eigen::Vector3d v = v_free + H.transpose() * r / m;
+  const double speed = (v(0) + v(1)) / std::sqrt(2.0);
+  const double expected_speed = V - mu1 * kGravity * kStep * std::cos(M_PI / 4);
+  EXPECT_NEAR(speed, expected_speed, 1e-10);
+  EXPECT_NEAR(v(0) - v(1), 0.0, 1e-12);
+  EXPECT_NEAR(v(2), 0.0, 1e-12);
+  EXPECT_NEAR(r(0), m * kGravity * kStep, 1e-12);
+  EXPECT_NEAR(r(1), -mu1 * m * kGravity * kStep, 1e-12);
+  EXPECT_EQ(r(2), 0.0);
+  EXPECT_NEAR(r(3), 0.5 * mu1 * m * kGravity * kStep, 1e-12);
+}
+
+TEST(PgsSolver, EqualitiesOnlyAreSolvedInOneSweep) {
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.equalities = 2;
+  problem.W.resize(2, 2);
+  problem.W << 2.0, 0.5, 0.5, 1.0;
+  problem.q = Eigen::Vector2d(1.0, -2.0);
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver().solve(problem, r);
+  EXPECT_TRUE(statistics.converged);
+  EXPECT_LE(statistics.iterations, 2);
+  EXPECT_LE(velocity(problem, r).norm(), 1e-14);
+}
+
+TEST(PgsSolver, ResidualVanishesAtSolutionAndNotElsewhere) {
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.contacts = 1;
+  problem.W.resize(3, 3);
+  problem.W << 1.0, 0.1, -0.05, 0.1, 0.9, 0.2, -0.05, 0.2, 0.7;
+  problem.q = Eigen::Vector3d(-1.0, 0.6, -0.4);
+  problem.mu = {Eigen::Vector2d(0.3, 0.3)};
+  Eigen::Vector3d r_exact;
+  solve_local_3d(problem.W, Eigen::Vector3d(problem.q), problem.mu[0], r_exact);
+  EXPECT_LE(PgsSolver::residual(problem, r_exact), 1e-14);
+  // r = 0 while the contact approaches: the whole normal velocity is unresolved.
+  EXPECT_GT(PgsSolver::residual(problem, Eigen::VectorXd::Zero(3)), 0.5);
+  // Right normal impulse, wrong friction: the residual sees the friction part too.
+  Eigen::VectorXd frictionless = r_exact;
+  frictionless(1) = frictionless(2) = 0.0;
+  EXPECT_GT(PgsSolver::residual(problem, frictionless), 1e-3);
+
+  // The box at the threshold, at the hand solution.
+  const BoxOnTwoCorners box;
+  const FrictionContactProblem box_problem = box.problem(box.mu * box.m * kGravity);
+  const double weight = box.weight_impulse();
+  Eigen::VectorXd r_box(4);
+  r_box(0) = 0.5 * weight * (1 - box.b / box.a * box.mu);
+  r_box(2) = 0.5 * weight * (1 + box.b / box.a * box.mu);
+  r_box(1) = -box.mu * r_box(0);
+  r_box(3) = -box.mu * r_box(2);
+  EXPECT_LE(PgsSolver::residual(box_problem, r_box), 1e-14);
+}
+
+TEST(PgsSolver, ReportsNonConvergence) {
+  const BoxOnTwoCorners box;
+  const FrictionContactProblem problem = box.problem(2.0 * box.mu * box.m * kGravity);
+  PgsParameters parameters;
+  parameters.max_iterations = 1;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  EXPECT_FALSE(statistics.converged);
+  EXPECT_EQ(statistics.iterations, 1);
+  EXPECT_GT(statistics.residual, parameters.tolerance);
+  EXPECT_DOUBLE_EQ(statistics.residual, PgsSolver::residual(problem, r));
+}
+
+TEST(PgsSolver, WarmStartFromSolutionTakesOneSweep) {
+  const BoxOnTwoCorners box;
+  for (const double push : {0.5, 2.0}) {
+    const FrictionContactProblem problem = box.problem(push * box.mu * box.m * kGravity);
+    Eigen::VectorXd r;
+    const PgsStatistics cold = PgsSolver().solve(problem, r);
+    ASSERT_TRUE(cold.converged);
+    EXPECT_GT(cold.iterations, 2);
+    const Eigen::VectorXd solution = r;
+    const PgsStatistics warm = PgsSolver().solve(problem, r);
+    EXPECT_TRUE(warm.converged);
+    EXPECT_EQ(warm.iterations, 1);
+    EXPECT_LE((r - solution).norm(), 1e-12 * solution.norm());
+  }
+}
+
+TEST(PgsSolver, OverRelaxationReachesTheSameSolution) {
+  const BoxOnTwoCorners box;
+  const FrictionContactProblem problem = box.problem(2.0 * box.mu * box.m * kGravity);
+  Eigen::VectorXd r_plain, r_relaxed;
+  ASSERT_TRUE(PgsSolver().solve(problem, r_plain).converged);
+  PgsParameters parameters;
+  parameters.omega = 1.3;
+  EXPECT_TRUE(PgsSolver(parameters).solve(problem, r_relaxed).converged);
+  EXPECT_LE((r_relaxed - r_plain).norm(), 1e-10 * r_plain.norm());
+}
+
+TEST(PgsSolver, LiftedBoxIsOpen) {
+  BoxOnTwoCorners box;
+  FrictionContactProblem problem = box.problem(0.0);
+  problem.q = -problem.q;  // moving up
+  Eigen::VectorXd r = Eigen::VectorXd::Constant(4, 1.0);  // stale warm start
+  std::vector<ContactStatus> status;
+  const PgsStatistics statistics = PgsSolver().solve(problem, r, &status);
+  EXPECT_TRUE(statistics.converged);
+  EXPECT_EQ(r, Eigen::VectorXd::Zero(4));
+  EXPECT_EQ(status, std::vector<ContactStatus>(2, ContactStatus::open));
+}
+
+TEST(PgsSolver, RejectsNonFiniteLocalSolutions) {
+  const BoxOnTwoCorners box;
+  FrictionContactProblem problem = box.problem(0.0);
+  problem.q(1) = std::numeric_limits<double>::quiet_NaN();
+  PgsParameters parameters;
+  parameters.max_iterations = 5;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  EXPECT_FALSE(statistics.converged);
+  EXPECT_EQ(statistics.rejected_local_solutions, 5);
+  EXPECT_TRUE(r.allFinite());
+  EXPECT_EQ(r(0), 0.0);  // the rejected contact kept its previous (zero) impulse
+}
+
+TEST(PgsSolver, InconsistentProblemThrows) {
+  FrictionContactProblem problem;
+  problem.contacts = 1;
+  problem.W = Eigen::MatrixXd::Identity(2, 2);
+  problem.q = Eigen::VectorXd::Zero(3);
+  problem.mu = {Eigen::Vector2d(0.1, 0.1)};
+  Eigen::VectorXd r;
+  EXPECT_THROW(PgsSolver().solve(problem, r), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace csim
