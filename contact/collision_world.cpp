@@ -162,6 +162,8 @@ void CollisionWorld::set_pose(int object, const Eigen::Isometry3d& pose) {
 }
 
 void CollisionWorld::update(double margin) {
+  // A negative margin would let FCL's penetrating contacts (not filtered by margin) through.
+  if (!(margin >= 0.0)) throw std::invalid_argument("margin must be >= 0");
   impl_->margin = margin;
   for (Impl::Object& object : impl_->objects) {
     if (object.fcl_object) impl_->refresh_aabb(object);
@@ -176,9 +178,9 @@ void CollisionWorld::find_contacts(std::vector<ContactPoint>& out) const {
     impl_->narrow_phase.collide(impl_->objects[a].instance, impl_->objects[b].instance,
                                 impl_->margin, out);
   }
-  // Pairs come sorted and features ascend within a pair; the sort only guards that invariant.
-  std::sort(out.begin(), out.end(),
-            [](const ContactPoint& x, const ContactPoint& y) { return x.key < y.key; });
+  // Pairs come sorted and features ascend within a pair, so this only guards that invariant.
+  const auto by_key = [](const ContactPoint& x, const ContactPoint& y) { return x.key < y.key; };
+  if (!std::is_sorted(out.begin(), out.end(), by_key)) std::sort(out.begin(), out.end(), by_key);
 }
 
 int CollisionWorld::body_of(int object) const { return impl_->objects.at(object).body; }

@@ -37,13 +37,14 @@ class CollisionWorld {
   CollisionWorld& operator=(const CollisionWorld&) = delete;
 
   // Registers a shape carried by `body` (any id of the caller's; `fixed` bodies never move).
-  // Returns the object id (0, 1, 2, ... in call order).
+  // Returns the object id (0, 1, 2, ... in call order). Throws std::invalid_argument for a
+  // non-positive size, a zero halfspace normal, or a halfspace on a non-fixed body.
   int add_object(int body, const Shape& shape, bool fixed);
 
   // World pose of the object's shape frame. Call for the moving objects, then update().
   void set_pose(int object, const Eigen::Isometry3d& pose);
 
-  // Refreshes AABBs (inflated by margin, m) and the manager (FCL's update()).
+  // Refreshes AABBs (inflated by margin, m, ≥ 0) and the manager (FCL's update()).
   void update(double margin);
 
   // All contact points with gap ≤ margin (the margin of the last update), sorted by key.

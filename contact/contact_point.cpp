@@ -34,13 +34,17 @@ void complete_frame(ContactPoint& contact, bool planar, const Eigen::Vector3d& d
     contact.t1 = contact.t2.cross(n).normalized();
     return;
   }
-  const Eigen::Vector3d along_direction = orthogonal_part(direction, n);
   const double direction_norm = direction.norm();
-  if (direction_norm > 0.0 && along_direction.norm() > kParallelTolerance * direction_norm) {
-    contact.t1 = along_direction.normalized();
-  } else {
-    contact.t1 = orthogonal_part(least_aligned_axis(n), n).normalized();
+  if (direction_norm > 0.0) {
+    const Eigen::Vector3d along_direction = orthogonal_part(direction, n);
+    const double along_norm = along_direction.norm();
+    if (along_norm > kParallelTolerance * direction_norm) {
+      contact.t1 = along_direction / along_norm;
+      contact.t2 = n.cross(contact.t1);
+      return;
+    }
   }
+  contact.t1 = orthogonal_part(least_aligned_axis(n), n).normalized();
   contact.t2 = n.cross(contact.t1);
 }
 

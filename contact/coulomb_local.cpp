@@ -246,20 +246,31 @@ Eigen::Vector2d rotated(const Eigen::Vector2d& e, double angle) {
   return Eigen::Vector2d(c * e(0) - s * e(1), s * e(0) + c * e(1));
 }
 
-// Fast path: Newton on h from e, a handful of iterations. Returns true with e at an admissible root.
+// Fast path: Newton from e, a handful of iterations. Returns true with e at an admissible root.
+// Far from a root it steps on h (the angle to −v, which ignores the inadmissible roots); once e is
+// within π/4 of −v it steps on f, whose nearest root is then the admissible one, to save
+// the atan2. The direction is advanced as e ← normalise(e + δ e⊥), a rotation by atan δ: same root,
+// same quadratic convergence, no trigonometric call.
 bool newton_slip(const SlipEquations& slip, Eigen::Vector2d& e) {
   constexpr int kMaxIterations = 8;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     const SlipEquations::Point point = slip.at(e);
-    const double h = std::atan2(-point.f, -point.along);
-    if (std::abs(h) <= 4 * kEpsilon) return SlipEquations::admissible(point);
-    // dh/dφ = d(angle of v)/dφ − 1
-    const double dh = (point.v(0) * point.dv(1) - point.v(1) * point.dv(0)) / point.v.squaredNorm() - 1.0;
-    if (!(std::abs(dh) > 0) || !std::isfinite(dh)) return false;
-    // A step beyond a quarter turn means the linear model is poor: leave it to the scan.
-    const double step = -h / dh;
-    if (!(std::abs(step) <= 0.5 * std::numbers::pi)) return false;
-    e = rotated(e, step).normalized();
+    const bool near = point.along < 0 && std::abs(point.f) <= -point.along;  // |h| ≤ π/4
+    // |sin h| = |f|/|v|: converged when the angle is at round-off level.
+    if (near && std::abs(point.f) <= 4 * kEpsilon * point.v.norm()) return SlipEquations::admissible(point);
+    double step = 0.0;
+    if (near) {
+      step = -point.f / point.df;
+    } else {
+      const double h = std::atan2(-point.f, -point.along);
+      // dh/dφ = d(angle of v)/dφ − 1
+      const double dh =
+          (point.v(0) * point.dv(1) - point.v(1) * point.dv(0)) / point.v.squaredNorm() - 1.0;
+      step = -h / dh;
+    }
+    // A step beyond about 70° (tan 70° ≈ 3) means the linear model is poor: leave it to the scan.
+    if (!(std::abs(step) <= 3.0)) return false;
+    e = (e + step * Eigen::Vector2d(-e(1), e(0))).normalized();
     if (std::abs(step) <= 4 * kEpsilon) return SlipEquations::admissible(slip.at(e));
   }
   return false;
@@ -395,8 +406,18 @@ ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
   }
   guess.normalize();
 
+  // Second guess, when the first fails: the direction of the (rejected) stick impulse, good when
+  // the coupling W_nt turns the sliding direction a lot.
   Eigen::Vector2d e = guess;
-  if (newton_slip(slip, e) || scan_slip(slip, guess, e)) {
+  bool found = newton_slip(slip, e);
+  if (!found && stick_computable) {
+    e = Eigen::Vector2d(r_stick(1) / mu(0), r_stick(2) / mu(1));
+    if (e.norm() > 0) {
+      e.normalize();
+      found = newton_slip(slip, e);
+    }
+  }
+  if (found || scan_slip(slip, guess, e)) {
     r = scale.cwiseProduct(slip.scaled_impulse(e));
     return ContactStatus::slip;
   }

@@ -22,6 +22,17 @@ enum class ContactStatus { open, stick, slip };
 const char* to_string(ContactStatus status);
 
 // W must be symmetric with W(0,0) > 0. On return r holds the solution; the status says which case.
+// Edge cases (clarifications of the contract above):
+//   - W_nn ≤ 0, or negligible (≤ 1e-14 × the largest diagonal entry): open, r = 0 (the normal row
+//     cannot move, so no impulse can separate it);
+//   - any NaN/inf in W or q (or NaN in μ): r is NaN, for the caller to reject;
+//   - μ ≤ 0 on every axis: frictionless, r_t = 0; a closed frictionless contact is reported as slip
+//     (r_t = 0 is the boundary of the degenerate disk);
+//   - μ_i ≤ 0 on one axis of a 3D contact: r_ti = 0 exactly and the other axis follows the 2D law;
+//   - when round-off defeats every exact test (at the stick/slip threshold), or no solution exists
+//     (singular W, Painlevé-like coupling), the candidate closest to the law is returned.
+// The 3D slip root is searched by Newton from the decoupled guess, then from the direction of the
+// rejected stick impulse, then by a scan of the circle with safeguarded Newton/bisection in each bracket.
 ContactStatus solve_local_2d(const Eigen::Matrix2d& W, const Eigen::Vector2d& q, double mu,
                              Eigen::Vector2d& r);
 ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,

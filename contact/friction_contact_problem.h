@@ -37,7 +37,9 @@ struct FrictionContactProblem {
 };
 
 // Plain-text format (one keyword line, then numbers), so a problem met in a run can be dumped and
-// replayed in a unit test. Throws std::runtime_error on malformed input.
+// replayed in a unit test. Throws std::runtime_error on malformed input (and write_problem on an
+// inconsistent problem). Numbers round-trip bit for bit, nan/inf included; the layout is described in
+// friction_contact_problem.cpp.
 void write_problem(std::ostream& out, const FrictionContactProblem& problem);
 FrictionContactProblem read_problem(std::istream& in);
 

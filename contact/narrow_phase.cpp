@@ -19,11 +19,11 @@ static_assert(std::is_same_v<std::variant_alternative_t<0, Shape>, Sphere> &&
                   std::is_same_v<std::variant_alternative_t<2, Shape>, Halfspace>,
               "the pair table below is indexed by Shape's alternative order");
 
-// Below this separation (m) the direction between GJK's witness points is dominated by rounding, so
-// touching boxes take their normal from FCL's SAT instead (see touching_box_box).
-constexpr double kTouchingGap = 1e-9;
+// Below this separation (m) GJK's witness points (each good to ~1e-16 m) no longer give the normal to
+// ~1e-9: touching boxes take their normal from FCL's SAT instead (see touching_box_box).
+constexpr double kTouchingGap = 1e-6;
 // How far (m) touching boxes are pushed into each other to let the SAT name the contact axis.
-constexpr double kProbeDepth = 1e-6;
+constexpr double kProbeDepth = 1e-5;
 
 struct PairQuery {
   double margin;  // m
@@ -58,12 +58,14 @@ WorldPlane world_plane(const ShapeInstance& instance) {
   return {n, halfspace.offset + n.dot(instance.pose.translation())};
 }
 
-// FCL's deepest penetration point as a contact (pos is FCL's midpoint between the two surfaces).
+// FCL's deepest penetration point as a contact (pos is FCL's midpoint between the two surfaces), the
+// second shape taken at `second_pose`.
 bool add_deepest_fcl_contact(const ShapeInstance& first, const ShapeInstance& second,
-                             PairQuery& query, std::vector<ContactPoint>& out) {
+                             const Eigen::Isometry3d& second_pose, PairQuery& query,
+                             std::vector<ContactPoint>& out) {
   auto& result = query.fcl.collision_result;
   result.clear();
-  fcl::collide(first.geometry.get(), first.pose, second.geometry.get(), second.pose,
+  fcl::collide(first.geometry.get(), first.pose, second.geometry.get(), second_pose,
                query.fcl.collision_request, result);
   if (result.numContacts() == 0) return false;
   const fcl::Contactd& contact = result.getContact(0);  // num_max_contacts = 1: the deepest
@@ -101,7 +103,7 @@ void sphere_box(const ShapeInstance& first, const ShapeInstance& second, PairQue
                 std::vector<ContactPoint>& out) {
   const double gap = fcl_distance(first, second, query);
   if (gap < 0.0) {  // FCL's sphere–box distance only proves separation; -1 means overlapping
-    add_deepest_fcl_contact(first, second, query, out);
+    add_deepest_fcl_contact(first, second, second.pose, query, out);
     return;
   }
   if (gap > query.margin) return;
@@ -114,29 +116,32 @@ void sphere_box(const ShapeInstance& first, const ShapeInstance& second, PairQue
   add_contact(on_sphere, on_box, n, gap, 0, out);
 }
 
-// Boxes closer than kTouchingGap: push the second into the first along the line of centres (which
-// has a positive component on any separating normal of two convex bodies) and let FCL's SAT name
-// the contact normal.
+// Boxes closer than kTouchingGap: push the second into the first and let FCL's SAT name the contact
+// normal. The push goes along GJK's (roughly right) witness direction, or along the line of centres
+// when GJK has none (that line has a positive component on any separating normal of two convex
+// bodies).
 void touching_box_box(const ShapeInstance& first, const ShapeInstance& second, double gjk_gap,
                       PairQuery& query, std::vector<ContactPoint>& out) {
+  const auto& witness = query.fcl.distance_result.nearest_points;
+  const Eigen::Vector3d witness_direction = witness[1] - witness[0];
   const Eigen::Vector3d centres = second.pose.translation() - first.pose.translation();
-  const Eigen::Vector3d u = centres.norm() > 0.0 ? Eigen::Vector3d(centres.normalized())
-                                                 : Eigen::Vector3d::UnitX();
-  ShapeInstance pushed = second;
-  pushed.pose.translation() -= kProbeDepth * u;
+  Eigen::Vector3d u = Eigen::Vector3d::UnitX();
+  if (gjk_gap > 0.0 && witness_direction.norm() > 0.0) {
+    u = witness_direction.normalized();
+  } else if (centres.norm() > 0.0) {
+    u = centres.normalized();
+  }
+  Eigen::Isometry3d pushed = second.pose;
+  pushed.translation() -= kProbeDepth * u;
   const std::size_t before = out.size();
-  if (!add_deepest_fcl_contact(first, pushed, query, out)) {
-    // Only when the line of centres is almost tangent to the contact: keep GJK's witness direction.
-    const auto& result = query.fcl.distance_result;
-    const Eigen::Vector3d n = gjk_gap > 0.0
-        ? Eigen::Vector3d((result.nearest_points[1] - result.nearest_points[0]) / gjk_gap)
-        : u;
-    add_contact(result.nearest_points[0], result.nearest_points[1], n, std::max(gjk_gap, 0.0), 0,
+  if (!add_deepest_fcl_contact(first, second, pushed, query, out)) {
+    // Not reached for a push deeper than the gap along a direction near the normal; keep GJK's.
+    add_contact(witness[0], witness[0] + std::max(gjk_gap, 0.0) * u, u, std::max(gjk_gap, 0.0), 0,
                 out);
     return;
   }
   // Undo the push: the second box's point moves back by kProbeDepth·u, the gap grows by
-  // kProbeDepth·(u·n); the first box's point is then the second's less the (≤ kTouchingGap) gap.
+  // kProbeDepth·(u·n); the first box's point is then the second's less the (tiny) gap.
   ContactPoint& c = out[before];
   c.point_b += kProbeDepth * u;
   c.gap = gjk_gap >= 0.0 ? gjk_gap : c.gap + kProbeDepth * u.dot(c.normal);
@@ -145,7 +150,7 @@ void touching_box_box(const ShapeInstance& first, const ShapeInstance& second, d
 
 void box_box(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
              std::vector<ContactPoint>& out) {
-  if (add_deepest_fcl_contact(first, second, query, out)) return;
+  if (add_deepest_fcl_contact(first, second, second.pose, query, out)) return;
   const double gap = fcl_distance(first, second, query);
   if (gap > query.margin) return;
   if (gap < kTouchingGap) {  // includes GJK reporting overlap where the SAT did not
@@ -155,7 +160,7 @@ void box_box(const ShapeInstance& first, const ShapeInstance& second, PairQuery&
   const auto& result = query.fcl.distance_result;
   const Eigen::Vector3d& p1 = result.nearest_points[0];
   const Eigen::Vector3d& p2 = result.nearest_points[1];
-  add_contact(p1, p2, (p2 - p1) / gap, gap, 0, out);
+  add_contact(p1, p2, (p2 - p1).normalized(), gap, 0, out);
 }
 
 void sphere_halfspace(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
@@ -261,7 +266,13 @@ void NarrowPhase::collide(const ShapeInstance& a, const ShapeInstance& b, double
     if (planar_) project_to_plane(c);
     c.key.object_a = a.id;
     c.key.object_b = b.id;
-    complete_frame(c, planar_);
+    // The frame depends on the normal only; a manifold's points share it.
+    if (i > begin && c.normal == out[i - 1].normal) {
+      c.t1 = out[i - 1].t1;
+      c.t2 = out[i - 1].t2;
+    } else {
+      complete_frame(c, planar_);
+    }
   }
 }
 

@@ -120,6 +120,10 @@ double velocity_scale(double norm_q, double norm_Wr) {
 struct SweepResult {
   double increment_squared = 0.0;  // Σ (W_ii Δr_i)², (m/s)²
   double Wr_squared = 0.0;         // ≈ ‖W r‖², from the velocities seen during the sweep, (m/s)²
+  // Every local solve returned, bit for bit, the impulse it started from (and none was rejected). Then
+  // local_c(r) = r_c exactly for every contact, and the contact part of the full residual is zero
+  // without solving anything again.
+  bool contacts_fixed = true;
 };
 
 // Equality block: u_e = W_ec r_c + W_ee r_e + q_e = 0 solved for r_e exactly, contacts frozen.
@@ -142,6 +146,7 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
     const Vector<D> r_old = r.template segment<D>(first);
     if (!r_local.allFinite()) {
       ++rejected;
+      result.contacts_fixed = false;
       result.Wr_squared += (q_c - problem.q.template segment<D>(first) + W_cc * r_old).squaredNorm();
       continue;
     }
@@ -150,6 +155,7 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
       r_new = r_old + parameters.omega * (r_local - r_old);
       if (parameters.omega > 1.0) keep_in_cone<D>(r_new, mu);
     }
+    if (r_local != r_old) result.contacts_fixed = false;
     result.increment_squared += W_cc.diagonal().cwiseProduct(r_new - r_old).squaredNorm();
     result.Wr_squared += (q_c - problem.q.template segment<D>(first) + W_cc * r_new).squaredNorm();
     r.template segment<D>(first) = r_new;
@@ -177,9 +183,20 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
   return result;
 }
 
-// Σ_c ‖W_cc (r_c − local_c(r))‖² + ‖u_e‖², (m/s)²; infinite if a local solution is not finite.
+// ‖u_e‖², (m/s)²: the equality rows' velocities, by symmetry (W r)_j = W.col(j)·r.
+double equality_residual_squared(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+  double sum = 0.0;
+  const Eigen::Index first = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
+  for (Eigen::Index j = first; j < problem.size(); ++j) {
+    const double u_j = problem.W.col(j).dot(r) + problem.q(j);
+    sum += u_j * u_j;
+  }
+  return sum;
+}
+
+// Σ_c ‖W_cc (r_c − local_c(r))‖², (m/s)²; infinite if a local solution is not finite.
 template <int D>
-double residual_squared(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+double contact_residual_squared(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
   double sum = 0.0;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
@@ -190,17 +207,16 @@ double residual_squared(const FrictionContactProblem& problem, const Eigen::Vect
     if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
     sum += (W_cc * (r.template segment<D>(first) - r_local)).squaredNorm();
   }
-  const Eigen::Index first = static_cast<Eigen::Index>(D) * problem.contacts;
-  for (Eigen::Index j = first; j < problem.size(); ++j) {
-    const double u_j = problem.W.col(j).dot(r) + problem.q(j);
-    sum += u_j * u_j;
-  }
   return sum;
 }
 
-double relative_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
-  const double error_squared = problem.dimension == 2 ? residual_squared<2>(problem, r)
-                                                      : residual_squared<3>(problem, r);
+// The full residual, relative; the contact part may be passed in when it is known to be zero.
+double relative_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
+                         bool contacts_known_fixed = false) {
+  double error_squared = equality_residual_squared(problem, r);
+  if (!contacts_known_fixed)
+    error_squared += problem.dimension == 2 ? contact_residual_squared<2>(problem, r)
+                                            : contact_residual_squared<3>(problem, r);
   const double residual = std::sqrt(error_squared) /
                           velocity_scale(problem.q.norm(), norm_of_product(problem.W, r));
   return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
@@ -222,14 +238,15 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
   const double norm_q = problem.q.norm();
   bool residual_is_current = false;
   for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
-    const SweepResult swept = sweep<D>(problem, parameters, equalities, r, statistics.rejected_local_solutions);
+    const SweepResult swept =
+        sweep<D>(problem, parameters, equalities, r, statistics.rejected_local_solutions);
     statistics.iterations = iteration;
     residual_is_current = false;
     // Cheap test: a sweep that barely moved r. Only then is the full residual (about one more sweep of
     // work) worth computing; it decides.
     const double scale = velocity_scale(norm_q, std::sqrt(swept.Wr_squared));
     if (std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
-      statistics.residual = relative_residual(problem, r);
+      statistics.residual = relative_residual(problem, r, swept.contacts_fixed);
       residual_is_current = true;
       if (statistics.residual <= parameters.tolerance) {
         statistics.converged = true;

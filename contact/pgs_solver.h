@@ -14,6 +14,18 @@
 //             max(‖q‖, ‖W r‖, 1e-300).
 //   converged when the full residual ≤ tolerance. Non-finite local results are rejected (the previous
 //   impulse is kept) and counted.
+//
+// Details of this implementation:
+//   - W is taken as symmetric (coupling is read from its contiguous columns);
+//   - omega relaxes the contact impulses only; with omega > 1 a relaxed impulse is pulled back into its
+//     cone (r_n ≥ 0, r_t scaled radially); the equality block is always solved exactly;
+//   - a sweep in which every local solve returned its starting impulse bit for bit has a zero contact
+//     residual, which is then not recomputed;
+//   - a warm start with NaN/inf entries is discarded like one of the wrong size;
+//   - status: open if r_n ≤ 0, stick if the elliptic radius of r_t is below (1 − 1e-9) r_n, slip
+//     otherwise (a frictionless closed contact is slip);
+//   - an inconsistent problem (sizes, dimension) throws std::invalid_argument;
+//   - no heap allocation without equality rows; with them, the LDLT and one vector per solve.
 #pragma once
 
 #include "contact/coulomb_local.h"

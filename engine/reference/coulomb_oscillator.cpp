@@ -153,6 +153,8 @@ CoulombOscillatorSolution::CoulombOscillatorSolution(const CoulombOscillator& mo
 
 // Event-driven: each pass appends the closed form of one phase and moves (t, x, v) to its end, which is
 // a velocity reversal, a stick release, or the end of the ramp (where the load stops growing).
+constexpr std::size_t kMaximumPieces = 1000000;
+
 void CoulombOscillatorSolution::build(const CoulombOscillator& model) {
   const Loading loading{model.stiffness, model.force, model.mu * model.normal_force, model.ramp_time};
   double t = 0.0, x = model.x0, v = model.v0;
@@ -161,6 +163,14 @@ void CoulombOscillatorSolution::build(const CoulombOscillator& model) {
   // Every phase but a degenerate one has a positive duration; this only guards against a bug looping.
   int passes_without_progress = 0;
   while (t <= t_end_) {
+    // A bound on the phases kept: a scene with a period far below its time window (say 1e-150 s)
+    // would otherwise fill the memory with half-cycles.
+    if (pieces_.size() >= kMaximumPieces) {
+      std::ostringstream message;
+      message << "CoulombOscillator: more than " << kMaximumPieces << " motion phases in the time window "
+              << "(period " << 2.0 * M_PI / omega_ << " s); shorten the window";
+      throw std::invalid_argument(message.str());
+    }
     const double t_start = t;
     if (motion == Motion::stick) {
       const std::optional<Release> release = stick_release(loading, t, x);

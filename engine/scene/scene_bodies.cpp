@@ -21,7 +21,7 @@ namespace {
 constexpr double kDegree = M_PI / 180.0;
 
 Eigen::Matrix3d rotation(const SceneNode& node, int dimension) {
-  const double angle = node.number("angle", 0.0) * kDegree;
+  const double angle = node.has("angle") ? node.number("angle") * kDegree : 0.0;
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
   if (dimension == 3 && node.has("axis")) {
     axis = node.vector("axis", 3, 3);
@@ -135,7 +135,7 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
   if (nq > 0) {
     b.reference_position.head(d) = position.head(d);
     if (type == "rigid" && d == 2) {
-      b.reference_position(2) = node.number("angle", 0.0) * kDegree;
+      b.reference_position(2) = node.has("angle") ? node.number("angle") * kDegree : 0.0;
     } else if (type == "rigid") {
       const Eigen::Quaterniond q(orientation);
       b.reference_position.tail<4>() << q.w(), q.x(), q.y(), q.z();

@@ -31,7 +31,13 @@ void add_coulomb_oscillator(const std::string& name, const SceneNode& node, doub
   model.ramp_time = node.non_negative("ramp_time", 0.0);
   model.x0 = node.number("initial_position", 0.0);
   model.v0 = node.number("initial_velocity", 0.0);
-  auto solution = std::make_shared<CoulombOscillatorSolution>(model, end_time);
+  // A little past the end, so that the last sample (t = steps·h) is inside the solution's window.
+  std::shared_ptr<CoulombOscillatorSolution> solution;
+  try {
+    solution = std::make_shared<CoulombOscillatorSolution>(model, end_time * 1.01);
+  } catch (const std::exception& e) {
+    node.fail(std::string("cannot build the reference solution: ") + e.what());
+  }
   auto index = [](std::span<const double> args) {
     if (args.size() != 1) throw ExpressionError("expects one argument (an index from 1)");
     return static_cast<int>(args[0]);

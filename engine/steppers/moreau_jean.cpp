@@ -8,7 +8,7 @@ namespace csim {
 
 namespace {
 
-constexpr double kActivationGamma = 0.5;  // γ of the predicted-gap activation rule
+constexpr double kActivationGamma = 0.5;  // γ of the predicted-gap activation rule g + γ h u_n ≤ 0
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) {
@@ -139,6 +139,12 @@ void MoreauJean::compute_free_velocity(const State& state) {
     f_total_.noalias() -= (theta * h) * (K_ * state.v);
   }
   v_free_ = state.v + factorization_.solve(h * f_total_);
+  if (!v_free_.allFinite()) {
+    std::ostringstream message;
+    message << "non-finite free velocity at t = " << state.t + h
+            << " s (forces or stiffness overflow: check the loads, masses and the time step)";
+    throw RunError(state.t + h, message.str());
+  }
 }
 
 void MoreauJean::detect(const State& state) {
@@ -179,7 +185,11 @@ void MoreauJean::detect(const State& state) {
     const ContactLaw& law = world_.contact_laws[law_index];
     if (!law.isotropic()) complete_frame(c, world_.dimension == 2, law.friction_direction);
     contact_rows(world_, state.q, body_a, body_b, c, contact_dimension_, rows);
-    const double normal_velocity = rows.row(0).dot(state.v);
+    // The normal velocity the contact would have over a free step (θ-weighted), so that a body at
+    // rest under a load that presses it on the surface is caught at the first step, whatever the
+    // round-off in its gap.
+    const double normal_velocity =
+        (1.0 - parameters_.theta) * rows.row(0).dot(state.v) + parameters_.theta * rows.row(0).dot(v_free_);
     if (c.gap + kActivationGamma * h * normal_velocity > 0.0) continue;
     ActiveContact a;
     a.point = c;

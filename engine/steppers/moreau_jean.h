@@ -5,7 +5,8 @@
 //   1. free velocity   W_it (v_free − v_k) = h [θ f(t_{k+1}) + (1−θ) f(t_k) + f_int(q_k) − θ h K v_k]
 //                      with the iteration matrix W_it = M + h²θ²K (factored once when K is constant);
 //   2. detect          FCL broad + narrow phase; a contact is active when its predicted gap
-//                      g + γ h u_n(v_k) ≤ 0 (γ = ½); warm start from the last impulse with the same key;
+//                      g + γ h u_n ≤ 0 (γ = ½), u_n from the θ-weighted free velocity
+//                      (1−θ)v_k + θ v_free; warm start from the last impulse with the same key;
 //   3. assemble        u = H v, Delassus W = H W_it⁻¹ Hᵀ, q = H v_free + e·u_n(v_k) on normal rows
 //                      (Newton impact law), plus the rows of the linear constraints, whose target
 //                      makes them hold exactly in position at t_{k+1};

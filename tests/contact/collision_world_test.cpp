@@ -269,7 +269,8 @@ void expect_face_to_face(double gap) {
 }
 
 TEST(BoxBox, FaceToFaceSeparatedTouchingAndPenetrating) {
-  for (double gap : {0.05, 1e-12, 0.0, -1e-12, -0.05}) expect_face_to_face(gap);
+  // 2e-6: GJK's witness points; 5e-7 … −1e-12: touching, normal from FCL's SAT; −0.05: SAT.
+  for (double gap : {0.05, 2e-6, 5e-7, 1e-12, 0.0, -1e-12, -0.05}) expect_face_to_face(gap);
   expect_no_contact({Box{Eigen::Vector3d::Constant(0.5)}, kScene},
                     {Box{Eigen::Vector3d::Constant(0.3)}, kScene * translation(1.0, 0.1, 0.05)}, 0.1);
 }
@@ -315,22 +316,29 @@ TEST(SphereHalfspace, AgreesWithFclWhenPenetrating) {
 
 const Placed kGround{Halfspace{Eigen::Vector3d::UnitZ(), 0.0}, Eigen::Isometry3d::Identity(), true};
 
-TEST(BoxHalfspace, RestingFlatGivesFourBottomVertices) {
-  const Placed box{Box{{0.5, 0.4, 0.3}}, translation(0.2, -0.1, 0.3)};
-  for (bool reversed : {false, true}) {
-    SCOPED_TRACE(reversed);
-    const auto contacts = detect(kGround, box, 0.01, reversed);
-    ASSERT_EQ(contacts.size(), 4u);  // the top vertices are 0.6 m away, beyond the margin
-    for (int i = 0; i < 4; ++i) {
-      const ContactPoint& c = contacts[i];
-      EXPECT_EQ(c.key, (ContactKey{0, 1, i}));  // bottom vertices: z bit clear
-      EXPECT_NEAR(c.gap, 0.0, kExact);
-      const Eigen::Vector3d vertex = box.pose * box_vertex(std::get<Box>(box.shape), i, false);
-      expect_near(reversed ? c.point_a : c.point_b, vertex, kExact);
-      expect_near(c.normal, reversed ? Eigen::Vector3d(-Eigen::Vector3d::UnitZ()) : Eigen::Vector3d::UnitZ(),
-                  kExact);
+TEST(BoxHalfspace, FlatBoxGivesFourBottomVertices) {
+  // Resting (gap 0), hovering within the margin, sinking; the top vertices (0.6 m higher) are beyond
+  // the margin and not reported.
+  for (double gap : {0.0, 0.05, -0.01}) {
+    const Placed box{Box{{0.5, 0.4, 0.3}}, translation(0.2, -0.1, 0.3 + gap)};
+    for (bool reversed : {false, true}) {
+      SCOPED_TRACE(testing::Message() << "gap " << gap << (reversed ? " ids swapped" : ""));
+      const auto contacts = detect(kGround, box, 0.1, reversed);
+      ASSERT_EQ(contacts.size(), 4u);
+      for (int i = 0; i < 4; ++i) {
+        const ContactPoint& c = contacts[i];
+        EXPECT_EQ(c.key, (ContactKey{0, 1, i}));  // bottom vertices: z bit clear
+        EXPECT_NEAR(c.gap, gap, kExact);
+        const Eigen::Vector3d vertex = box.pose * box_vertex(std::get<Box>(box.shape), i, false);
+        const Eigen::Vector3d on_ground(vertex.x(), vertex.y(), 0.0);
+        expect_near(reversed ? c.point_a : c.point_b, vertex, kExact);
+        expect_near(reversed ? c.point_b : c.point_a, on_ground, kExact);
+        expect_near(c.normal, reversed ? Eigen::Vector3d(-Eigen::Vector3d::UnitZ()) : Eigen::Vector3d::UnitZ(),
+                    kExact);
+      }
     }
   }
+  expect_no_contact(kGround, {Box{{0.5, 0.4, 0.3}}, translation(0, 0, 0.3 + 0.11)}, 0.1);
 }
 
 TEST(BoxHalfspace, RotatedBoxGivesExactVertexGaps) {
@@ -356,16 +364,6 @@ TEST(BoxHalfspace, RotatedBoxGivesExactVertexGaps) {
   std::vector<int> reported;
   for (const ContactPoint& c : detect(kGround, box, margin)) reported.push_back(c.key.feature);
   EXPECT_EQ(reported, expected);
-}
-
-TEST(BoxHalfspace, SeparatedPenetratingAndBeyondMargin) {
-  for (double gap : {0.05, -0.01}) {
-    SCOPED_TRACE(gap);
-    const auto contacts = detect(kGround, {Box{{0.5, 0.4, 0.3}}, translation(0, 0, 0.3 + gap)}, 0.1);
-    ASSERT_EQ(contacts.size(), 4u);
-    for (const ContactPoint& c : contacts) EXPECT_NEAR(c.gap, gap, kExact);
-  }
-  expect_no_contact(kGround, {Box{{0.5, 0.4, 0.3}}, translation(0, 0, 0.3 + 0.11)}, 0.1);
 }
 
 TEST(BoxHalfspace, RestingOnInclinedPlane) {
@@ -639,12 +637,13 @@ TEST(CollisionWorld, SameBodyAndFixedPairsIgnored) {
   EXPECT_EQ(world.object_count(), 4);
 }
 
-TEST(CollisionWorld, RejectsInvalidShapes) {
+TEST(CollisionWorld, RejectsInvalidShapesAndMargins) {
   CollisionWorld world(false);
   EXPECT_THROW(world.add_object(0, Halfspace{}, false), std::invalid_argument);
   EXPECT_THROW(world.add_object(0, Sphere{0.0}, false), std::invalid_argument);
   EXPECT_THROW(world.add_object(0, Box{{1, 0, 1}}, false), std::invalid_argument);
   EXPECT_EQ(world.object_count(), 0);
+  EXPECT_THROW(world.update(-1e-3), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,1 +1,174 @@
+// Scene-loader errors: each bad input gives a SceneError whose message names the file, the key path
+// and (where the key is in the file) its line.
+#include "engine/scene/scene.h"
+
 #include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace csim {
+namespace {
+
+const char* kValidScene = R"(dimension: 2
+parameters:
+  mass: 2
+  mu: 0.3
+gravity: [0, -9.81]
+bodies:
+  block:
+    type: rigid
+    mass: =mass
+    position: [0, 0.5]
+    shapes:
+      cube: {type: box, size: [1, 1]}
+  ground:
+    type: fixed
+    shapes:
+      top: {type: halfspace, normal: [0, 1]}
+contacts:
+  block_on_ground: {between: [block, ground], mu: =mu}
+time: {end: 0.1, step: 0.01}
+probes:
+  x: {displacement: {body: block, component: x}}
+checks:
+  still: {probe: x, final: true, reference: 0, tolerance: {absolute: 1e-12}, kind: analytical, source: test}
+)";
+
+class SceneLoaderTest : public ::testing::Test {
+ protected:
+  std::string write(const std::string& text) {
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("csim_scene_" + std::to_string(counter_++) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml");
+    std::ofstream(path) << text;
+    files_.push_back(path);
+    return path.string();
+  }
+  void TearDown() override {
+    for (const auto& f : files_) std::filesystem::remove(f);
+  }
+  // Replaces the first occurrence of `from` in the valid scene.
+  std::string variant(const std::string& from, const std::string& to) {
+    std::string text = kValidScene;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return write(text.replace(at, from.size(), to));
+  }
+  // Loads and returns the error message ("" if it loaded).
+  std::string error_of(const std::string& file, const std::vector<std::string>& overrides = {}) {
+    try {
+      load_scene(file, overrides);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  std::vector<std::filesystem::path> files_;
+  int counter_ = 0;
+};
+
+TEST_F(SceneLoaderTest, ValidSceneLoads) {
+  const auto scene = load_scene(write(kValidScene), {});
+  EXPECT_EQ(scene->world.bodies.size(), 2u);
+  EXPECT_EQ(scene->world.velocity_size, 3);
+  EXPECT_DOUBLE_EQ(scene->world.contact_laws[0].mu(0), 0.3);
+  EXPECT_DOUBLE_EQ(scene->world.bodies[0].body->mass(), 2.0);
+}
+
+TEST_F(SceneLoaderTest, MalformedYamlNamesFileAndLine) {
+  const std::string file = variant("time: {end: 0.1, step: 0.01}", "time: {end: 0.1, step: [0.01}");
+  const std::string message = error_of(file);
+  EXPECT_NE(message.find(file), std::string::npos) << message;
+  EXPECT_NE(message.find("malformed YAML"), std::string::npos) << message;
+  EXPECT_NE(message.find(":19"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, UnknownKeyNamesPathAndLine) {
+  const std::string message = error_of(variant("    mass: =mass\n", "    mass: =mass\n    mas: 3\n"));
+  EXPECT_NE(message.find("bodies.block.mas"), std::string::npos) << message;
+  EXPECT_NE(message.find("unknown key"), std::string::npos) << message;
+  EXPECT_NE(message.find(":10:"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, UnknownTopLevelKey) {
+  const std::string message = error_of(variant("dimension: 2\n", "dimension: 2\nintegrater: {type: ida}\n"));
+  EXPECT_NE(message.find("integrater"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, WrongTypeNamesKey) {
+  const std::string message = error_of(variant("mass: =mass", "mass: heavy"));
+  EXPECT_NE(message.find("bodies.block.mass"), std::string::npos) << message;
+  EXPECT_NE(message.find("expected a number"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, NegativeAndZeroMass) {
+  for (const char* value : {"-1", "0"}) {
+    const std::string message = error_of(variant("mass: =mass", std::string("mass: ") + value));
+    EXPECT_NE(message.find("bodies.block.mass"), std::string::npos) << message;
+    EXPECT_NE(message.find("must be > 0"), std::string::npos) << message;
+  }
+}
+
+TEST_F(SceneLoaderTest, NegativeFrictionCoefficient) {
+  const std::string message = error_of(variant("  mu: 0.3", "  mu: -0.3"));
+  EXPECT_NE(message.find("contacts.block_on_ground.mu"), std::string::npos) << message;
+  EXPECT_NE(message.find(">= 0"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, NonPositiveStep) {
+  for (const char* step : {"0", "-0.01"}) {
+    const std::string message = error_of(variant("step: 0.01", std::string("step: ") + step));
+    EXPECT_NE(message.find("time.step"), std::string::npos) << message;
+    EXPECT_NE(message.find("must be > 0"), std::string::npos) << message;
+  }
+}
+
+TEST_F(SceneLoaderTest, MissingFile) {
+  const std::string message = error_of("/nonexistent/scene.yaml");
+  EXPECT_NE(message.find("/nonexistent/scene.yaml"), std::string::npos) << message;
+  EXPECT_NE(message.find("cannot open"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, OverrideOfMissingKey) {
+  const std::string message = error_of(write(kValidScene), {"parameters.muu=0.5"});
+  EXPECT_NE(message.find("parameters.muu"), std::string::npos) << message;
+  EXPECT_NE(message.find("not in the scene"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, OverrideChangesEveryUseOfAParameter) {
+  const auto scene = load_scene(write(kValidScene), {"parameters.mu=0.7", "parameters.mass=5"});
+  EXPECT_DOUBLE_EQ(scene->world.contact_laws[0].mu(0), 0.7);
+  EXPECT_DOUBLE_EQ(scene->world.contact_laws[0].mu(1), 0.7);
+  EXPECT_DOUBLE_EQ(scene->world.bodies[0].body->mass(), 5.0);
+}
+
+TEST_F(SceneLoaderTest, UnknownNameInExpression) {
+  const std::string message = error_of(variant("mass: =mass", "mass: =mas*2"));
+  EXPECT_NE(message.find("bodies.block.mass"), std::string::npos) << message;
+  EXPECT_NE(message.find("mas"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, UnknownBodyInContact) {
+  const std::string message = error_of(variant("between: [block, ground]", "between: [block, floor]"));
+  EXPECT_NE(message.find("contacts.block_on_ground.between"), std::string::npos) << message;
+  EXPECT_NE(message.find("floor"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, CheckWithUnknownProbe) {
+  const std::string message = error_of(variant("{probe: x,", "{probe: y,"));
+  EXPECT_NE(message.find("checks.still.probe"), std::string::npos) << message;
+}
+
+TEST_F(SceneLoaderTest, DumpConfigContainsDefaults) {
+  const auto scene = load_scene(write(kValidScene), {});
+  const std::string text = dump_config(*scene);
+  EXPECT_NE(text.find("theta: 0.5"), std::string::npos) << text;
+  EXPECT_NE(text.find("tolerance: 1e-12"), std::string::npos) << text;
+  // The dump is itself a valid scene that loads to the same world.
+  const auto again = load_scene(write(text), {});
+  EXPECT_EQ(again->world.bodies.size(), scene->world.bodies.size());
+}
+
+}  // namespace
+}  // namespace csim

@@ -1,0 +1,13 @@
+# Runs `csim validate` on every scenes/*/scene.yaml; fails on the first that does not validate.
+file(GLOB scene_files ${SCENES}/*/scene.yaml)
+list(LENGTH scene_files count)
+if(count EQUAL 0)
+  message(FATAL_ERROR "no scenes found under ${SCENES}")
+endif()
+foreach(scene ${scene_files})
+  execute_process(COMMAND ${CSIM} validate ${scene} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "${scene} does not validate: ${err}")
+  endif()
+  message(STATUS "${out}")
+endforeach()
