@@ -257,6 +257,27 @@ TEST(PgsSolver, ReportsNonConvergence) {
   EXPECT_DOUBLE_EQ(statistics.residual, PgsSolver::residual(problem, r));
 }
 
+TEST(PgsSolver, SmallSweepIncrementAloneIsNotConvergence) {
+  // Heavy under-relaxation makes every sweep move r by only 0.1 % of what is left: the cheap test passes
+  // at a loose tolerance from the first sweep, but the full residual is still near 1 and must decide.
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.contacts = 1;
+  problem.W = Eigen::Vector3d(1.0, 1.0, 1.0).asDiagonal();
+  problem.q = Eigen::Vector3d(-1.0, 0.5, 0.0);
+  problem.mu = {Eigen::Vector2d(0.3, 0.3)};
+  PgsParameters parameters;
+  parameters.omega = 1e-3;
+  parameters.tolerance = 1e-2;
+  parameters.max_iterations = 50;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  EXPECT_FALSE(statistics.converged);
+  EXPECT_EQ(statistics.iterations, 50);
+  EXPECT_GT(statistics.residual, 0.5);
+  EXPECT_DOUBLE_EQ(statistics.residual, PgsSolver::residual(problem, r));
+}
+
 TEST(PgsSolver, WarmStartFromSolutionTakesOneSweep) {
   const BoxOnTwoCorners box;
   for (const double push : {0.5, 2.0}) {
