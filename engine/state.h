@@ -51,7 +51,7 @@ struct EnergyBalance {
   }
 };
 
-struct PhaseTimers {  // s, wall clock, summed over steps
+struct PhaseTimers {  // s, wall clock, summed over steps (estimated from one step in 16)
   double free_velocity = 0.0, detection = 0.0, assembly = 0.0, solve = 0.0, update = 0.0;
 };
 

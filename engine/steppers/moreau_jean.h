@@ -69,10 +69,11 @@ class MoreauJean final : public Stepper {
   bool factored_ = false;
 
   // Per-step work data (kept to avoid allocation in the time loop).
-  Vector f_loads_, f_total_, v_free_, v_next_, v_theta_, q_next_, r_, warm_;
+  Vector f_loads_, f_total_, v_free_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
   std::vector<ContactPoint> candidates_;
   std::vector<ActiveContact> active_;
-  Matrix candidate_rows_;
+  Matrix candidate_rows_;             // rows of every candidate contact (dimension each)
+  std::vector<int> active_rows_;      // candidate index of each active contact
   Matrix H_, X_;                      // contact/constraint rows (m × n) and W_it⁻¹ Hᵀ
   FrictionContactProblem problem_;
   std::vector<ContactStatus> status_;

@@ -1,0 +1,90 @@
+// Timing harness for lumped scenes (run by hand: build/bench/bench_lumped [repeats]).
+//  1. SDNV104 rigid shoe over t ∈ [0, 10] s for steps 1e-2 … 1e-5: steps per second, wall time (median
+//     of repeats), µs per step, and the relative error of the first two extrema against the exact
+//     solution.
+//  2. The bouncing ball (e = 0.5): apex errors against e^(2n) h0 as the step shrinks, with the observed
+//     order of convergence.
+//  3. Per-phase cost of one step on each scene (the stepper's own timers).
+#include "engine/run.h"
+#include "engine/scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Measured {
+  double wall = 0.0;  // s, median
+  csim::RunReport report;
+};
+
+Measured measure(const std::string& scene_file, const std::vector<std::string>& overrides, int repeats) {
+  const auto scene = csim::load_scene(scene_file, overrides);
+  std::vector<double> walls;
+  Measured m;
+  for (int r = 0; r < repeats; ++r) {
+    m.report = csim::run_scene(*scene, {});
+    walls.push_back(m.report.wall_time);
+  }
+  std::sort(walls.begin(), walls.end());
+  m.wall = walls[walls.size() / 2];
+  return m;
+}
+
+double relative_error(const csim::RunReport& report, const std::string& check) {
+  for (const auto& c : report.checks)
+    if (c.name == check) return c.reference != 0.0 ? std::abs(c.error / c.reference) : NAN;
+  return NAN;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
+  const std::string root = CSIM_SOURCE_DIR "/scenes/";
+
+  std::printf("SDNV104 rigid shoe, t in [0, 10] s, median of %d runs\n", repeats);
+  std::printf("%10s %10s %12s %12s %10s %12s %12s %10s\n", "step (s)", "steps", "wall (s)", "steps/s",
+              "us/step", "err x1", "err x2", "sweeps");
+  for (const double h : {1e-2, 1e-3, 1e-4, 1e-5}) {
+    char step[32];
+    std::snprintf(step, sizeof step, "time.step=%g", h);
+    const Measured m = measure(root + "sdnv104-rigid/scene.yaml", {step}, h < 1e-4 ? std::min(repeats, 3) : repeats);
+    const auto& c = m.report.state.counters;
+    std::printf("%10.0e %10ld %12.4f %12.3g %10.3f %12.2e %12.2e %10.2f\n", h, c.steps, m.wall, c.steps / m.wall,
+                1e6 * m.wall / c.steps, relative_error(m.report, "x1"), relative_error(m.report, "x2"),
+                c.solves ? double(c.total_iterations) / c.solves : 0.0);
+  }
+
+  std::printf("\nBouncing ball, e = 0.5, h0 = 1 m: apex relative errors and observed order\n");
+  std::printf("%10s %12s %12s %12s %8s\n", "step (s)", "apex 1", "apex 2", "apex 3", "order");
+  double previous = NAN;
+  for (const double h : {1e-3, 1e-4, 1e-5, 1e-6}) {
+    char step[32];
+    std::snprintf(step, sizeof step, "time.step=%g", h);
+    const Measured m = measure(root + "bouncing-ball/scene.yaml", {step, "parameters.restitution=0.5"}, 1);
+    const double e1 = std::abs(relative_error(m.report, "apex_1"));
+    const double order = std::isnan(previous) ? NAN : std::log10(previous / e1);
+    std::printf("%10.0e %12.2e %12.2e %12.2e %8.2f\n", h, e1, std::abs(relative_error(m.report, "apex_2")),
+                std::abs(relative_error(m.report, "apex_3")), order);
+    previous = e1;
+  }
+
+  std::printf("\nCost of one step by phase (us), default steps, median of %d runs\n", repeats);
+  std::printf("%-16s %8s %8s %8s %8s %8s %8s %8s %9s\n", "scene", "contacts", "free v", "detect", "assemble",
+              "solve", "update", "other", "total");
+  for (const char* name : {"sdnv104-rigid", "sdnd100-a", "sdnd100-d", "incline", "bouncing-ball"}) {
+    const Measured m = measure(root + name + "/scene.yaml", {}, repeats);
+    const auto& s = m.report.state;
+    const double n = s.counters.steps, us = 1e6 / n;
+    const auto& t = s.timers;
+    const double phases = t.free_velocity + t.detection + t.assembly + t.solve + t.update;
+    std::printf("%-16s %8.2f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %9.3f\n", name, s.counters.contact_points / n,
+                t.free_velocity * us, t.detection * us, t.assembly * us, t.solve * us, t.update * us,
+                (m.wall - phases) * us, m.wall * us);
+  }
+  return 0;
+}
