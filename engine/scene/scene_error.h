@@ -2,6 +2,7 @@
 //   scenes/incline/scene.yaml:12: bodies.block.mass: must be > 0 (got -1)
 #pragma once
 
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -13,11 +14,13 @@ struct SceneError : std::runtime_error {
 
   static std::string format(const std::string& file, int line, const std::string& path,
                             const std::string& message) {
-    std::string text = file;
-    if (line > 0) text += ":" + std::to_string(line);
-    text += ": ";
-    if (!path.empty()) text += path + ": ";
-    return text + message;
+    std::ostringstream text;  // (not operator+: GCC 12 warns falsely on it, -Wrestrict)
+    text << file;
+    if (line > 0) text << ':' << line;
+    text << ": ";
+    if (!path.empty()) text << path << ": ";
+    text << message;
+    return text.str();
   }
 };
 
