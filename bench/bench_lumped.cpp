@@ -59,17 +59,27 @@ int main(int argc, char** argv) {
                 c.solves ? double(c.total_iterations) / c.solves : 0.0);
   }
 
-  std::printf("\nBouncing ball, e = 0.5, h0 = 1 m: apex relative errors and observed order\n");
+  // The impact lands at a random phase inside a step, so a single drop height gives an erratic error;
+  // the root mean square over eight drop heights shows the trend, and its order.
+  std::printf("\nBouncing ball, e = 0.5: RMS over 8 drop heights in [1, 1.07] m of the apex relative errors\n");
   std::printf("%10s %12s %12s %12s %8s\n", "step (s)", "apex 1", "apex 2", "apex 3", "order");
   double previous = NAN;
   for (const double h : {1e-3, 1e-4, 1e-5, 1e-6}) {
-    char step[32];
-    std::snprintf(step, sizeof step, "time.step=%g", h);
-    const Measured m = measure(root + "bouncing-ball/scene.yaml", {step, "parameters.restitution=0.5"}, 1);
-    const double e1 = std::abs(relative_error(m.report, "apex_1"));
+    double squares[3] = {0, 0, 0};
+    const int heights = 8;
+    for (int i = 0; i < heights; ++i) {
+      char step[32], height[48];
+      std::snprintf(step, sizeof step, "time.step=%g", h);
+      std::snprintf(height, sizeof height, "parameters.drop_height=%.6f", 1.0 + 0.01 * i);
+      const Measured m = measure(root + "bouncing-ball/scene.yaml", {step, height, "parameters.restitution=0.5"}, 1);
+      for (int a = 0; a < 3; ++a) {
+        const double e = relative_error(m.report, "apex_" + std::to_string(a + 1));
+        squares[a] += e * e / heights;
+      }
+    }
+    const double e1 = std::sqrt(squares[0]);
     const double order = std::isnan(previous) ? NAN : std::log10(previous / e1);
-    std::printf("%10.0e %12.2e %12.2e %12.2e %8.2f\n", h, e1, std::abs(relative_error(m.report, "apex_2")),
-                std::abs(relative_error(m.report, "apex_3")), order);
+    std::printf("%10.0e %12.2e %12.2e %12.2e %8.2f\n", h, e1, std::sqrt(squares[1]), std::sqrt(squares[2]), order);
     previous = e1;
   }
 

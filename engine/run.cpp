@@ -61,6 +61,12 @@ class Progress {
 
 RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const RunSettings& run = scene.run;
+  // A run that fails leaves no outputs behind, not even those of an earlier run in the same folder.
+  if (!options.output_directory.empty()) {
+    const std::filesystem::path dir(options.output_directory);
+    std::filesystem::remove(dir / "probes.csv");
+    std::filesystem::remove(dir / "summary.json");
+  }
   MoreauJean stepper(scene.world, run.moreau_jean);
   ProbeEvaluator probes(scene.world, run);
   CheckEvaluator checks(run, scene.document.scope);
