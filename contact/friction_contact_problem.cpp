@@ -90,28 +90,27 @@ class TokenReader {
   std::istream& in_;
 };
 
-void check_consistent(const FrictionContactProblem& problem) {
-  const auto fail = [](const std::string& message) {
-    throw std::runtime_error("write_problem: " + message);
-  };
-  if (problem.dimension != 2 && problem.dimension != 3)
-    fail("dimension must be 2 or 3, not " + std::to_string(problem.dimension));
-  if (problem.contacts < 0 || problem.equalities < 0) fail("negative contact or equality count");
-  const Eigen::Index n = problem.size();
-  if (problem.W.rows() != n || problem.W.cols() != n)
-    fail("W is " + std::to_string(problem.W.rows()) + "x" + std::to_string(problem.W.cols()) +
-         ", expected " + std::to_string(n) + "x" + std::to_string(n));
-  if (problem.q.size() != n)
-    fail("q has " + std::to_string(problem.q.size()) + " rows, expected " + std::to_string(n));
-  if (static_cast<int>(problem.mu.size()) != problem.contacts)
-    fail("mu has " + std::to_string(problem.mu.size()) + " entries, expected " +
-         std::to_string(problem.contacts));
-}
-
 }  // namespace
 
+std::string inconsistency(const FrictionContactProblem& problem) {
+  if (problem.dimension != 2 && problem.dimension != 3)
+    return "dimension must be 2 or 3, not " + std::to_string(problem.dimension);
+  if (problem.contacts < 0 || problem.equalities < 0) return "negative contact or equality count";
+  const Eigen::Index n = problem.size();
+  if (problem.W.rows() != n || problem.W.cols() != n)
+    return "W is " + std::to_string(problem.W.rows()) + "x" + std::to_string(problem.W.cols()) +
+           ", expected " + std::to_string(n) + "x" + std::to_string(n);
+  if (problem.q.size() != n)
+    return "q has " + std::to_string(problem.q.size()) + " rows, expected " + std::to_string(n);
+  if (static_cast<int>(problem.mu.size()) != problem.contacts)
+    return "mu has " + std::to_string(problem.mu.size()) + " entries, expected " +
+           std::to_string(problem.contacts);
+  return "";
+}
+
 void write_problem(std::ostream& out, const FrictionContactProblem& problem) {
-  check_consistent(problem);
+  if (const std::string problem_with_it = inconsistency(problem); !problem_with_it.empty())
+    throw std::runtime_error("write_problem: " + problem_with_it);
   const Eigen::Index n = problem.size();
   // Built in a string so the caller's stream flags and locale play no part in the numbers.
   std::string text;

@@ -36,6 +36,9 @@ struct FrictionContactProblem {
   int size() const { return dimension * contacts + equalities; }
 };
 
+// Why the sizes of a problem do not fit together, or "" when they do.
+std::string inconsistency(const FrictionContactProblem& problem);
+
 // Plain-text format (one keyword line, then numbers), so a problem met in a run can be dumped and
 // replayed in a unit test. Throws std::runtime_error on malformed input (and write_problem on an
 // inconsistent problem). Numbers round-trip bit for bit, nan/inf included; the layout is described in

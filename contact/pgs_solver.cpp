@@ -27,18 +27,8 @@ using Matrix = Eigen::Matrix<double, D, D>;
 constexpr double kBoundaryTolerance = 1e-9;
 
 void check_problem(const FrictionContactProblem& problem) {
-  const auto fail = [](const std::string& message) {
-    throw std::invalid_argument("PgsSolver: " + message);
-  };
-  if (problem.dimension != 2 && problem.dimension != 3)
-    fail("dimension must be 2 or 3, not " + std::to_string(problem.dimension));
-  if (problem.contacts < 0 || problem.equalities < 0) fail("negative contact or equality count");
-  const Eigen::Index n = problem.size();
-  if (problem.W.rows() != n || problem.W.cols() != n)
-    fail("W is " + std::to_string(problem.W.rows()) + "x" + std::to_string(problem.W.cols()) +
-         ", expected " + std::to_string(n) + "x" + std::to_string(n));
-  if (problem.q.size() != n) fail("q has the wrong size");
-  if (static_cast<int>(problem.mu.size()) != problem.contacts) fail("mu has the wrong size");
+  if (const std::string problem_with_it = inconsistency(problem); !problem_with_it.empty())
+    throw std::invalid_argument("PgsSolver: " + problem_with_it);
 }
 
 template <int D>
