@@ -17,30 +17,6 @@ ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
   return q.segment(b.position_offset, b.body->position_size());
 }
 
-// Rows of one contact: u = [n t1 (t2)]ᵀ (v_B(p_b) − v_A(p_a)), into rows (dimension × n).
-void contact_rows(const World& world, const Vector& q, int body_a, int body_b, const ContactPoint& c,
-                  int dimension, Eigen::Ref<Matrix> rows) {
-  rows.setZero();
-  Eigen::Matrix<double, 3, 3> frame;
-  frame.col(0) = c.normal;
-  frame.col(1) = c.t1;
-  frame.col(2) = c.t2;
-  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6> J;
-  const int ids[2] = {body_a, body_b};
-  const Eigen::Vector3d* points[2] = {&c.point_a, &c.point_b};
-  for (int side = 0; side < 2; ++side) {
-    const BodyInstance& b = world.bodies[ids[side]];
-    if (b.body->fixed()) continue;
-    const ConstVectorRef qb = positions_of(b, q);
-    const Eigen::Vector3d local = b.body->pose(qb).inverse() * *points[side];
-    J.resize(3, b.body->velocity_size());
-    b.body->point_jacobian(qb, local, J);
-    const double sign = side == 0 ? -1.0 : 1.0;
-    rows.middleCols(b.velocity_offset, b.body->velocity_size()) =
-        sign * frame.leftCols(dimension).transpose() * J;
-  }
-}
-
 }  // namespace
 
 MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameters)
@@ -48,40 +24,14 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
       parameters_(parameters),
       forces_(world),
       pgs_(parameters.solver),
-      contact_dimension_(world.dimension == 2 ? 2 : 3) {
+      detector_(world),
+      contact_dimension_(detector_.dimension()) {
   const int n = world.velocity_size;
   M_.setZero(n, n);
   for (const BodyInstance& b : world.bodies)
     b.body->add_mass(M_.block(b.velocity_offset, b.velocity_offset, b.body->velocity_size(),
                               b.body->velocity_size()));
   K_.setZero(n, n);
-
-  // Collision objects only for bodies that some contact law names: a scene without contact builds
-  // no collision world at all.
-  const int nb = static_cast<int>(world.bodies.size());
-  law_of_pair_.assign(nb * nb, -1);
-  std::vector<bool> in_contact(nb, false);
-  for (std::size_t l = 0; l < world.contact_laws.size(); ++l) {
-    const ContactLaw& law = world.contact_laws[l];
-    law_of_pair_[law.body_a * nb + law.body_b] = static_cast<int>(l);
-    law_of_pair_[law.body_b * nb + law.body_a] = static_cast<int>(l);
-    in_contact[law.body_a] = in_contact[law.body_b] = true;
-  }
-  if (!world.contact_laws.empty()) {
-    collision_ = std::make_unique<CollisionWorld>(world.dimension == 2);
-    for (int i = 0; i < nb; ++i) {
-      if (!in_contact[i]) continue;
-      const BodyInstance& b = world.bodies[i];
-      for (const ShapeInstance& s : b.shapes) {
-        const int object = collision_->add_object(i, s.shape, b.body->fixed());
-        object_body_.resize(object + 1);
-        object_shape_.resize(object + 1);
-        object_body_[object] = i;
-        object_shape_[object] = static_cast<int>(&s - b.shapes.data());
-        collision_->set_pose(object, b.body->pose(b.initial_position) * s.local_pose);
-      }
-    }
-  }
 
   // Linear constraints: rows of C, and the position index of each term when it has one.
   const int ne = static_cast<int>(world.constraints.size());
@@ -148,58 +98,23 @@ void MoreauJean::compute_free_velocity(const State& state) {
 }
 
 void MoreauJean::detect(const State& state) {
-  candidates_.clear();
   active_.clear();
-  if (!collision_) return;
-  const double h = parameters_.step;
-  // Broad-phase margin: no point can travel farther than this in one step.
-  double speed = 0.0;
-  for (const BodyInstance& b : world_.bodies) {
-    if (b.body->fixed()) continue;
-    for (const Vector* v : {static_cast<const Vector*>(&state.v), static_cast<const Vector*>(&v_free_)}) {
-      const auto vb = v->segment(b.velocity_offset, b.body->velocity_size());
-      const int nt = std::min<int>(world_.dimension, vb.size());
-      double s = vb.head(nt).norm();
-      if (vb.size() > nt) s += vb.tail(vb.size() - nt).norm() * b.body->bounding_radius;
-      speed = std::max(speed, s);
-    }
-  }
-  const double margin = 2.0 * h * speed + 1e-12;
-  for (std::size_t o = 0; o < object_body_.size(); ++o) {
-    const BodyInstance& b = world_.bodies[object_body_[o]];
-    if (b.body->fixed()) continue;
-    collision_->set_pose(static_cast<int>(o),
-                         b.body->pose(positions_of(b, state.q)) * b.shapes[object_shape_[o]].local_pose);
-  }
-  collision_->update(margin);
-  collision_->find_contacts(candidates_);
-
-  const int nb = static_cast<int>(world_.bodies.size());
-  const int n = world_.velocity_size;
-  const int d = contact_dimension_;
-  candidate_rows_.resize(d * static_cast<int>(candidates_.size()), n);
   active_rows_.clear();
+  if (detector_.empty()) return;
+  const double h = parameters_.step, theta = parameters_.theta;
+  // Broad-phase margin: no point can travel farther than this in one step.
+  const double margin = 2.0 * std::max(detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h)) + 1e-12;
+  detector_.detect(state.q, margin, candidates_, candidate_rows_);
+  const int d = contact_dimension_;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    ContactPoint& c = candidates_[k];
-    auto rows = candidate_rows_.middleRows(d * k, d);
-    const int body_a = object_body_[c.key.object_a], body_b = object_body_[c.key.object_b];
-    const int law_index = law_of_pair_[body_a * nb + body_b];
-    if (law_index < 0) continue;
-    const ContactLaw& law = world_.contact_laws[law_index];
-    if (!law.isotropic()) complete_frame(c, world_.dimension == 2, law.friction_direction);
-    contact_rows(world_, state.q, body_a, body_b, c, d, rows);
+    const auto rows = candidate_rows_.middleRows(d * k, d);
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at
     // rest under a load that presses it on the surface is caught at the first step, whatever the
     // round-off in its gap.
     const double normal_velocity =
-        (1.0 - parameters_.theta) * rows.row(0).dot(state.v) + parameters_.theta * rows.row(0).dot(v_free_);
-    if (c.gap + kActivationGamma * h * normal_velocity > 0.0) continue;
-    ActiveContact a;
-    a.point = c;
-    a.law = law_index;
-    a.body_a = body_a;
-    a.body_b = body_b;
-    active_.push_back(a);
+        (1.0 - theta) * rows.row(0).dot(state.v) + theta * rows.row(0).dot(v_free_);
+    if (candidates_[k].point.gap + kActivationGamma * h * normal_velocity > 0.0) continue;
+    active_.push_back(candidates_[k]);
     active_rows_.push_back(static_cast<int>(k));
   }
 }

@@ -19,8 +19,8 @@
 // for linear springs, so the bookkeeping in State closes to solver tolerance; θ > ½ dissipates.
 #pragma once
 
-#include "contact/collision_world.h"
 #include "contact/pgs_solver.h"
+#include "engine/contact_detector.h"
 #include "engine/forces.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
@@ -58,10 +58,7 @@ class MoreauJean final : public Stepper {
   MoreauJeanParameters parameters_;
   ForceModel forces_;
   PgsSolver pgs_;
-  std::unique_ptr<CollisionWorld> collision_;
-  std::vector<int> object_body_;      // collision object → body index
-  std::vector<int> object_shape_;     // collision object → shape index in its body
-  std::vector<int> law_of_pair_;      // body_a * nb + body_b → contact law index or −1
+  ContactDetector detector_;
   int contact_dimension_;             // 2 in plane scenes, 3 in space
 
   Matrix M_, K_, iteration_matrix_;
@@ -70,7 +67,7 @@ class MoreauJean final : public Stepper {
 
   // Per-step work data (kept to avoid allocation in the time loop).
   Vector f_loads_, f_total_, v_free_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
-  std::vector<ContactPoint> candidates_;
+  std::vector<ActiveContact> candidates_;
   std::vector<ActiveContact> active_;
   Matrix candidate_rows_;             // rows of every candidate contact (dimension each)
   std::vector<int> active_rows_;      // candidate index of each active contact

@@ -1,0 +1,113 @@
+#include "engine/contact_detector.h"
+
+namespace csim {
+
+namespace {
+ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
+  return q.segment(b.position_offset, b.body->position_size());
+}
+}  // namespace
+
+void contact_rows(const World& world, const Vector& q, int body_a, int body_b, const ContactPoint& c,
+                  int dimension, Eigen::Ref<Matrix> rows) {
+  rows.setZero();
+  Eigen::Matrix<double, 3, 3> frame;
+  frame.col(0) = c.normal;
+  frame.col(1) = c.t1;
+  frame.col(2) = c.t2;
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6> J;
+  const int ids[2] = {body_a, body_b};
+  const Eigen::Vector3d* points[2] = {&c.point_a, &c.point_b};
+  for (int side = 0; side < 2; ++side) {
+    const BodyInstance& b = world.bodies[ids[side]];
+    if (b.body->fixed()) continue;
+    const ConstVectorRef qb = positions_of(b, q);
+    const Eigen::Vector3d local = b.body->pose(qb).inverse() * *points[side];
+    J.resize(3, b.body->velocity_size());
+    b.body->point_jacobian(qb, local, J);
+    const double sign = side == 0 ? -1.0 : 1.0;
+    rows.middleCols(b.velocity_offset, b.body->velocity_size()) =
+        sign * frame.leftCols(dimension).transpose() * J;
+  }
+}
+
+ContactDetector::ContactDetector(const World& world)
+    : world_(world), dimension_(world.dimension == 2 ? 2 : 3) {
+  // Collision objects only for bodies that some contact law names: a scene without contact builds
+  // no collision world at all.
+  const int nb = static_cast<int>(world.bodies.size());
+  law_of_pair_.assign(nb * nb, -1);
+  std::vector<bool> in_contact(nb, false);
+  for (std::size_t l = 0; l < world.contact_laws.size(); ++l) {
+    const ContactLaw& law = world.contact_laws[l];
+    law_of_pair_[law.body_a * nb + law.body_b] = static_cast<int>(l);
+    law_of_pair_[law.body_b * nb + law.body_a] = static_cast<int>(l);
+    in_contact[law.body_a] = in_contact[law.body_b] = true;
+  }
+  if (world.contact_laws.empty()) return;
+  collision_ = std::make_unique<CollisionWorld>(world.dimension == 2);
+  for (int i = 0; i < nb; ++i) {
+    if (!in_contact[i]) continue;
+    const BodyInstance& b = world.bodies[i];
+    for (std::size_t s = 0; s < b.shapes.size(); ++s) {
+      const int object = collision_->add_object(i, b.shapes[s].shape, b.body->fixed());
+      object_body_.resize(object + 1);
+      object_shape_.resize(object + 1);
+      object_body_[object] = i;
+      object_shape_[object] = static_cast<int>(s);
+      collision_->set_pose(object, b.body->pose(b.initial_position) * b.shapes[s].local_pose);
+    }
+  }
+}
+
+ContactDetector::~ContactDetector() = default;
+
+double ContactDetector::travel_bound(const Vector& v, double h) const {
+  double speed = 0.0;
+  for (const BodyInstance& b : world_.bodies) {
+    if (b.body->fixed()) continue;
+    const auto vb = v.segment(b.velocity_offset, b.body->velocity_size());
+    const int translations = std::min<int>(world_.dimension, static_cast<int>(vb.size()));
+    double s = vb.head(translations).norm();
+    if (vb.size() > translations) s += vb.tail(vb.size() - translations).norm() * b.body->bounding_radius;
+    speed = std::max(speed, s);
+  }
+  return speed * h;
+}
+
+void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts,
+                             Matrix& rows) {
+  contacts.clear();
+  if (!collision_) {
+    rows.resize(0, world_.velocity_size);
+    return;
+  }
+  for (std::size_t o = 0; o < object_body_.size(); ++o) {
+    const BodyInstance& b = world_.bodies[object_body_[o]];
+    if (b.body->fixed()) continue;
+    collision_->set_pose(static_cast<int>(o),
+                         b.body->pose(positions_of(b, q)) * b.shapes[object_shape_[o]].local_pose);
+  }
+  collision_->update(margin);
+  collision_->find_contacts(points_);
+
+  const int nb = static_cast<int>(world_.bodies.size());
+  const int d = dimension_;
+  rows.resize(d * static_cast<int>(points_.size()), world_.velocity_size);
+  for (ContactPoint& point : points_) {
+    const int body_a = object_body_[point.key.object_a], body_b = object_body_[point.key.object_b];
+    const int law_index = law_of_pair_[body_a * nb + body_b];
+    if (law_index < 0) continue;
+    const ContactLaw& law = world_.contact_laws[law_index];
+    if (!law.isotropic()) complete_frame(point, world_.dimension == 2, law.friction_direction);
+    const int i = static_cast<int>(contacts.size());
+    contact_rows(world_, q, body_a, body_b, point, d, rows.middleRows(d * i, d));
+    ActiveContact& c = contacts.emplace_back();
+    c.point = point;
+    c.law = law_index;
+    c.body_a = body_a;
+    c.body_b = body_b;
+  }
+}
+
+}  // namespace csim

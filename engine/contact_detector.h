@@ -1,0 +1,47 @@
+// The engine's side of contact detection, shared by every stepper: it owns the CollisionWorld (only
+// for bodies that a contact law names), keeps the poses of the moving shapes up to date, and turns the
+// detected points into contacts between bodies with their law, their frame (aligned with the law's
+// friction direction when it is anisotropic) and their rows of H:
+//   u = H v,  u = [n t1 (t2)]ᵀ (v_B(p_b) − v_A(p_a))   (m/s; n from the point's body A to body B).
+#pragma once
+
+#include "contact/collision_world.h"
+#include "engine/state.h"
+#include "engine/world.h"
+
+#include <memory>
+#include <vector>
+
+namespace csim {
+
+class ContactDetector {
+ public:
+  explicit ContactDetector(const World& world);
+  ~ContactDetector();
+
+  bool empty() const { return collision_ == nullptr; }
+  int dimension() const { return dimension_; }  // rows per contact: 2 in plane scenes, 3 in space
+
+  // Contacts with gap ≤ margin (m) at positions q: `contacts` gets one entry per point (law, bodies,
+  // point with its frame), `rows` their H rows: contact i owns rows [dimension·i, dimension·(i+1)) of
+  // velocity_size columns (rows may be longer: it is sized for every candidate point, not reallocated).
+  void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, Matrix& rows);
+
+  // The bound on how far any material point moves in time h at velocities v (m), for margins.
+  double travel_bound(const Vector& v, double h) const;
+
+ private:
+  const World& world_;
+  int dimension_;
+  std::unique_ptr<CollisionWorld> collision_;
+  std::vector<int> object_body_;   // collision object → body index
+  std::vector<int> object_shape_;  // collision object → shape index in its body
+  std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
+  std::vector<ContactPoint> points_;
+};
+
+// Rows of one contact point between bodies A and B at positions q, into rows (dimension × n).
+void contact_rows(const World& world, const Vector& q, int body_a, int body_b, const ContactPoint& c,
+                  int dimension, Eigen::Ref<Matrix> rows);
+
+}  // namespace csim
