@@ -48,6 +48,12 @@ class Body {
   virtual void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                                   VectorRef q_next) const = 0;
 
+  // dq/dt for velocities v (smooth integrators); the coordinates' rate equals v except for the
+  // quaternion of a 3D rigid body.
+  virtual void position_rate(const ConstVectorRef& q, const ConstVectorRef& v, VectorRef q_dot) const {
+    q_dot = v;
+  }
+
   // Velocity-dependent generalized force that is not a load (gyroscopic terms), N and N·m.
   virtual void add_inertial_force(const ConstVectorRef& v, VectorRef f) const {}
 

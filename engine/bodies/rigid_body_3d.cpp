@@ -44,6 +44,16 @@ void RigidBody3d::integrate_position(const ConstVectorRef& q, const ConstVectorR
   q_next(6) = next.z();
 }
 
+// q̇ = ½ q ⊗ (0, ω) for the quaternion, with ω in the body frame.
+void RigidBody3d::position_rate(const ConstVectorRef& q, const ConstVectorRef& v, VectorRef q_dot) const {
+  q_dot.head<3>() = v.head<3>();
+  const Eigen::Quaterniond rate = orientation(q) * Eigen::Quaterniond(0.0, v(3), v(4), v(5));
+  q_dot(3) = 0.5 * rate.w();
+  q_dot(4) = 0.5 * rate.x();
+  q_dot(5) = 0.5 * rate.y();
+  q_dot(6) = 0.5 * rate.z();
+}
+
 void RigidBody3d::add_inertial_force(const ConstVectorRef& v, VectorRef f) const {
   const Eigen::Vector3d omega = v.tail<3>();
   f.tail<3>() -= omega.cross(inertia_.cwiseProduct(omega));

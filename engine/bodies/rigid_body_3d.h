@@ -24,6 +24,7 @@ class RigidBody3d final : public Body {
                       Eigen::Ref<Matrix3X> J) const override;
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                           VectorRef q_next) const override;
+  void position_rate(const ConstVectorRef& q, const ConstVectorRef& v, VectorRef q_dot) const override;
   void add_inertial_force(const ConstVectorRef& v, VectorRef f) const override;
   int velocity_index(const std::string& component) const override;
 
