@@ -7,6 +7,8 @@ namespace csim {
 
 namespace {
 
+constexpr double kFlatness = 1e-10;  // relative change per sample below which a signal is at rest
+
 // Vertex of the parabola through three samples (any spacing); falls back to the middle sample.
 Extremum parabola_vertex(double t0, double y0, double t1, double y1, double t2, double y2, bool maximum) {
   const double d1 = (y1 - y0) / (t1 - t0), d2 = (y2 - y1) / (t2 - t1);
@@ -44,7 +46,9 @@ void ExtremumTracker::add(double t, double value) {
     return;
   }
   const double change = value - last_->value;
-  if (std::abs(change) <= 1e-13 * scale_) {  // flat: a stick phase or rest
+  // Flat: a stick phase or rest. The threshold also counts as rest the creep of a regularized
+  // friction law (IDA), which never sticks exactly (e.g. ε = 1e-6 m/s moves 1e-9 m per millisecond).
+  if (std::abs(change) <= kFlatness * scale_) {
     if (last_->t == pivot_->t) flat_since_pivot_ = true;
     last_ = s;
     return;

@@ -3,6 +3,7 @@
 #include "engine/output/atomic_file.h"
 #include "engine/output/json_writer.h"
 #include "engine/probes.h"
+#include "engine/steppers/ida_integrator.h"
 #include "engine/steppers/moreau_jean.h"
 
 #include <chrono>
@@ -67,7 +68,10 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     std::filesystem::remove(dir / "probes.csv");
     std::filesystem::remove(dir / "summary.json");
   }
-  MoreauJean stepper(scene.world, run.moreau_jean);
+  std::unique_ptr<Stepper> stepper_owner;
+  if (run.integrator == "ida") stepper_owner = std::make_unique<IdaIntegrator>(scene.world, run.ida);
+  else stepper_owner = std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
+  Stepper& stepper = *stepper_owner;
   ProbeEvaluator probes(scene.world, run);
   CheckEvaluator checks(run, scene.document.scope);
   RunReport report;
@@ -120,7 +124,8 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
   JsonWriter json;
   json.begin_object();
   json.value("scene", scene.name).value("file", scene.document.file);
-  json.value("integrator", run.integrator).value("theta", run.moreau_jean.theta);
+  json.value("integrator", run.integrator);
+  if (run.integrator == "moreau-jean") json.value("theta", run.moreau_jean.theta);
   json.value("dimension", scene.world.dimension);
   json.value("time_step", run.moreau_jean.step).value("end_time", run.end_time);
   json.value("steps", c.steps).value("wall_time", report.wall_time);
@@ -138,6 +143,21 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
       .value("max_residual", c.max_residual)
       .value("rejected_local_solutions", c.rejected_local_solutions)
       .end_object();
+  if (run.integrator == "ida") {
+    const IdaStatistics& ida = s.ida;
+    json.begin_object("ida")
+        .value("rtol", run.ida.rtol).value("atol", run.ida.atol)
+        .value("linear_solver", ida.linear_solver)
+        .value("jacobian", ida.linear_solver == "klu" ? "finite differences (ours, sparse)"
+                                                       : "IDA difference quotients (dense)")
+        .value("steps", ida.steps).value("residual_evaluations", ida.residual_evaluations)
+        .value("jacobian_evaluations", ida.jacobian_evaluations)
+        .value("error_test_failures", ida.error_test_failures)
+        .value("nonlinear_convergence_failures", ida.nonlinear_convergence_failures)
+        .value("last_step", ida.last_step)
+        .value("penalty_stiffness", run.ida.penalty_stiffness).value("epsilon", run.ida.epsilon)
+        .end_object();
+  }
   json.begin_object("contacts")
       .value("max_active", c.max_contact_points)
       .value("mean_active", c.steps > 0 ? double(c.contact_points) / c.steps : 0.0)

@@ -7,6 +7,7 @@
 #include "contact/contact_point.h"
 #include "engine/bodies/body.h"
 
+#include <string>
 #include <vector>
 
 namespace csim {
@@ -51,6 +52,17 @@ struct EnergyBalance {
   }
 };
 
+// Statistics of the smooth integrator (SUNDIALS IDA), zero for the others.
+struct IdaStatistics {
+  std::string linear_solver;            // dense or klu
+  long steps = 0;                       // internal steps
+  long residual_evaluations = 0;
+  long jacobian_evaluations = 0;
+  long error_test_failures = 0;
+  long nonlinear_convergence_failures = 0;
+  double last_step = 0.0;               // s
+};
+
 struct PhaseTimers {  // s, wall clock, summed over steps (estimated from one step in 16)
   double free_velocity = 0.0, detection = 0.0, assembly = 0.0, solve = 0.0, update = 0.0;
 };
@@ -61,6 +73,7 @@ struct State {
   std::vector<ActiveContact> contacts;  // sorted by key
   SolverCounters counters;
   EnergyBalance energy;
+  IdaStatistics ida;
   PhaseTimers timers;
 };
 

@@ -2,15 +2,22 @@
 //   csim run SCENE [--set KEY=VALUE]... [--out DIR] [--quiet]
 //   csim validate SCENE [--set KEY=VALUE]...
 //   csim dump-config SCENE [--set KEY=VALUE]...
+//   csim compare SCENE [--set KEY=VALUE]... --integrators LIST [--steps LIST] [--tolerances LIST]
+//                [--repeats N] [--out DIR]
 // SCENE is a scene folder (holding scene.yaml) or a YAML file.
-// Exit status: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure.
+// Exit status of run: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure.
+// Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
+#include "engine/compare.h"
 #include "engine/run.h"
 #include "engine/scene/scene.h"
 #include "engine/steppers/stepper.h"
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -19,26 +26,90 @@
 namespace {
 
 constexpr int kPassed = 0, kCheckFailed = 1, kBadInput = 2;
+constexpr int kSomeRunFailed = 1;  // compare
 
 struct Arguments {
   std::string command, scene;
   std::vector<std::string> overrides;
   std::string output_directory;
   bool quiet = false;
+  // compare
+  std::vector<std::string> integrators;
+  std::vector<double> steps, tolerances;
+  int repeats = 3;
 };
 
 void usage(std::ostream& out) {
   out << "usage: csim run SCENE [--set KEY=VALUE]... [--out DIR] [--quiet]\n"
          "       csim validate SCENE [--set KEY=VALUE]...\n"
          "       csim dump-config SCENE [--set KEY=VALUE]...\n"
+         "       csim compare SCENE [--set KEY=VALUE]... --integrators moreau-jean,ida[,ida-events]\n"
+         "                    [--steps H1,H2,...] [--tolerances TOL1,TOL2,...] [--repeats N] [--out DIR]\n"
          "SCENE is a scene folder (with scene.yaml) or a scene file.\n"
-         "Exit status: 0 checks pass, 1 a check fails, 2 bad input or numerical failure.\n";
+         "compare runs moreau-jean once per step and ida, ida-events once per tolerance (rtol = atol), each N\n"
+         "times (default 3), and writes DIR/work_precision.csv and .png (default DIR: out/<scene>-compare).\n"
+         "Exit status: 0 checks pass (compare: every run succeeded), 1 a check fails (compare: a run failed),\n"
+         "2 bad input or numerical failure.\n";
+}
+
+// "a,b,c" -> {a, b, c}; an empty item is an error.
+bool split_list(const std::string& text, const std::string& option, std::vector<std::string>& items,
+                std::string& error) {
+  items.clear();
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    items.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (items.back().empty()) { error = option + ": empty item in '" + text + "'"; return false; }
+    if (comma == std::string::npos) return true;
+    start = comma + 1;
+  }
+}
+
+bool parse_numbers(const std::string& text, const std::string& option, std::vector<double>& numbers,
+                   std::string& error) {
+  std::vector<std::string> items;
+  if (!split_list(text, option, items, error)) return false;
+  numbers.clear();
+  for (const std::string& item : items) {
+    char* end = nullptr;
+    const double x = std::strtod(item.c_str(), &end);
+    if (end != item.c_str() + item.size() || !std::isfinite(x) || x <= 0.0) {
+      error = option + ": '" + item + "' is not a positive number";
+      return false;
+    }
+    numbers.push_back(x);
+  }
+  return true;
+}
+
+bool parse_repeats(const std::string& text, int& repeats, std::string& error) {
+  char* end = nullptr;
+  const long n = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || end != text.c_str() + text.size() || n < 1 || n > 1000000) {
+    error = "--repeats: '" + text + "' is not a whole number >= 1";
+    return false;
+  }
+  repeats = static_cast<int>(n);
+  return true;
+}
+
+// The options of `compare` (its value already taken by next()); false with error set on bad input.
+bool parse_compare_option(const std::string& option, const char* value, Arguments& a, std::string& error) {
+  if (option == "--integrators") return split_list(value, option, a.integrators, error);
+  if (option == "--steps") return parse_numbers(value, option, a.steps, error);
+  if (option == "--tolerances") return parse_numbers(value, option, a.tolerances, error);
+  return parse_repeats(value, a.repeats, error);
+}
+
+bool is_compare_option(const std::string& arg) {
+  return arg == "--integrators" || arg == "--steps" || arg == "--tolerances" || arg == "--repeats";
 }
 
 bool parse(int argc, char** argv, Arguments& a, std::string& error) {
   if (argc < 3) { error = "missing command or scene"; return false; }
   a.command = argv[1];
-  if (a.command != "run" && a.command != "validate" && a.command != "dump-config") {
+  if (a.command != "run" && a.command != "validate" && a.command != "dump-config" && a.command != "compare") {
     error = "unknown command '" + a.command + "'";
     return false;
   }
@@ -54,12 +125,15 @@ bool parse(int argc, char** argv, Arguments& a, std::string& error) {
       a.overrides.push_back(value);
     } else if (arg.rfind("--set=", 0) == 0) {
       a.overrides.push_back(arg.substr(6));
-    } else if (arg == "--out" && a.command == "run") {
+    } else if (arg == "--out" && (a.command == "run" || a.command == "compare")) {
       const char* value = next("--out");
       if (!value) return false;
       a.output_directory = value;
     } else if (arg == "--quiet" && a.command == "run") {
       a.quiet = true;
+    } else if (is_compare_option(arg) && a.command == "compare") {
+      const char* value = next(arg.c_str());
+      if (!value || !parse_compare_option(arg, value, a, error)) return false;
     } else if (!arg.empty() && arg[0] == '-') {
       error = "unknown option '" + arg + "'";
       return false;
@@ -113,6 +187,53 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
               e.kinetic, e.elastic, e.work_of_loads, e.contact_dissipation, e.numerical_dissipation, e.residual());
 }
 
+void print_compare_header() {
+  std::printf("%-11s %-15s %-9s %15s %9s %13s  %s\n", "integrator", "parameter", "value", "median wall (s)",
+              "steps", "max rel error", "status");
+}
+
+void print_compare_row(const csim::CompareRow& row) {
+  std::string status = row.ok ? "ok" : "failed: " + row.failure;
+  if (row.ok && !row.not_evaluated.empty()) {
+    status += ", could not evaluate";
+    for (const std::string& name : row.not_evaluated) status += " " + name;
+  }
+  char wall[32] = "-", error[32] = "-";
+  if (std::isfinite(row.wall_time_median)) std::snprintf(wall, sizeof wall, "%.4g", row.wall_time_median);
+  if (std::isfinite(row.max_rel_error)) std::snprintf(error, sizeof error, "%.3e", row.max_rel_error);
+  std::printf("%-11s %-15s %-9g %15s %9s %13s  %s\n", row.integrator.c_str(), row.parameter.c_str(), row.value,
+              wall, row.ok ? std::to_string(row.steps).c_str() : "-", error, status.c_str());
+  std::fflush(stdout);  // the table is the progress report of a long study
+}
+
+int run_compare(const Arguments& arguments, const std::string& file) {
+  csim::CompareOptions options;
+  options.scene_file = file;
+  options.overrides = arguments.overrides;
+  options.integrators = arguments.integrators;
+  options.steps = arguments.steps;
+  options.tolerances = arguments.tolerances;
+  options.repeats = arguments.repeats;
+  options.output_directory = arguments.output_directory;
+  bool header_printed = false;  // not before the options and the scene are known to be good
+  const csim::Comparison comparison = csim::run_comparison(options, [&](const csim::CompareRow& row) {
+    if (!header_printed) print_compare_header();
+    header_printed = true;
+    print_compare_row(row);
+  });
+  const std::string directory =
+      options.output_directory.empty() ? "out/" + comparison.scene_name + "-compare" : options.output_directory;
+  csim::write_work_precision_csv(comparison, directory);
+  csim::write_gnuplot_script(comparison, directory);
+  const csim::PlotOutcome plot = csim::plot_work_precision(comparison, directory);
+  if (!plot.produced) std::cerr << "csim: warning: no work_precision.png: " << plot.message << "\n";
+  const auto failed = std::count_if(comparison.rows.begin(), comparison.rows.end(),
+                                    [](const csim::CompareRow& r) { return !r.ok; });
+  std::printf("%s: %zu configurations, %s (outputs in %s)\n", comparison.scene_name.c_str(), comparison.rows.size(),
+              failed == 0 ? "all runs succeeded" : (std::to_string(failed) + " FAILED").c_str(), directory.c_str());
+  return comparison.all_ok() ? kPassed : kSomeRunFailed;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -129,6 +250,7 @@ int main(int argc, char** argv) {
   }
   const std::string file = scene_file(arguments.scene);
   try {
+    if (arguments.command == "compare") return run_compare(arguments, file);
     const auto scene = csim::load_scene(file, arguments.overrides);
     if (arguments.command == "validate") {
       std::printf("%s: valid (%zu bodies, %zu probes, %zu checks)\n", file.c_str(), scene->world.bodies.size(),

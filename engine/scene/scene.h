@@ -3,6 +3,7 @@
 #pragma once
 
 #include "engine/scene/scene_node.h"
+#include "engine/steppers/ida_integrator.h"
 #include "engine/steppers/moreau_jean.h"
 #include "engine/world.h"
 
@@ -48,6 +49,7 @@ struct RunSettings {
   std::string integrator = "moreau-jean";
   double end_time = 1.0;     // s
   MoreauJeanParameters moreau_jean;
+  IdaParameters ida;         // used when integrator == "ida"; its sample_step is time.step
   double output_rate = 0.0;  // s between rows of probes.csv; 0 = every step
   std::vector<ProbeDefinition> probes;
   std::vector<CheckDefinition> checks;

@@ -18,14 +18,33 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   mj.step = time.positive("step");
   if (mj.step > run.end_time) time.fail_at("step", "the step is longer than the time window");
 
+  // Every integrator's settings are read (with their defaults) whatever the type, so that
+  // `--set integrator.type=ida --set integrator.rtol=1e-8` works on any scene.
   const SceneNode integrator = root.section("integrator");
-  integrator.allow_only({"type", "theta"});
+  integrator.allow_only({"type", "theta", "rtol", "atol", "penalty_stiffness", "penalty_damping", "epsilon",
+                         "linear_solver", "max_steps"});
   run.integrator = integrator.string("type", "moreau-jean");
-  if (run.integrator != "moreau-jean")
-    integrator.fail_at("type", "unknown integrator '" + run.integrator +
-                                   "' (available: moreau-jean; ida and quasi-static are not built yet)");
+  if (run.integrator != "moreau-jean" && run.integrator != "ida")
+    integrator.fail_at("type", "unknown integrator '" + run.integrator + "' (available: moreau-jean, ida)");
   mj.theta = integrator.number("theta", 0.5);
   if (mj.theta < 0.5 || mj.theta > 1.0) integrator.fail_at("theta", "theta must lie in [0.5, 1]");
+  IdaParameters& ida = run.ida;
+  ida.sample_step = mj.step;
+  ida.rtol = integrator.number("rtol", 1e-6);
+  if (!(ida.rtol > 0.0)) integrator.fail_at("rtol", "must be > 0");
+  ida.atol = integrator.number("atol", 1e-8);
+  if (!(ida.atol > 0.0)) integrator.fail_at("atol", "must be > 0");
+  ida.penalty_stiffness = integrator.non_negative("penalty_stiffness", 0.0);
+  ida.penalty_damping = integrator.number("penalty_damping", -1.0);
+  ida.epsilon = integrator.number("epsilon", 1e-6);
+  if (!(ida.epsilon > 0.0)) integrator.fail_at("epsilon", "the regularization velocity must be > 0");
+  ida.linear_solver = integrator.string("linear_solver", "auto");
+  if (ida.linear_solver != "auto" && ida.linear_solver != "dense" && ida.linear_solver != "klu")
+    integrator.fail_at("linear_solver", "expected auto, dense or klu");
+  const double max_steps = integrator.number("max_steps", 1000000);
+  if (max_steps < 1 || max_steps != static_cast<long>(max_steps))
+    integrator.fail_at("max_steps", "must be a whole number >= 1");
+  ida.max_steps = static_cast<long>(max_steps);
 
   const SceneNode solver = root.section("contact_solver");
   solver.allow_only({"tolerance", "max_iterations", "omega", "failure_residual"});
@@ -57,12 +76,10 @@ std::string scene_name(const std::string& file) {
 
 }  // namespace
 
-std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std::string>& overrides) {
-  auto scene = std::make_unique<Scene>();
-  scene->document = load_scene_document(file);
-  for (const std::string& assignment : overrides) apply_override(scene->document, assignment);
-  scene->name = scene_name(file);
+namespace {
 
+// Builds the scene from its (overridden) document; reading fills the defaults into the tree.
+void build_scene(Scene* scene) {
   const SceneNode root(scene->document.root, "", &scene->document, 1);
   root.allow_only({"description", "dimension", "parameters", "references", "gravity", "bodies", "springs",
                    "loads", "constraints", "contacts", "time", "integrator", "contact_solver", "probes",
@@ -88,6 +105,46 @@ std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std
   read_output(root, scene->run);
   scene_parts::read_probes(root, world, scene->run);
   scene_parts::read_checks(root, scene->run);
+}
+
+bool key_exists(const YAML::Node& root, const std::string& assignment) {
+  const std::string path = assignment.substr(0, assignment.find('='));
+  YAML::Node node = root;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = path.find('.', start);
+    const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (!node.IsMap() || !node[key].IsDefined()) return false;
+    if (dot == std::string::npos) return true;
+    node.reset(node[key]);
+    start = dot + 1;
+  }
+}
+
+}  // namespace
+
+// Overrides may name any key of the effective configuration, including one left to its default
+// (`--set integrator.rtol=1e-8` on a scene that does not write it): those are applied to the tree
+// of a first reading, which holds every default.
+std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std::string>& overrides) {
+  auto scene = std::make_unique<Scene>();
+  scene->document = load_scene_document(file);
+  scene->name = scene_name(file);
+  std::vector<std::string> on_defaults;
+  for (const std::string& assignment : overrides) {
+    if (key_exists(scene->document.root, assignment)) apply_override(scene->document, assignment);
+    else on_defaults.push_back(assignment);
+  }
+  if (!on_defaults.empty()) {
+    Scene first;
+    first.document.file = scene->document.file;
+    first.document.root = YAML::Clone(scene->document.root);
+    first.name = scene->name;
+    build_scene(&first);
+    scene->document.root = first.document.root;
+    for (const std::string& assignment : on_defaults) apply_override(scene->document, assignment);
+  }
+  build_scene(scene.get());
   return scene;
 }
 

@@ -3,6 +3,7 @@
 #include "engine/bodies/point_mass.h"
 #include "engine/bodies/rigid_body_3d.h"
 #include "engine/steppers/moreau_jean.h"
+#include "tests/engine/test_worlds.h"
 
 #include <gtest/gtest.h>
 
@@ -11,41 +12,9 @@
 namespace csim {
 namespace {
 
-BodyInstance point_mass(const std::string& name, int dimension, double mass, const Eigen::Vector3d& position,
-                        const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero()) {
-  BodyInstance b;
-  b.name = name;
-  b.body = std::make_unique<PointMass>(dimension, mass);
-  b.reference_position = position.head(dimension);
-  b.initial_position = b.reference_position;
-  b.initial_velocity = velocity.head(dimension);
-  return b;
-}
-
-State start(const World& world) {
-  State s;
-  s.q.setZero(world.position_size);
-  s.v.setZero(world.velocity_size);
-  for (const BodyInstance& b : world.bodies) {
-    s.q.segment(b.position_offset, b.body->position_size()) = b.initial_position;
-    s.v.segment(b.velocity_offset, b.body->velocity_size()) = b.initial_velocity;
-  }
-  return s;
-}
-
-// A mass on a spring to the ground, released 1 cm from rest: no contact, no load.
-World oscillator() {
-  World world;
-  world.dimension = 2;
-  world.bodies.push_back(point_mass("mass", 2, 2.0, Eigen::Vector3d::Zero()));
-  world.bodies[0].initial_position << 0.01, 0.0;
-  Spring spring;
-  spring.body_a = 0;
-  spring.stiffness = 800.0;
-  world.springs.push_back(spring);
-  world.finalize_layout();
-  return world;
-}
+using test::oscillator;
+using test::point_mass;
+using test::start;
 
 TEST(MoreauJean, HalfThetaConservesEnergyOfAFreeOscillator) {
   const World world = oscillator();

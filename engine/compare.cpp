@@ -1,0 +1,182 @@
+// run_comparison: each configuration is a fresh load_scene with the study's overrides, so that every
+// run sees exactly what `csim run --set ...` would; the scene loaded with the user's overrides alone
+// fixes the checks measured (only_if depends on the parameters, which the study does not change).
+#include "engine/compare.h"
+
+#include "engine/run.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_error.h"
+#include "engine/steppers/stepper.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace csim {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// moreau-jean is refined by its time step; the IDA integrators by their tolerances, their time.step
+// being only the sampling interval of the probes.
+bool refined_by_step(const std::string& integrator) { return integrator == "moreau-jean"; }
+
+// The shortest text that reads back as the same double, so that an override sets exactly the value asked.
+std::string exact_text(double x) {
+  char buffer[32];
+  const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+  return std::string(buffer, end);
+}
+
+void validate(const CompareOptions& options) {
+  auto fail = [&](const std::string& option, const std::string& message) {
+    throw SceneError(options.scene_file, 0, option, message);
+  };
+  const std::vector<std::string>& known = comparable_integrators();
+  if (options.integrators.empty()) fail("--integrators", "no integrator given");
+  for (const std::string& name : options.integrators) {
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      fail("--integrators", "unknown integrator '" + name + "' (known: moreau-jean, ida, ida-events)");
+    if (std::count(options.integrators.begin(), options.integrators.end(), name) > 1)
+      fail("--integrators", "'" + name + "' is listed twice");
+  }
+  auto check_list = [&](const std::vector<double>& list, const std::string& option, bool needed,
+                        const std::string& what) {
+    if (needed && list.empty()) fail(option, "needs a list of " + what + " for the integrators asked");
+    for (double x : list)
+      if (!(x > 0.0) || !std::isfinite(x))
+        fail(option, "every value must be a positive number (got " + exact_text(x) + ")");
+  };
+  const bool steps_needed = std::any_of(options.integrators.begin(), options.integrators.end(), refined_by_step);
+  const bool tolerances_needed = std::any_of(options.integrators.begin(), options.integrators.end(),
+                                             [](const std::string& n) { return !refined_by_step(n); });
+  check_list(options.steps, "--steps", steps_needed, "time steps");
+  check_list(options.tolerances, "--tolerances", tolerances_needed, "tolerances");
+  if (options.repeats < 1) fail("--repeats", "must be at least 1");
+}
+
+std::vector<ComparedCheck> compared_checks(const Scene& scene) {
+  std::vector<ComparedCheck> checks;
+  for (const CheckDefinition& c : scene.run.checks)
+    if (c.enabled && (c.kind == "analytical" || c.kind == "literature"))
+      checks.push_back({c.name, c.kind, c.source, c.reference});
+  return checks;
+}
+
+std::vector<std::string> run_overrides(const CompareOptions& options, const CompareRow& row) {
+  std::vector<std::string> overrides = options.overrides;  // the user's first: the study's own win
+  overrides.push_back("integrator.type=" + row.integrator);
+  if (refined_by_step(row.integrator)) {
+    overrides.push_back("time.step=" + exact_text(row.value));
+  } else {
+    overrides.push_back("integrator.rtol=" + exact_text(row.value));
+    overrides.push_back("integrator.atol=" + exact_text(row.value));
+  }
+  return overrides;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return kNaN;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// Fills the row's errors from a finished run. A check the run could not evaluate (fewer extrema than
+// asked, say) leaves its cells NaN, and then max_rel_error too: the largest of the others would
+// understate the error of a run that missed a feature of the reference solution.
+void measure_errors(const std::vector<CheckResult>& results, std::vector<ComparedCheck>& checks, CompareRow& row) {
+  row.errors.assign(checks.size(), kNaN);
+  row.relative_errors.assign(checks.size(), kNaN);
+  double max_relative = kNaN;
+  bool every_analytical_evaluated = true;
+  for (std::size_t k = 0; k < checks.size(); ++k) {
+    ComparedCheck& check = checks[k];
+    const auto r = std::find_if(results.begin(), results.end(),
+                                [&](const CheckResult& c) { return c.name == check.name; });
+    const bool evaluated = r != results.end() && !r->skipped && r->note.empty() && std::isfinite(r->value);
+    if (!evaluated) {
+      row.not_evaluated.push_back(check.name);
+      if (check.kind == "analytical") every_analytical_evaluated = false;
+      continue;
+    }
+    row.errors[k] = std::abs(r->value - r->reference);
+    if (r->reference != 0.0) row.relative_errors[k] = row.errors[k] / std::abs(r->reference);
+    if (!check.reference_known) {
+      check.reference_value = r->reference;
+      check.reference_known = true;
+    }
+    if (check.kind == "analytical" && std::isfinite(row.relative_errors[k]))
+      max_relative = std::isnan(max_relative) ? row.relative_errors[k] : std::max(max_relative, row.relative_errors[k]);
+  }
+  row.max_rel_error = every_analytical_evaluated ? max_relative : kNaN;
+}
+
+// Every repeat runs the same deterministic computation; only the wall time differs, so the errors and
+// counters are those of the last repeat and a failure stops the repeats at once.
+void run_configuration(const CompareOptions& options, std::vector<ComparedCheck>& checks, CompareRow& row) {
+  const std::vector<std::string> overrides = run_overrides(options, row);
+  try {
+    RunReport report;
+    for (int repeat = 0; repeat < options.repeats; ++repeat) {
+      const auto scene = load_scene(options.scene_file, overrides);
+      report = run_scene(*scene, RunOptions{});
+      row.wall_times.push_back(report.wall_time);
+    }
+    row.ok = true;
+    row.steps = report.state.counters.steps;
+    // moreau-jean: PGS sweeps summed over the run. ida, ida-events: the same counter, which the IDA
+    // integrators fill with their own iteration statistics when they report them there.
+    row.solver_iterations = report.state.counters.total_iterations;
+    measure_errors(report.checks, checks, row);
+  } catch (const RunError& e) {
+    std::ostringstream message;
+    message << "numerical failure at t = " << e.time << " s: " << e.what();
+    row.failure = message.str();
+  } catch (const std::runtime_error& e) {  // SceneError included: an integrator not built yet, a bad step
+    row.failure = e.what();
+  }
+  row.wall_time_median = median(row.wall_times);
+  if (!row.ok) {
+    row.max_rel_error = kNaN;
+    row.errors.assign(checks.size(), kNaN);
+    row.relative_errors.assign(checks.size(), kNaN);
+  }
+}
+
+}  // namespace
+
+const std::vector<std::string>& comparable_integrators() {
+  static const std::vector<std::string> names{"moreau-jean", "ida", "ida-events"};
+  return names;
+}
+
+Comparison run_comparison(const CompareOptions& options, const std::function<void(const CompareRow&)>& on_row) {
+  validate(options);
+  // A bad --set is bad input for the whole study, not a failure of each run.
+  const auto scene = load_scene(options.scene_file, options.overrides);
+  Comparison comparison;
+  comparison.scene_name = scene->name;
+  comparison.scene_file = options.scene_file;
+  comparison.description = scene->description;
+  comparison.overrides = options.overrides;
+  comparison.checks = compared_checks(*scene);
+  for (const std::string& integrator : options.integrators) {
+    const bool by_step = refined_by_step(integrator);
+    for (double value : by_step ? options.steps : options.tolerances) {
+      CompareRow row;
+      row.integrator = integrator;
+      row.parameter = by_step ? "time.step" : "integrator.rtol";
+      row.value = value;
+      run_configuration(options, comparison.checks, row);
+      if (on_row) on_row(row);
+      comparison.rows.push_back(std::move(row));
+    }
+  }
+  return comparison;
+}
+
+}  // namespace csim
