@@ -38,9 +38,9 @@ double quadratic_at(const double t[3], const double y[3], int count, double at) 
 
 }  // namespace
 
-void ExtremumTracker::add(double t, double value) {
+void ExtremumTracker::add(double t, double value, bool exact) {
   scale_ = std::max(scale_, std::abs(value));
-  const Sample s{t, value};
+  const Sample s{t, value, exact};
   if (!last_) {
     last_ = pivot_ = s;
     return;
@@ -67,7 +67,7 @@ void ExtremumTracker::add(double t, double value) {
 }
 
 void ExtremumTracker::record(bool maximum) {
-  if (before_pivot_ && after_pivot_)
+  if (before_pivot_ && after_pivot_ && !pivot_->exact)
     extrema_.push_back(parabola_vertex(before_pivot_->t, before_pivot_->value, pivot_->t, pivot_->value,
                                        after_pivot_->t, after_pivot_->value, maximum));
   else
@@ -86,9 +86,9 @@ CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& sc
     : run_(run), scope_(scope), trackers_(run.probes.size()), windows_(run.probes.size()),
       at_values_(run.checks.size()) {}
 
-void CheckEvaluator::add_sample(double t, const std::vector<double>& values) {
+void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact) {
   for (std::size_t p = 0; p < values.size(); ++p) {
-    trackers_[p].add(t, values[p]);
+    trackers_[p].add(t, values[p], exact);
     Window& w = windows_[p];
     for (int i = 0; i < 2; ++i) { w.t[i] = w.t[i + 1]; w.value[i] = w.value[i + 1]; }
     w.t[2] = t;

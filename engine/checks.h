@@ -22,12 +22,13 @@ struct Extremum {
 // extremum; a plateau that lasts to the end after a motion is a final extremum (the body came to rest).
 class ExtremumTracker {
  public:
-  void add(double t, double value);
+  // exact: the sample sits exactly on a turning point (an event), so no parabola is fitted through it.
+  void add(double t, double value, bool exact = false);
   void finish();
   const std::vector<Extremum>& extrema() const { return extrema_; }
 
  private:
-  struct Sample { double t, value; };
+  struct Sample { double t, value; bool exact; };
   void record(bool maximum);
 
   std::vector<Extremum> extrema_;
@@ -49,7 +50,7 @@ struct CheckResult {
 class CheckEvaluator {
  public:
   CheckEvaluator(const RunSettings& run, const ExpressionScope& scope);
-  void add_sample(double t, const std::vector<double>& probe_values);
+  void add_sample(double t, const std::vector<double>& probe_values, bool exact = false);
   std::vector<CheckResult> finish(double end_time);
 
  private:

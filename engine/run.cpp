@@ -69,7 +69,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     std::filesystem::remove(dir / "summary.json");
   }
   std::unique_ptr<Stepper> stepper_owner;
-  if (run.integrator == "ida") stepper_owner = std::make_unique<IdaIntegrator>(scene.world, run.ida);
+  if (run.integrator == "ida" || run.integrator == "ida-events") stepper_owner = std::make_unique<IdaIntegrator>(scene.world, run.ida);
   else stepper_owner = std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
   Stepper& stepper = *stepper_owner;
   ProbeEvaluator probes(scene.world, run);
@@ -97,6 +97,15 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   for (long k = 0; k < steps; ++k) {
     stepper.step(state);
+    // Events inside the step (stick/slip switches of ida-events) are exact samples.
+    for (const EventSample& event : state.events) {
+      State at_event = state;
+      at_event.t = event.t;
+      at_event.q = event.q;
+      at_event.v = event.v;
+      probes.evaluate(at_event, values);
+      checks.add_sample(event.t, values, true);
+    }
     probes.evaluate(state, values);
     checks.add_sample(state.t, values);
     if (state.t >= next_output - 0.5 * h || k + 1 == steps) {
@@ -143,7 +152,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
       .value("max_residual", c.max_residual)
       .value("rejected_local_solutions", c.rejected_local_solutions)
       .end_object();
-  if (run.integrator == "ida") {
+  if (run.integrator == "ida" || run.integrator == "ida-events") {
     const IdaStatistics& ida = s.ida;
     json.begin_object("ida")
         .value("rtol", run.ida.rtol).value("atol", run.ida.atol)

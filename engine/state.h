@@ -67,9 +67,17 @@ struct PhaseTimers {  // s, wall clock, summed over steps (estimated from one st
   double free_velocity = 0.0, detection = 0.0, assembly = 0.0, solve = 0.0, update = 0.0;
 };
 
+// A state reached exactly at an event of an event-driven integrator (a stick/slip switch), inside the
+// last step: the run samples the probes there too.
+struct EventSample {
+  double t = 0.0;  // s
+  Vector q, v;
+};
+
 struct State {
   double t = 0.0;  // s
   Vector q, v;
+  std::vector<EventSample> events;      // events inside the last step, in time order
   std::vector<ActiveContact> contacts;  // sorted by key
   SolverCounters counters;
   EnergyBalance energy;

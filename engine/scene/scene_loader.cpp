@@ -22,14 +22,15 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   // `--set integrator.type=ida --set integrator.rtol=1e-8` works on any scene.
   const SceneNode integrator = root.section("integrator");
   integrator.allow_only({"type", "theta", "rtol", "atol", "penalty_stiffness", "penalty_damping", "epsilon",
-                         "linear_solver", "max_steps"});
+                         "linear_solver", "max_step", "max_steps"});
   run.integrator = integrator.string("type", "moreau-jean");
-  if (run.integrator != "moreau-jean" && run.integrator != "ida")
-    integrator.fail_at("type", "unknown integrator '" + run.integrator + "' (available: moreau-jean, ida)");
+  if (run.integrator != "moreau-jean" && run.integrator != "ida" && run.integrator != "ida-events")
+    integrator.fail_at("type", "unknown integrator '" + run.integrator + "' (available: moreau-jean, ida, ida-events)");
   mj.theta = integrator.number("theta", 0.5);
   if (mj.theta < 0.5 || mj.theta > 1.0) integrator.fail_at("theta", "theta must lie in [0.5, 1]");
   IdaParameters& ida = run.ida;
   ida.sample_step = mj.step;
+  ida.events = run.integrator == "ida-events";
   ida.rtol = integrator.number("rtol", 1e-6);
   if (!(ida.rtol > 0.0)) integrator.fail_at("rtol", "must be > 0");
   ida.atol = integrator.number("atol", 1e-8);
@@ -41,6 +42,7 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   ida.linear_solver = integrator.string("linear_solver", "auto");
   if (ida.linear_solver != "auto" && ida.linear_solver != "dense" && ida.linear_solver != "klu")
     integrator.fail_at("linear_solver", "expected auto, dense or klu");
+  ida.max_step = integrator.non_negative("max_step", 0.0);
   const double max_steps = integrator.number("max_steps", 1000000);
   if (max_steps < 1 || max_steps != static_cast<long>(max_steps))
     integrator.fail_at("max_steps", "must be a whole number >= 1");

@@ -13,21 +13,26 @@
 // penetration of about 1e-7 m under its own weight), penalty_damping (N·s/m; default from each contact
 // law's restitution: ζ with e = exp(−ζπ/√(1−ζ²)) on the pair's effective mass), epsilon (m/s, the
 // regularization velocity of Coulomb's law, default 1e-6), linear_solver (dense, klu or auto: KLU above
-// 100 unknowns), max_steps (IDA's internal steps over the whole run: a budget, past which the run
+// 100 unknowns), max_step (s, a bound on IDA's step; by default none for ida and one sample interval for
+// ida-events, whose extrema must be exact), max_steps (IDA's internal steps over the whole run: a budget, past which the run
 // stops with a clear message rather than crawling).
 //
 // Jacobian: the dense solver uses IDA's internal difference quotients; KLU gets a column-by-column
 // finite-difference Jacobian of ours, stored sparse (one residual per unknown: right for lumped
 // systems; FE bodies will supply an analytical one).
 //
+// ida-events (parameters.events): no regularization; the contact forces are the reactions of exact
+// Coulomb friction whose stick/slip mode switches at events located by IDA's root finding (see
+// event_contact_model.h for the model and its scope). Each event is handed to the run as an exact
+// sample (State::events), so that extrema at stops are measured where they happen.
+//
 // Initial conditions are consistent by construction: y'(0) is computed from the equations (w' from
 // the momentum balance), so no IDACalcIC is needed. The probes are sampled every time.step (IDA
 // interpolates to the sample times; the sample interval does not limit IDA's own steps).
 #pragma once
 
-#include "contact/regularized_law.h"
-#include "engine/contact_detector.h"
 #include "engine/forces.h"
+#include "engine/steppers/smooth_contact_model.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
 
@@ -43,6 +48,8 @@ struct IdaParameters {
   double penalty_damping = -1.0;   // N·s/m; < 0 = from each law's restitution
   double epsilon = 1e-6;           // m/s
   std::string linear_solver = "auto";
+  bool events = false;             // ida-events: exact Coulomb with located stick/slip events
+  double max_step = 0.0;           // s, bound on IDA's steps; 0 = none for ida, the sample step for ida-events
   long max_steps = 1000000;        // internal steps over the run
 };
 
@@ -57,6 +64,7 @@ class IdaIntegrator final : public Stepper {
 
   // For the C callbacks of SUNDIALS.
   int residual(double t, const double* y, const double* y_rate, double* r);
+  int event_functions(double t, const double* y, const double* y_rate, double* g);
   int finite_difference_jacobian(double t, double cj, const double* y, const double* y_rate,
                                  const double* r, void* sparse_matrix);
   void record_error(const std::string& message) { last_error_ = message; }
@@ -64,14 +72,17 @@ class IdaIntegrator final : public Stepper {
  private:
   struct Sundials;  // SUNContext, IDA memory, vectors, matrix, linear solver
 
-  void contact_forces(const Vector& q, const Vector& v, Vector& f, std::vector<ActiveContact>* record);
+  // Loads, inertial and spring forces at (t, q, v): f_loads_ (loads and inertial) and f_total_.
+  void applied_forces(double t, const Vector& q, const Vector& v);
+  void unpack(const double* y);            // q_, v_ from y
+  void consistent_rates(double t);         // y' of the equations at the current y (in sundials_)
   void fill_state(State& state);
+  IdaStatistics counters_since_restart() const;
 
   const World& world_;
   IdaParameters parameters_;
   ForceModel forces_;
-  ContactDetector detector_;
-  std::vector<RegularizedContactLaw> laws_;  // per contact law
+  std::unique_ptr<SmoothContactModel> contact_model_;
   Matrix M_, null_basis_, reduced_mass_;     // M, N, NᵀMN
   Eigen::LDLT<Matrix> reduced_mass_factor_;
   bool constrained_ = false;
@@ -79,11 +90,10 @@ class IdaIntegrator final : public Stepper {
   std::unique_ptr<Sundials> sundials_;
   std::string last_error_;
   long sample_ = 0;
+  IdaStatistics before_restart_;           // counters of the phases before the last event
 
   // Work data of the residual.
   Vector q_, v_, w_rate_, q_rate_, f_loads_, f_total_, f_contact_, body_rate_;
-  std::vector<ActiveContact> contacts_;
-  Matrix rows_;
 };
 
 }  // namespace csim
