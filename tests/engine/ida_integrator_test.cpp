@@ -3,6 +3,8 @@
 // failure that becomes a RunError instead of an abort.
 #include "engine/bodies/fixed_body.h"
 #include "engine/bodies/point_mass.h"
+#include "engine/run.h"
+#include "engine/scene/scene.h"
 #include "engine/steppers/ida_integrator.h"
 #include "tests/engine/test_worlds.h"
 
@@ -166,6 +168,49 @@ TEST(IdaIntegrator, ExhaustedStepBudgetIsARunErrorWithTheTime) {
   } catch (const RunError& e) {
     EXPECT_GT(e.time, 0.0);
     EXPECT_NE(std::string(e.what()).find("max_steps"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace csim
+
+namespace csim {
+namespace {
+
+// The event-driven mode is the reference of lumped scenes without a closed form: on SDNV104 it must
+// reproduce the exact stick-slip solution to 1e-8 relative at tolerance 1e-10.
+TEST(IdaEvents, Sdnv104ExtremaAndTimesToOneInHundredMillion) {
+  for (const char* ramp : {"parameters.ramp_time=0", "parameters.ramp_time=0.07"}) {
+    const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml",
+                                  {"integrator.type=ida-events", "integrator.rtol=1e-10", "integrator.atol=1e-10", ramp});
+    const RunReport report = run_scene(*scene, {});
+    int measured = 0;
+    for (const CheckResult& c : report.checks) {
+      if (c.kind != "analytical" || c.skipped) continue;
+      ASSERT_TRUE(c.note.empty()) << c.name << ": " << c.note;
+      EXPECT_LE(std::abs(c.error), 1e-8 * std::abs(c.reference)) << ramp << " " << c.name;
+      ++measured;
+    }
+    EXPECT_EQ(measured, 11);  // x1..x5, t1..t5, rest
+  }
+}
+
+TEST(IdaEvents, StickJustBelowTheThresholdDoesNotMove) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/incline/scene.yaml",
+                                {"integrator.type=ida-events", "parameters.mu=0.3640702"});
+  const RunReport report = run_scene(*scene, {});
+  EXPECT_TRUE(report.all_passed());
+  for (const CheckResult& c : report.checks)
+    if (c.probe == "slide") EXPECT_LE(std::abs(c.value), 1e-12) << c.name;
+}
+
+TEST(IdaEvents, ContactThatIsOpenAtTheStartIsRefusedClearly) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/bouncing-ball/scene.yaml", {"integrator.type=ida-events"});
+  try {
+    run_scene(*scene, {});
+    FAIL() << "expected a RunError";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("closed at t = 0"), std::string::npos) << e.what();
   }
 }
 
