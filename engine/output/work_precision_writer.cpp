@@ -49,12 +49,12 @@ void write_comment_header(std::ostringstream& csv, const Comparison& comparison)
   csv << "\n# each run also gets integrator.type=INTEGRATOR, then time.step=VALUE (moreau-jean) or "
          "integrator.rtol=integrator.atol=VALUE (ida, ida-events; time.step stays the probes' sampling interval)\n"
          "# wall times: s, of the time loop, one per repeat (';'-separated); wall_time_median is their median\n"
+         "# steps: moreau-jean: time steps; ida, ida-events: IDA's internal steps\n"
          "# solver_iterations: moreau-jean: projected Gauss-Seidel sweeps summed over the run; ida, ida-events: "
-         "the run's total_iterations counter,\n"
-         "#   which the IDA integrators fill with their own statistics when they report them there\n"
+         "IDA's residual evaluations\n"
          "# C_error = |value - reference|, C_rel_error = C_error / |reference| (empty when the reference is 0, the run "
          "failed or could not evaluate C); max_rel_error = largest C_rel_error over the analytical checks "
-         "(empty when one of them could not be evaluated)\n"
+         "(those a run could not evaluate are named in its status)\n"
          "# references: the scene's own, analytical where it has one\n";
   for (const ComparedCheck& c : comparison.checks) {
     csv << "# check " << c.name << ": kind " << c.kind << ", reference " << one_line(c.reference);
@@ -64,6 +64,16 @@ void write_comment_header(std::ostringstream& csv, const Comparison& comparison)
   }
 }
 
+std::string status_text(const CompareRow& row) {
+  if (!row.ok) return "failed: " + row.failure;
+  std::string status = "ok";
+  if (!row.not_evaluated.empty()) {
+    status += "; not evaluated:";
+    for (const std::string& name : row.not_evaluated) status += " " + name;
+  }
+  return status;
+}
+
 std::string csv_row(const CompareRow& row) {
   std::ostringstream line;
   line << csv_field(row.integrator) << ',' << row.parameter << ',' << number(row.value) << ','
@@ -71,7 +81,7 @@ std::string csv_row(const CompareRow& row) {
   for (std::size_t k = 0; k < row.wall_times.size(); ++k) line << (k ? ";" : "") << number(row.wall_times[k], 6);
   line << ',' << (row.ok ? std::to_string(row.steps) : "") << ','
        << (row.ok ? std::to_string(row.solver_iterations) : "") << ','
-       << csv_field(row.ok ? "ok" : "failed: " + row.failure) << ',' << number(row.max_rel_error);
+       << csv_field(status_text(row)) << ',' << number(row.max_rel_error);
   for (std::size_t k = 0; k < row.errors.size(); ++k)
     line << ',' << number(row.errors[k]) << ',' << number(row.relative_errors[k]);
   return line.str();

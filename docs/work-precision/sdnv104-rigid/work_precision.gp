@@ -1,0 +1,44 @@
+# Work-precision diagram of scene sdnv104-rigid, written by csim compare.
+# Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
+# succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
+$moreau_jean << EOD
+0.000334237 0.013760056 "h=0.1"
+0.002859706 0.0022703788 "h=0.01"
+0.014713436 0.00022298218 "h=0.001"
+0.13916907 1.5682213e-05 "h=0.0001"
+1.3538313 1.0578072e-05 "h=1e-05"
+EOD
+$ida << EOD
+0.18649001 0.012840639 "tol=0.0001"
+0.16581623 0.00028000199 "tol=1e-06"
+0.019995462 8.608277e-05 "tol=1e-08"
+0.025283128 8.608277e-05 "tol=1e-10"
+EOD
+$ida_events << EOD
+0.063324937 2.8041519e-09 "tol=0.01"
+0.063464344 2.8041672e-09 "tol=0.0001"
+0.063587738 3.0098014e-09 "tol=1e-06"
+0.066432957 1.4509905e-09 "tol=1e-08"
+0.067221245 3.5400254e-11 "tol=1e-10"
+EOD
+if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
+  set terminal pngcairo size 1000,700 font ",11"
+} else {
+  set terminal png size 1000,700
+}
+set output "work_precision.png"
+set title "sdnv104-rigid: work-precision (max relative error of the analytical checks)"
+set xlabel "median wall time of the time loop (s)"
+set ylabel "max relative error"
+set logscale xy
+set format x "%g"
+set format y "%.0e"
+set grid
+set key top right
+set offsets graph 0.05, graph 0.15, graph 0.1, graph 0.1
+plot $moreau_jean using 1:2 with linespoints linecolor 1 pointtype 7 title "moreau-jean", \
+     $moreau_jean using 1:2:3 with labels offset char 1,0.6 left textcolor lt 1 notitle, \
+     $ida using 1:2 with linespoints linecolor 2 pointtype 7 title "ida", \
+     $ida using 1:2:3 with labels offset char 1,0.6 left textcolor lt 2 notitle, \
+     $ida_events using 1:2 with linespoints linecolor 3 pointtype 7 title "ida-events", \
+     $ida_events using 1:2:3 with labels offset char 1,0.6 left textcolor lt 3 notitle
