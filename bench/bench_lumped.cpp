@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\nMatched accuracy on SDNV104 (x1): the cheapest setting reaching the target, median of %d runs\n", repeats);
-  std::printf("%10s %-12s %14s %12s %12s %10s\n", "target", "integrator", "setting", "error x1", "wall (s)", "vs MJ");
+  std::printf("%10s %-12s %24s %12s %12s %10s\n", "target", "integrator", "setting", "error x1", "wall (s)", "vs MJ");
   const std::string shoe = root + "sdnv104-rigid/scene.yaml";
   for (const double target : {1e-3, 1e-6}) {
     double mj_wall = NAN;
@@ -110,7 +110,10 @@ int main(int argc, char** argv) {
         {"ida", "integrator.rtol", {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11}},
         {"ida-events", "integrator.rtol", {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10}}};
     for (const Candidate& candidate : candidates) {
-      bool found = false;
+      // Every setting is tried once; the cheapest one within the target is then timed properly.
+      std::vector<std::string> best;
+      double best_wall = INFINITY, best_error = NAN;
+      std::string best_setting;
       for (const double value : candidate.values) {
         char setting[64], atol[64], type[64];
         std::snprintf(setting, sizeof setting, "%s=%g", candidate.key, value);
@@ -118,22 +121,27 @@ int main(int argc, char** argv) {
         std::snprintf(type, sizeof type, "integrator.type=%s", candidate.integrator);
         std::vector<std::string> overrides{type, setting};
         if (std::string(candidate.key) == "integrator.rtol") overrides.push_back(atol);
-        Measured m;
         try {
-          m = measure(shoe, overrides, 1);
+          const Measured m = measure(shoe, overrides, 1);
+          const double error = std::abs(relative_error(m.report, "x1"));
+          if (error <= target && m.wall < best_wall) {
+            best = overrides;
+            best_wall = m.wall;
+            best_error = error;
+            best_setting = setting;
+          }
         } catch (const std::exception&) {
-          continue;  // a setting that stops (IDA's step budget) is not a candidate
+          // a setting that stops (IDA's step budget) is not a candidate
         }
-        const double error = std::abs(relative_error(m.report, "x1"));
-        if (!(error <= target)) continue;
-        m = measure(shoe, overrides, repeats);
-        if (std::string(candidate.integrator) == "moreau-jean") mj_wall = m.wall;
-        std::printf("%10.0e %-12s %14s %12.2e %12.4f %10.2f\n", target, candidate.integrator, setting, error, m.wall,
-                    m.wall / mj_wall);
-        found = true;
-        break;
       }
-      if (!found) std::printf("%10.0e %-12s %14s\n", target, candidate.integrator, "not reached");
+      if (best.empty()) {
+        std::printf("%10.0e %-12s %24s\n", target, candidate.integrator, "not reached");
+        continue;
+      }
+      const Measured m = measure(shoe, best, repeats);
+      if (std::string(candidate.integrator) == "moreau-jean") mj_wall = m.wall;
+      std::printf("%10.0e %-12s %24s %12.2e %12.4f %10.2f\n", target, candidate.integrator, best_setting.c_str(),
+                  best_error, m.wall, m.wall / mj_wall);
     }
   }
   return 0;
