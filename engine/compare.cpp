@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 
@@ -56,6 +57,9 @@ void validate(const CompareOptions& options) {
   check_list(options.steps, "--steps", steps_needed, "time steps");
   check_list(options.tolerances, "--tolerances", tolerances_needed, "tolerances");
   if (options.repeats < 1) fail("--repeats", "must be at least 1");
+  const std::string& r = options.reference;
+  if (r != "auto" && r != "analytical" && r != "ida-events" && r != "moreau-jean")
+    fail("--reference", "expected auto, analytical, ida-events or moreau-jean (got '" + r + "')");
 }
 
 std::vector<ComparedCheck> compared_checks(const Scene& scene) {
@@ -116,10 +120,10 @@ void measure_errors(const std::vector<CheckResult>& results, std::vector<Compare
 
 // Every repeat runs the same deterministic computation; only the wall time differs, so the errors and
 // counters are those of the last repeat and a failure stops the repeats at once.
-void run_configuration(const CompareOptions& options, std::vector<ComparedCheck>& checks, CompareRow& row) {
+RunReport run_configuration(const CompareOptions& options, std::vector<ComparedCheck>& checks, CompareRow& row) {
   const std::vector<std::string> overrides = run_overrides(options, row);
+  RunReport report;
   try {
-    RunReport report;
     for (int repeat = 0; repeat < options.repeats; ++repeat) {
       const auto scene = load_scene(options.scene_file, overrides);
       report = run_scene(*scene, RunOptions{});
@@ -145,6 +149,7 @@ void run_configuration(const CompareOptions& options, std::vector<ComparedCheck>
     row.errors.assign(checks.size(), kNaN);
     row.relative_errors.assign(checks.size(), kNaN);
   }
+  return report;
 }
 
 }  // namespace
@@ -153,6 +158,78 @@ const std::vector<std::string>& comparable_integrators() {
   static const std::vector<std::string> names{"moreau-jean", "ida", "ida-events"};
   return names;
 }
+
+namespace {
+
+struct Trajectory {
+  std::vector<double> times;
+  std::vector<std::vector<double>> values;
+  std::vector<bool> compared;  // per probe: displacements and positions (forces jump at every switch,
+                               // and an energy residual has no scale of its own)
+};
+
+// Linear interpolation of probe p of the reference at t (clamped to its window).
+double reference_at(const Trajectory& reference, std::size_t p, double t) {
+  const auto& times = reference.times;
+  if (t <= times.front()) return reference.values.front()[p];
+  if (t >= times.back()) return reference.values.back()[p];
+  const std::size_t i = std::upper_bound(times.begin(), times.end(), t) - times.begin();
+  const double w = (t - times[i - 1]) / (times[i] - times[i - 1]);
+  return (1.0 - w) * reference.values[i - 1][p] + w * reference.values[i][p];
+}
+
+// Largest, over the probes, of max_t |p(t) − p_ref(t)| / max_t |p_ref(t)|.
+double trajectory_error(const RunReport& run, const Trajectory& reference) {
+  double worst = 0.0;
+  const std::size_t probes = reference.values.empty() ? 0 : reference.values.front().size();
+  for (std::size_t p = 0; p < probes; ++p) {
+    if (!reference.compared[p]) continue;
+    double scale = 0.0, deviation = 0.0;
+    for (const auto& row : reference.values) scale = std::max(scale, std::abs(row[p]));
+    for (std::size_t k = 0; k < run.sample_times.size(); ++k)
+      deviation = std::max(deviation, std::abs(run.samples[k][p] - reference_at(reference, p, run.sample_times[k])));
+    if (scale > 0.0) worst = std::max(worst, deviation / scale);
+  }
+  return worst;
+}
+
+bool has_analytical_checks(const Scene& scene) {
+  for (const CheckDefinition& c : scene.run.checks)
+    if (c.enabled && c.kind == "analytical") return true;
+  return false;
+}
+
+// Runs the reference; returns false (and leaves `why`) when it cannot run.
+bool reference_run(const CompareOptions& options, const std::string& kind, Trajectory& trajectory,
+                   std::string& description, std::string& why) {
+  std::vector<std::string> overrides = options.overrides;
+  if (kind == "ida-events") {
+    overrides.insert(overrides.end(), {"integrator.type=ida-events", "integrator.rtol=1e-10", "integrator.atol=1e-12"});
+    description = "a converged ida-events run (rtol 1e-10, atol 1e-12)";
+  } else {
+    const double finest = options.steps.empty() ? load_scene(options.scene_file, options.overrides)->run.moreau_jean.step
+                                                : *std::min_element(options.steps.begin(), options.steps.end());
+    std::ostringstream step;
+    step << "time.step=" << std::setprecision(17) << finest / 100.0;
+    overrides.insert(overrides.end(), {"integrator.type=moreau-jean", step.str()});
+    description = "a Moreau-Jean run at " + step.str() + " (100 times finer than the finest step asked)";
+  }
+  try {
+    const RunReport report = run_scene(*load_scene(options.scene_file, overrides), RunOptions{});
+    trajectory.times = report.sample_times;
+    trajectory.values = report.samples;
+    const auto scene = load_scene(options.scene_file, options.overrides);
+    for (const ProbeDefinition& probe : scene->run.probes)
+      trajectory.compared.push_back(probe.kind == ProbeDefinition::Kind::displacement ||
+                                    probe.kind == ProbeDefinition::Kind::position);
+    return true;
+  } catch (const std::exception& e) {
+    why = e.what();
+    return false;
+  }
+}
+
+}  // namespace
 
 Comparison run_comparison(const CompareOptions& options, const std::function<void(const CompareRow&)>& on_row) {
   validate(options);
@@ -164,6 +241,24 @@ Comparison run_comparison(const CompareOptions& options, const std::function<voi
   comparison.description = scene->description;
   comparison.overrides = options.overrides;
   comparison.checks = compared_checks(*scene);
+
+  Trajectory reference;
+  std::string kind = options.reference;
+  if (kind == "auto") kind = has_analytical_checks(*scene) ? "analytical" : "ida-events";
+  if (kind == "analytical") {
+    comparison.reference = "the scene's analytical checks";
+  } else {
+    std::string why;
+    if (!reference_run(options, kind, reference, comparison.reference, why)) {
+      if (options.reference != "auto" || kind != "ida-events")
+        throw std::runtime_error("the reference run (" + kind + ") failed: " + why);
+      kind = "moreau-jean";  // the event-driven reference does not apply to this scene: refine instead
+      if (!reference_run(options, kind, reference, comparison.reference, why))
+        throw std::runtime_error("the reference run (moreau-jean) failed: " + why);
+    }
+    comparison.trajectory_reference = true;
+  }
+
   for (const std::string& integrator : options.integrators) {
     const bool by_step = refined_by_step(integrator);
     for (double value : by_step ? options.steps : options.tolerances) {
@@ -171,7 +266,8 @@ Comparison run_comparison(const CompareOptions& options, const std::function<voi
       row.integrator = integrator;
       row.parameter = by_step ? "time.step" : "integrator.rtol";
       row.value = value;
-      run_configuration(options, comparison.checks, row);
+      const RunReport report = run_configuration(options, comparison.checks, row);
+      if (comparison.trajectory_reference && row.ok) row.max_rel_error = trajectory_error(report, reference);
       if (on_row) on_row(row);
       comparison.rows.push_back(std::move(row));
     }

@@ -18,6 +18,10 @@ struct CompareOptions {
   std::vector<double> steps;            // s, time.step of the moreau-jean runs
   std::vector<double> tolerances;       // integrator.rtol = integrator.atol of the ida runs
   int repeats = 3;
+  // The reference: analytical (the scene's analytical checks), ida-events (a converged event-driven run
+  // at tolerance 1e-10), moreau-jean (a run at a step 100 times finer than the finest asked), or auto:
+  // analytical when the scene has enabled analytical checks, else ida-events, else moreau-jean.
+  std::string reference = "auto";
   std::string output_directory;         // empty: out/<scene>-compare (the caller resolves it from scene_name)
 };
 
@@ -41,13 +45,16 @@ struct CompareRow {
   long solver_iterations = 0;
   bool ok = false;
   std::string failure;                  // the message when !ok
-  double max_rel_error = 0.0;           // over the analytical checks; NaN when none could be evaluated
+  double max_rel_error = 0.0;           // over the analytical checks (or, against a reference run, the
+                                        // largest max_t |p − p_ref| / max_t |p_ref| over the probes)
   std::vector<double> errors, relative_errors;  // per ComparedCheck, |value − reference| and / |reference|
   std::vector<std::string> not_evaluated;  // checks the run could not evaluate (their errors are NaN)
 };
 
 struct Comparison {
   std::string scene_name, scene_file, description;
+  std::string reference;                // what the errors are measured against, in words (the CSV says it)
+  bool trajectory_reference = false;    // errors are deviations of the probe histories from a reference run
   std::vector<std::string> overrides;
   std::vector<ComparedCheck> checks;
   std::vector<CompareRow> rows;

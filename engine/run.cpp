@@ -28,7 +28,9 @@ State initial_state(const World& world) {
   return state;
 }
 
-void append_row(std::ostringstream& csv, double t, const std::vector<double>& values) {
+void append_row(std::ostringstream& csv, double t, const std::vector<double>& values, RunReport& report) {
+  report.sample_times.push_back(t);
+  report.samples.push_back(values);
   csv << t;
   for (double v : values) csv << ',' << v;
   csv << '\n';
@@ -90,7 +92,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   std::vector<double> values;
   probes.evaluate(state, values);
   checks.add_sample(state.t, values);
-  append_row(csv, state.t, values);
+  append_row(csv, state.t, values, report);
   double next_output = rate;
 
   Progress progress(options.progress);
@@ -109,7 +111,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     probes.evaluate(state, values);
     checks.add_sample(state.t, values);
     if (state.t >= next_output - 0.5 * h || k + 1 == steps) {
-      append_row(csv, state.t, values);
+      append_row(csv, state.t, values, report);
       while (next_output <= state.t + 0.5 * h) next_output += rate;
     }
     progress.update(state.t, run.end_time);

@@ -19,6 +19,8 @@ struct RunOptions {
 struct RunReport {
   State state;                   // final state
   std::vector<CheckResult> checks;
+  std::vector<double> sample_times;               // s, the rows of probes.csv
+  std::vector<std::vector<double>> samples;       // probe values at those times
   double wall_time = 0.0;        // s
   bool all_passed() const {
     for (const CheckResult& c : checks)

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace csim {
@@ -57,6 +58,7 @@ StressSweep read_sweep(const std::string& name, const SceneNode& node,
   StressSweep sweep;
   sweep.name = name;
   sweep.key = node.string("key");
+  sweep.line = node.child("key").line();
   if (sweep.key.empty() || sweep.key.find('=') != std::string::npos)
     node.child("key").fail("expected a dotted key such as parameters.mass");
   for (const SceneNode& item : node.child("values").items()) sweep.values.push_back(item.as_string());
@@ -171,6 +173,39 @@ std::vector<StressSweep> selected_sweeps(const StressPlan& plan, const std::vect
   return out;
 }
 
+// Whether a dotted key names a single value of the effective configuration (defaults included).
+bool names_a_value(const YAML::Node& root, const std::string& key) {
+  YAML::Node node = root;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = key.find('.', start);
+    const std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (!node.IsMap() || !node[part].IsDefined()) return false;
+    if (dot == std::string::npos) return node[part].IsScalar();
+    node.reset(node[part]);
+    start = dot + 1;
+  }
+}
+
+// The whole study's inputs are checked before its first run: a baseline or a sweep key the scene
+// rejects would otherwise fail every case alike.
+std::unique_ptr<Scene> load_with_baseline(const StressOptions& options, const StressPlan& plan,
+                                          const std::vector<std::string>& common) {
+  try {
+    return load_scene(options.scene_file, common);
+  } catch (const SceneError& e) {
+    throw SceneError(plan.file, plan.baseline_line, "baseline", std::string("the scene rejects it: ") + e.what());
+  }
+}
+
+void check_sweep_keys(const StressPlan& plan, const std::vector<StressSweep>& sweeps, const Scene& scene) {
+  for (const StressSweep& sweep : sweeps)
+    if (!names_a_value(scene.document.root, sweep.key))
+      throw SceneError(plan.file, sweep.line, "sweeps." + sweep.name + ".key",
+                       "'" + sweep.key + "' is not a single value of the scene " + scene.document.file +
+                           " (see csim dump-config)");
+}
+
 }  // namespace
 
 const char* outcome_name(StressOutcome outcome) {
@@ -198,7 +233,10 @@ StressPlan read_stress_plan(const std::string& file) {
   SceneDocument document = load_scene_document(file);
   const SceneNode root(document.root, "", &document);
   root.allow_only({"baseline", "integrators", "sweeps"});
-  if (const auto baseline = root.optional_child("baseline")) plan.baseline = assignments(*baseline);
+  if (const auto baseline = root.optional_child("baseline")) {
+    plan.baseline = assignments(*baseline);
+    plan.baseline_line = baseline->line();
+  }
   std::vector<std::string> integrators;
   const auto default_list = root.optional_child("integrators");
   if (default_list) integrators = integrator_list(*default_list);
@@ -216,14 +254,15 @@ StressStudy run_stress(const StressOptions& options, const std::function<void(co
   study.sweeps_file = options.sweeps_file.empty()
                           ? (std::filesystem::path(options.scene_file).parent_path() / "stress.yaml").string()
                           : options.sweeps_file;
+  load_scene(options.scene_file, options.overrides);  // the user's own mistakes first, named as such
   const StressPlan plan = read_stress_plan(study.sweeps_file);
   const std::vector<StressSweep> sweeps = selected_sweeps(plan, options.only);
   study.overrides = options.overrides;
   study.baseline = plan.baseline;
   std::vector<std::string> common = options.overrides;
   common.insert(common.end(), plan.baseline.begin(), plan.baseline.end());
-  // A bad --set or baseline is bad input for the whole study, not a failure of each run.
-  const auto scene = load_scene(options.scene_file, common);
+  const auto scene = load_with_baseline(options, plan, common);
+  check_sweep_keys(plan, sweeps, *scene);
   study.scene_name = scene->name;
   study.description = scene->description;
   for (const StressSweep& sweep : sweeps)

@@ -1,4 +1,4 @@
-// The stability study behind `csim stress` (DESIGN.md §4): one scene pushed over many decades of its
+// The stability study behind `csim stress`: one scene pushed over many decades of its
 // parameters, one parameter at a time, with each integrator. A sweeps file (stress.yaml beside the
 // scene by default) lists the cases:
 //
@@ -31,6 +31,7 @@ struct StressOptions {
 // One sweep of the file: key=value for each value, with each integrator.
 struct StressSweep {
   std::string name, key;
+  int line = 0;                         // of the key in the sweeps file
   std::vector<std::string> values;      // as written in the file, so that the override is exact
   std::vector<std::string> integrators;
 };
@@ -38,6 +39,7 @@ struct StressSweep {
 struct StressPlan {
   std::string file;
   std::vector<std::string> baseline;
+  int baseline_line = 0;
   std::vector<StressSweep> sweeps;      // in file order
 };
 
@@ -91,8 +93,9 @@ struct StressStudy {
   }
 };
 
-// Runs the study. Throws SceneError for a bad sweeps file, an unknown --only sweep, or a scene that
-// does not load with the user's overrides and the baseline; every failure of one case becomes its row.
+// Runs the study. Throws SceneError for a scene that does not load with the user's overrides, a bad
+// sweeps file, an unknown --only sweep, a baseline the scene rejects or a sweep key the scene does not
+// have; every failure of one case (a value the scene rejects included) becomes its row.
 // on_row is called after each run, in order.
 StressStudy run_stress(const StressOptions& options, const std::function<void(const StressRow&)>& on_row = {});
 

@@ -3,14 +3,18 @@
 //   csim validate SCENE [--set KEY=VALUE]...
 //   csim dump-config SCENE [--set KEY=VALUE]...
 //   csim compare SCENE [--set KEY=VALUE]... --integrators LIST [--steps LIST] [--tolerances LIST]
-//                [--repeats N] [--out DIR]
+//                [--repeats N] [--reference auto|analytical|ida-events|moreau-jean] [--out DIR]
+//   csim stress SCENE [--set KEY=VALUE]... [--sweeps FILE] [--out DIR] [--only SWEEP[,SWEEP...]]
 // SCENE is a scene folder (holding scene.yaml) or a YAML file.
 // Exit status of run: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure.
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
+// Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
+// 1 some run did, 2 bad input (sweeps file, --only, --set).
 #include "engine/compare.h"
 #include "engine/run.h"
 #include "engine/scene/scene.h"
 #include "engine/steppers/stepper.h"
+#include "engine/stress.h"
 
 #include <unistd.h>
 
@@ -27,6 +31,7 @@ namespace {
 
 constexpr int kPassed = 0, kCheckFailed = 1, kBadInput = 2;
 constexpr int kSomeRunFailed = 1;  // compare
+constexpr int kInvariantViolated = 1;  // stress
 
 struct Arguments {
   std::string command, scene;
@@ -37,6 +42,10 @@ struct Arguments {
   std::vector<std::string> integrators;
   std::vector<double> steps, tolerances;
   int repeats = 3;
+  std::string reference = "auto";
+  // stress
+  std::string sweeps_file;
+  std::vector<std::string> only;
 };
 
 void usage(std::ostream& out) {
@@ -45,11 +54,15 @@ void usage(std::ostream& out) {
          "       csim dump-config SCENE [--set KEY=VALUE]...\n"
          "       csim compare SCENE [--set KEY=VALUE]... --integrators moreau-jean,ida[,ida-events]\n"
          "                    [--steps H1,H2,...] [--tolerances TOL1,TOL2,...] [--repeats N] [--out DIR]\n"
+         "                    [--reference auto|analytical|ida-events|moreau-jean]\n"
+         "       csim stress SCENE [--set KEY=VALUE]... [--sweeps FILE] [--out DIR] [--only SWEEP[,SWEEP...]]\n"
          "SCENE is a scene folder (with scene.yaml) or a scene file.\n"
          "compare runs moreau-jean once per step and ida, ida-events once per tolerance (rtol = atol), each N\n"
          "times (default 3), and writes DIR/work_precision.csv and .png (default DIR: out/<scene>-compare).\n"
-         "Exit status: 0 checks pass (compare: every run succeeded), 1 a check fails (compare: a run failed),\n"
-         "2 bad input or numerical failure.\n";
+         "stress runs each case of the sweeps FILE (default: stress.yaml beside the scene) with each of its\n"
+         "integrators and writes DIR/stability.md and .csv (default DIR: out/<scene>-stress).\n"
+         "Exit status: 0 checks pass (compare: every run succeeded; stress: no invariant violated), 1 a check\n"
+         "fails (compare: a run failed; stress: an invariant was violated), 2 bad input or numerical failure.\n";
 }
 
 // "a,b,c" -> {a, b, c}; an empty item is an error.
@@ -99,17 +112,40 @@ bool parse_compare_option(const std::string& option, const char* value, Argument
   if (option == "--integrators") return split_list(value, option, a.integrators, error);
   if (option == "--steps") return parse_numbers(value, option, a.steps, error);
   if (option == "--tolerances") return parse_numbers(value, option, a.tolerances, error);
+  if (option == "--reference") {
+    a.reference = value;
+    return true;
+  }
   return parse_repeats(value, a.repeats, error);
 }
 
 bool is_compare_option(const std::string& arg) {
-  return arg == "--integrators" || arg == "--steps" || arg == "--tolerances" || arg == "--repeats";
+  return arg == "--integrators" || arg == "--steps" || arg == "--tolerances" || arg == "--repeats" ||
+         arg == "--reference";
+}
+
+// The options of `stress` (its value already taken by next()).
+bool parse_stress_option(const std::string& option, const char* value, Arguments& a, std::string& error) {
+  if (option == "--only") return split_list(value, option, a.only, error);
+  a.sweeps_file = value;
+  return true;
+}
+
+bool is_stress_option(const std::string& arg) { return arg == "--sweeps" || arg == "--only"; }
+
+bool is_command(const std::string& command) {
+  return command == "run" || command == "validate" || command == "dump-config" || command == "compare" ||
+         command == "stress";
+}
+
+bool writes_outputs(const std::string& command) {
+  return command == "run" || command == "compare" || command == "stress";
 }
 
 bool parse(int argc, char** argv, Arguments& a, std::string& error) {
   if (argc < 3) { error = "missing command or scene"; return false; }
   a.command = argv[1];
-  if (a.command != "run" && a.command != "validate" && a.command != "dump-config" && a.command != "compare") {
+  if (!is_command(a.command)) {
     error = "unknown command '" + a.command + "'";
     return false;
   }
@@ -125,7 +161,7 @@ bool parse(int argc, char** argv, Arguments& a, std::string& error) {
       a.overrides.push_back(value);
     } else if (arg.rfind("--set=", 0) == 0) {
       a.overrides.push_back(arg.substr(6));
-    } else if (arg == "--out" && (a.command == "run" || a.command == "compare")) {
+    } else if (arg == "--out" && writes_outputs(a.command)) {
       const char* value = next("--out");
       if (!value) return false;
       a.output_directory = value;
@@ -134,6 +170,9 @@ bool parse(int argc, char** argv, Arguments& a, std::string& error) {
     } else if (is_compare_option(arg) && a.command == "compare") {
       const char* value = next(arg.c_str());
       if (!value || !parse_compare_option(arg, value, a, error)) return false;
+    } else if (is_stress_option(arg) && a.command == "stress") {
+      const char* value = next(arg.c_str());
+      if (!value || !parse_stress_option(arg, value, a, error)) return false;
     } else if (!arg.empty() && arg[0] == '-') {
       error = "unknown option '" + arg + "'";
       return false;
@@ -223,6 +262,7 @@ int run_compare(const Arguments& arguments, const std::string& file) {
   options.steps = arguments.steps;
   options.tolerances = arguments.tolerances;
   options.repeats = arguments.repeats;
+  options.reference = arguments.reference;
   options.output_directory = arguments.output_directory;
   bool header_printed = false;  // not before the options and the scene are known to be good
   const csim::Comparison comparison = csim::run_comparison(options, [&](const csim::CompareRow& row) {
@@ -243,6 +283,45 @@ int run_compare(const Arguments& arguments, const std::string& file) {
   return comparison.all_ok() ? kPassed : kSomeRunFailed;
 }
 
+void print_stress_header() {
+  std::printf("%-34s %-11s %-12s %-32s %-26s %9s %9s  %s\n", "case", "integrator", "outcome", "worst error", "energy",
+              "wall (s)", "steps", "note");
+}
+
+void print_stress_row(const csim::StressRow& row) {
+  char wall[32];
+  std::snprintf(wall, sizeof wall, "%.3g", row.wall_time);
+  std::printf("%-34s %-11s %-12s %-32s %-26s %9s %9s  %s\n", row.case_name().c_str(), row.integrator.c_str(),
+              csim::outcome_name(row.outcome), row.worst_error_text().c_str(), row.energy_verdict().c_str(), wall,
+              row.steps >= 0 ? std::to_string(row.steps).c_str() : "-", row.note().c_str());
+  std::fflush(stdout);  // the table is the progress report of a long study
+}
+
+int run_stress(const Arguments& arguments, const std::string& file) {
+  csim::StressOptions options;
+  options.scene_file = file;
+  options.sweeps_file = arguments.sweeps_file;
+  options.overrides = arguments.overrides;
+  options.only = arguments.only;
+  bool header_printed = false;  // not before the sweeps file and the scene are known to be good
+  const csim::StressStudy study = csim::run_stress(options, [&](const csim::StressRow& row) {
+    if (!header_printed) print_stress_header();
+    header_printed = true;
+    print_stress_row(row);
+  });
+  const std::string directory =
+      arguments.output_directory.empty() ? "out/" + study.scene_name + "-stress" : arguments.output_directory;
+  csim::write_stability_markdown(study, directory);
+  csim::write_stability_csv(study, directory);
+  const auto violations = std::count_if(study.rows.begin(), study.rows.end(),
+                                        [](const csim::StressRow& r) { return r.violates_invariant(); });
+  std::printf("%s: %zu runs in %.1f s, %s (outputs in %s)\n", study.scene_name.c_str(), study.rows.size(),
+              study.total_wall_time,
+              violations == 0 ? "no invariant violated" : (std::to_string(violations) + " INVARIANT VIOLATIONS").c_str(),
+              directory.c_str());
+  return violations == 0 ? kPassed : kInvariantViolated;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -260,6 +339,7 @@ int main(int argc, char** argv) {
   const std::string file = scene_file(arguments.scene);
   try {
     if (arguments.command == "compare") return run_compare(arguments, file);
+    if (arguments.command == "stress") return run_stress(arguments, file);
     const auto scene = csim::load_scene(file, arguments.overrides);
     if (arguments.command == "validate") {
       std::printf("%s: valid (%zu bodies, %zu probes, %zu checks)\n", file.c_str(), scene->world.bodies.size(),

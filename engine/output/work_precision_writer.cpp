@@ -55,7 +55,10 @@ void write_comment_header(std::ostringstream& csv, const Comparison& comparison)
          "# C_error = |value - reference|, C_rel_error = C_error / |reference| (empty when the reference is 0, the run "
          "failed or could not evaluate C); max_rel_error = largest C_rel_error over the analytical checks "
          "(those a run could not evaluate are named in its status)\n"
-         "# references: the scene's own, analytical where it has one\n";
+         "# reference: " << comparison.reference << "\n";
+  if (comparison.trajectory_reference)
+    csv << "# max_rel_error: largest over the displacement and position probes of max_t |p(t) - p_ref(t)| / max_t |p_ref(t)| at the rows of "
+           "probes.csv (the reference interpolated linearly); the check columns are the scene's own checks\n";
   for (const ComparedCheck& c : comparison.checks) {
     csv << "# check " << c.name << ": kind " << c.kind << ", reference " << one_line(c.reference);
     if (c.reference_known && number(c.reference_value) != one_line(c.reference))

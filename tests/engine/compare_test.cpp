@@ -126,3 +126,35 @@ TEST(Compare, IdaRunsAreRowsWhetherOrNotTheySucceed) {
 
 }  // namespace
 }  // namespace csim
+
+namespace csim {
+namespace {
+
+// Without (or instead of) an analytical solution, a converged event-driven run is the reference: the
+// Moreau–Jean deviation from it falls with the step, and the CSV says what the reference was.
+TEST(Compare, ReferenceRunReplacesTheAnalyticalSolution) {
+  CompareOptions options;
+  options.scene_file = CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml";
+  options.integrators = {"moreau-jean"};
+  options.steps = {1e-2, 1e-3};
+  options.repeats = 1;
+  options.reference = "ida-events";
+  const Comparison comparison = run_comparison(options);
+  EXPECT_TRUE(comparison.trajectory_reference);
+  ASSERT_EQ(comparison.rows.size(), 2u);
+  EXPECT_LT(comparison.rows[1].max_rel_error, 0.2 * comparison.rows[0].max_rel_error);
+  EXPECT_GT(comparison.rows[1].max_rel_error, 0.0);
+  EXPECT_NE(work_precision_csv(comparison).find("# reference: a converged ida-events run"), std::string::npos);
+}
+
+TEST(Compare, UnknownReferenceIsBadInput) {
+  CompareOptions options;
+  options.scene_file = CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml";
+  options.integrators = {"moreau-jean"};
+  options.steps = {1e-2};
+  options.reference = "exact";
+  EXPECT_THROW(run_comparison(options), SceneError);
+}
+
+}  // namespace
+}  // namespace csim
