@@ -347,7 +347,8 @@ void IdaIntegrator::step(State& state) {
     std::ostringstream message;
     message << "IDA needed more than integrator.max_steps = " << parameters_.max_steps
             << " internal steps by t = " << state.t << " s (last step " << state.ida.last_step
-            << " s): the problem is too stiff for these tolerances";
+            << " s): raise integrator.max_steps, or loosen the tolerances or the contact stiffness if the "
+               "problem is too stiff for them";
     throw RunError(state.t, message.str());
   }
   if (!state.q.allFinite() || !state.v.allFinite()) throw RunError(target, "non-finite state from IDA");
