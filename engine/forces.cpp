@@ -36,6 +36,32 @@ ForceModel::ForceModel(const World& world) : world_(world), jacobian_(3, world.v
     const bool offset_b = s.body_b >= 0 && rotates(*world.bodies[s.body_b].body) && !s.point_b.isZero();
     if (offset_a || offset_b) constant_stiffness_ = false;
   }
+  for (const BodyInstance& b : world.bodies) has_elastic_bodies_ = has_elastic_bodies_ || b.body->elastic();
+}
+
+void ForceModel::add_body_internal_forces(const Vector& q, Vector& f) const {
+  for (const BodyInstance& b : world_.bodies)
+    if (b.body->elastic())
+      b.body->add_internal_force(body_positions(b, q), f.segment(b.velocity_offset, b.body->velocity_size()));
+}
+
+// Only the columns of the (at most two) bodies a spring touches are non-zero in its Jacobian.
+void ForceModel::add_spring_stiffness(const Vector& q, Triplets& K) const {
+  for (const Spring& s : world_.springs) {
+    spring_jacobian(s, q, jacobian_);
+    const Eigen::Matrix3d P = projector(s.direction);
+    std::vector<int> columns;
+    for (int body : {s.body_a, s.body_b}) {
+      if (body < 0) continue;
+      const BodyInstance& b = world_.bodies[body];
+      for (int j = 0; j < b.body->velocity_size(); ++j) columns.push_back(b.velocity_offset + j);
+    }
+    for (int i : columns)
+      for (int j : columns) {
+        const double value = s.stiffness * jacobian_.col(i).dot(P * jacobian_.col(j));
+        if (value != 0.0) K.emplace_back(i, j, value);
+      }
+  }
 }
 
 void ForceModel::external(const Vector& q, double t, Vector& f) const {
@@ -98,6 +124,8 @@ void ForceModel::spring_stiffness(const Vector& q, Matrix& K) const {
 
 double ForceModel::elastic_energy(const Vector& q) const {
   double energy = 0.0;
+  for (const BodyInstance& b : world_.bodies)
+    if (b.body->elastic()) energy += b.body->strain_energy(body_positions(b, q));
   for (const Spring& s : world_.springs)
     energy += 0.5 * s.stiffness * (projector(s.direction) * spring_displacement(s, q)).squaredNorm();
   return energy;

@@ -2,7 +2,8 @@
 //   external(t)      loads λ(t)·F at their points and gravity m·g, as Jᵀ·F (N, N·m);
 //   spring_forces(q) the linear springs of world.h, and their tangent stiffness K = Σ k Jᵀ P J (N/m),
 //                    without the geometric term of rotating attachment points (first order);
-//   elastic_energy(q) ½ Σ k |P d|² (J).
+//   body internal forces −K u of the elastic (finite-element) bodies, whose K is constant;
+//   elastic_energy(q) ½ Σ k |P d|² + Σ ½ uᵀK u over the elastic bodies (J).
 // Evaluated with no allocation once the work buffers are sized.
 #pragma once
 
@@ -17,6 +18,9 @@ class ForceModel {
   void external(const Vector& q, double t, Vector& f) const;
   void add_spring_forces(const Vector& q, Vector& f) const;
   void spring_stiffness(const Vector& q, Matrix& K) const;
+  void add_spring_stiffness(const Vector& q, Triplets& K) const;  // the same, for sparse systems
+  void add_body_internal_forces(const Vector& q, Vector& f) const;
+  bool has_elastic_bodies() const { return has_elastic_bodies_; }
   double elastic_energy(const Vector& q) const;
 
   // True when K does not depend on q (springs only on translating points), so that the iteration
@@ -32,6 +36,7 @@ class ForceModel {
   const World& world_;
   std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
   bool constant_stiffness_ = true;
+  bool has_elastic_bodies_ = false;
   mutable Matrix3X jacobian_;  // 3 × velocity_size work buffer
 };
 

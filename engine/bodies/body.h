@@ -12,7 +12,9 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <Eigen/SparseCore>
 #include <string>
+#include <vector>
 
 namespace csim {
 
@@ -21,6 +23,8 @@ using VectorRef = Eigen::Ref<Eigen::VectorXd>;
 using ConstVectorRef = Eigen::Ref<const Eigen::VectorXd>;
 using Matrix = Eigen::MatrixXd;
 using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplets = std::vector<Eigen::Triplet<double>>;
 
 class Body {
  public:
@@ -30,8 +34,16 @@ class Body {
   virtual int velocity_size() const = 0;
   bool fixed() const { return velocity_size() == 0; }
 
-  // Adds the body's (constant) mass matrix into the velocity_size² block M (kg, kg·m²).
-  virtual void add_mass(Eigen::Ref<Matrix> M) const = 0;
+  // The body's (constant) mass matrix (kg, kg·m²) as triplets, its rows and columns shifted by offset
+  // (the body's velocity offset in the World).
+  virtual void add_mass(int offset, Triplets& mass) const = 0;
+
+  // Elastic bodies (finite elements): constant stiffness (N/m) as triplets, the internal force
+  // f_int = −K u at positions q (N), and the strain energy ½ uᵀKu (J). Rigid bodies have none.
+  virtual void add_stiffness(int offset, Triplets& stiffness) const {}
+  virtual void add_internal_force(const ConstVectorRef& q, VectorRef f) const {}
+  virtual double strain_energy(const ConstVectorRef& q) const { return 0.0; }
+  virtual bool elastic() const { return false; }
   virtual double mass() const = 0;  // kg (0 for a fixed body)
 
   // World pose of the body frame for positions q (this body's slice).

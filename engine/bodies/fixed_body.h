@@ -12,7 +12,7 @@ class FixedBody final : public Body {
   int position_size() const override { return 0; }
   int velocity_size() const override { return 0; }
   double mass() const override { return 0.0; }
-  void add_mass(Eigen::Ref<Matrix>) const override {}
+  void add_mass(int, Triplets&) const override {}
   Eigen::Isometry3d pose(const ConstVectorRef&) const override { return pose_; }
   void point_jacobian(const ConstVectorRef&, const Eigen::Vector3d&, Eigen::Ref<Matrix3X>) const override {}
   void integrate_position(const ConstVectorRef&, const ConstVectorRef&, double, VectorRef) const override {}

@@ -2,8 +2,8 @@
 
 namespace csim {
 
-void PointMass::add_mass(Eigen::Ref<Matrix> M) const {
-  M.diagonal().array() += mass_;
+void PointMass::add_mass(int offset, Triplets& mass) const {
+  for (int i = 0; i < dimension_; ++i) mass.emplace_back(offset + i, offset + i, mass_);
 }
 
 Eigen::Isometry3d PointMass::pose(const ConstVectorRef& q) const {

@@ -2,10 +2,10 @@
 
 namespace csim {
 
-void RigidBody2d::add_mass(Eigen::Ref<Matrix> M) const {
-  M(0, 0) += mass_;
-  M(1, 1) += mass_;
-  M(2, 2) += inertia_;
+void RigidBody2d::add_mass(int offset, Triplets& mass) const {
+  mass.emplace_back(offset, offset, mass_);
+  mass.emplace_back(offset + 1, offset + 1, mass_);
+  mass.emplace_back(offset + 2, offset + 2, inertia_);
 }
 
 Eigen::Isometry3d RigidBody2d::pose(const ConstVectorRef& q) const {

@@ -15,7 +15,7 @@ class RigidBody2d final : public Body {
   int velocity_size() const override { return 3; }
   double mass() const override { return mass_; }
   double inertia() const { return inertia_; }
-  void add_mass(Eigen::Ref<Matrix> M) const override;
+  void add_mass(int offset, Triplets& mass) const override;
   Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
   void point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
                       Eigen::Ref<Matrix3X> J) const override;

@@ -8,9 +8,9 @@ Eigen::Quaterniond orientation(const ConstVectorRef& q) {
 }
 }  // namespace
 
-void RigidBody3d::add_mass(Eigen::Ref<Matrix> M) const {
-  for (int i = 0; i < 3; ++i) M(i, i) += mass_;
-  for (int i = 0; i < 3; ++i) M(3 + i, 3 + i) += inertia_(i);
+void RigidBody3d::add_mass(int offset, Triplets& mass) const {
+  for (int i = 0; i < 3; ++i) mass.emplace_back(offset + i, offset + i, mass_);
+  for (int i = 0; i < 3; ++i) mass.emplace_back(offset + 3 + i, offset + 3 + i, inertia_(i));
 }
 
 Eigen::Isometry3d RigidBody3d::pose(const ConstVectorRef& q) const {

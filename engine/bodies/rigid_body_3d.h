@@ -18,7 +18,7 @@ class RigidBody3d final : public Body {
   int position_size() const override { return 7; }
   int velocity_size() const override { return 6; }
   double mass() const override { return mass_; }
-  void add_mass(Eigen::Ref<Matrix> M) const override;
+  void add_mass(int offset, Triplets& mass) const override;
   Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
   void point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
                       Eigen::Ref<Matrix3X> J) const override;

@@ -71,8 +71,9 @@ IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters
   nq_ = world.position_size;
   nv_ = world.velocity_size;
   M_.setZero(nv_, nv_);
-  for (const BodyInstance& b : world.bodies)
-    b.body->add_mass(M_.block(b.velocity_offset, b.velocity_offset, b.body->velocity_size(), b.body->velocity_size()));
+  Triplets mass;
+  for (const BodyInstance& b : world.bodies) b.body->add_mass(b.velocity_offset, mass);
+  for (const auto& entry : mass) M_(entry.row(), entry.col()) += entry.value();
   // Linear constraints are eliminated: v = N w with N an orthonormal basis of ker C.
   constrained_ = !world.constraints.empty();
   if (constrained_) {

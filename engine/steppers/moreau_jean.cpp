@@ -23,15 +23,11 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
     : world_(world),
       parameters_(parameters),
       forces_(world),
+      operators_(world, forces_),
       pgs_(parameters.solver),
       detector_(world),
       contact_dimension_(detector_.dimension()) {
   const int n = world.velocity_size;
-  M_.setZero(n, n);
-  for (const BodyInstance& b : world.bodies)
-    b.body->add_mass(M_.block(b.velocity_offset, b.velocity_offset, b.body->velocity_size(),
-                              b.body->velocity_size()));
-  K_.setZero(n, n);
 
   // Linear constraints: rows of C, and the position index of each term when it has one.
   const int ne = static_cast<int>(world.constraints.size());
@@ -56,23 +52,14 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
 MoreauJean::~MoreauJean() = default;
 
 void MoreauJean::initialize(State& state) {
-  const Vector& v = state.v;
-  state.energy.kinetic = state.energy.initial_kinetic = 0.5 * v.dot(M_ * v);
+  operators_.apply_mass(state.v, work_);
+  state.energy.kinetic = state.energy.initial_kinetic = 0.5 * state.v.dot(work_);
   state.energy.elastic = state.energy.initial_elastic = forces_.elastic_energy(state.q);
-}
-
-void MoreauJean::factor_iteration_matrix(const Vector& q) {
-  if (factored_ && forces_.constant_stiffness()) return;
-  const double h = parameters_.step, theta = parameters_.theta;
-  if (forces_.has_springs()) forces_.spring_stiffness(q, K_);
-  iteration_matrix_ = M_ + (h * h * theta * theta) * K_;
-  factorization_.compute(iteration_matrix_);
-  factored_ = true;
 }
 
 void MoreauJean::compute_free_velocity(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
-  factor_iteration_matrix(state.q);
+  operators_.update(state.q, h, theta);
   // Loads at both ends of the step (their points taken at q_k), and the inertial force at v_k.
   forces_.external(state.q, state.t + h, f_total_);
   f_loads_ = theta * f_total_;
@@ -82,12 +69,14 @@ void MoreauJean::compute_free_velocity(const State& state) {
     b.body->add_inertial_force(state.v.segment(b.velocity_offset, b.body->velocity_size()),
                                f_loads_.segment(b.velocity_offset, b.body->velocity_size()));
   f_total_ = f_loads_;
-  if (forces_.has_springs()) {
+  if (operators_.has_stiffness()) {
     forces_.add_spring_forces(state.q, f_total_);
-    f_total_.noalias() -= (theta * h) * (K_ * state.v);
+    forces_.add_body_internal_forces(state.q, f_total_);
+    operators_.apply_stiffness(state.v, work_);
+    f_total_ -= (theta * h) * work_;
   }
   v_free_ = h * f_total_;
-  factorization_.solveInPlace(v_free_);
+  operators_.solve_in_place(v_free_);
   v_free_ += state.v;
   if (!v_free_.allFinite()) {
     std::ostringstream message;
@@ -139,7 +128,7 @@ void MoreauJean::assemble(const State& state) {
   if (ne > 0) H_.bottomRows(ne) = constraint_rows_;
 
   X_ = H_.transpose();
-  factorization_.solveInPlace(X_);
+  operators_.solve_in_place(X_);
   problem_.W.noalias() = H_ * X_;
   problem_.q.noalias() = H_ * v_free_;
   for (int i = 0; i < nc; ++i) {
@@ -231,14 +220,14 @@ void MoreauJean::account_energy(State& state) {
     e.contact_dissipation -= r_.dot(local_work_);
   }
   dv_ = v_next_ - state.v;
-  work_.noalias() = M_ * dv_;
+  operators_.apply_mass(dv_, work_);
   double numerical = dv_.dot(work_);
-  if (forces_.has_springs()) {
-    work_.noalias() = K_ * v_theta_;
+  if (operators_.has_stiffness()) {
+    operators_.apply_stiffness(v_theta_, work_);
     numerical += h * h * v_theta_.dot(work_);
   }
   e.numerical_dissipation += (theta - 0.5) * numerical;
-  work_.noalias() = M_ * v_next_;
+  operators_.apply_mass(v_next_, work_);
   e.kinetic = 0.5 * v_next_.dot(work_);
   e.elastic = forces_.elastic_energy(q_next_);
   e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));

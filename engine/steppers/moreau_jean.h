@@ -22,6 +22,7 @@
 #include "contact/pgs_solver.h"
 #include "engine/contact_detector.h"
 #include "engine/forces.h"
+#include "engine/structural_operators.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
 
@@ -46,7 +47,6 @@ class MoreauJean final : public Stepper {
   double time_step() const override { return parameters_.step; }
 
  private:
-  void factor_iteration_matrix(const Vector& q);
   void compute_free_velocity(const State& state);
   void detect(const State& state);
   void assemble(const State& state);
@@ -57,13 +57,11 @@ class MoreauJean final : public Stepper {
   const World& world_;
   MoreauJeanParameters parameters_;
   ForceModel forces_;
+  StructuralOperators operators_;
   PgsSolver pgs_;
   ContactDetector detector_;
   int contact_dimension_;             // 2 in plane scenes, 3 in space
 
-  Matrix M_, K_, iteration_matrix_;
-  Eigen::LDLT<Matrix> factorization_;
-  bool factored_ = false;
 
   // Per-step work data (kept to avoid allocation in the time loop).
   Vector f_loads_, f_total_, v_free_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;

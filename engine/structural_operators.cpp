@@ -1,0 +1,78 @@
+#include "engine/structural_operators.h"
+
+#include <chrono>
+
+namespace csim {
+
+StructuralOperators::StructuralOperators(const World& world, const ForceModel& forces)
+    : world_(world), forces_(forces) {
+  const int n = world.velocity_size;
+  sparse_ = n > kDenseLimit;
+  has_stiffness_ = forces.has_springs() || forces.has_elastic_bodies();
+  constant_ = forces.constant_stiffness();
+  Triplets mass, stiffness;
+  for (const BodyInstance& b : world.bodies) {
+    b.body->add_mass(b.velocity_offset, mass);
+    b.body->add_stiffness(b.velocity_offset, stiffness);
+  }
+  sparse_mass_.resize(n, n);
+  sparse_mass_.setFromTriplets(mass.begin(), mass.end());
+  body_stiffness_.resize(n, n);
+  body_stiffness_.setFromTriplets(stiffness.begin(), stiffness.end());
+  if (!sparse_) {
+    dense_mass_ = Matrix(sparse_mass_);
+    dense_stiffness_ = Matrix(body_stiffness_);
+  }
+}
+
+void StructuralOperators::update(const Vector& q, double h, double theta) {
+  if (factored_ && constant_ && h == factored_h_ && theta == factored_theta_) return;
+  const auto start = std::chrono::steady_clock::now();
+  const double scale = h * h * theta * theta;
+  if (sparse_) {
+    sparse_stiffness_ = body_stiffness_;
+    if (forces_.has_springs()) {
+      Triplets springs;
+      forces_.add_spring_stiffness(q, springs);
+      SparseMatrix spring_matrix(world_.velocity_size, world_.velocity_size);
+      spring_matrix.setFromTriplets(springs.begin(), springs.end());
+      sparse_stiffness_ += spring_matrix;
+    }
+    const SparseMatrix W = sparse_mass_ + scale * sparse_stiffness_;
+    // The symbolic analysis depends only on the pattern, which K's refresh keeps.
+    if (!factored_) sparse_factor_.analyzePattern(W);
+    sparse_factor_.factorize(W);
+  } else {
+    if (forces_.has_springs()) {
+      forces_.spring_stiffness(q, dense_stiffness_);
+      if (body_stiffness_.nonZeros() > 0) dense_stiffness_ += body_stiffness_;
+    }
+    dense_factor_.compute(dense_mass_ + scale * dense_stiffness_);
+  }
+  factored_ = true;
+  factored_h_ = h;
+  factored_theta_ = theta;
+  factorization_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void StructuralOperators::solve_in_place(Vector& x) const {
+  if (sparse_) x = sparse_factor_.solve(x);
+  else dense_factor_.solveInPlace(x);
+}
+
+void StructuralOperators::solve_in_place(Matrix& X) const {
+  if (sparse_) X = sparse_factor_.solve(X);
+  else dense_factor_.solveInPlace(X);
+}
+
+void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
+  if (sparse_) out.noalias() = sparse_mass_ * v;
+  else out.noalias() = dense_mass_ * v;
+}
+
+void StructuralOperators::apply_stiffness(const Vector& v, Vector& out) const {
+  if (sparse_) out.noalias() = sparse_stiffness_ * v;
+  else out.noalias() = dense_stiffness_ * v;
+}
+
+}  // namespace csim

@@ -1,0 +1,45 @@
+// The linear operators of the structure, for the time-steppers: the mass M (kg, kg·m²), the tangent
+// stiffness K (N/m) of the springs and of the elastic bodies, and the factored iteration matrix
+//   W = M + h²θ² K
+// of the θ-method. Small systems (up to kDenseLimit unknowns, all lumped scenes) are dense, because a
+// lumped step must cost about a microsecond; larger ones (finite elements) are sparse and factored
+// with Eigen's SimplicialLDLT, once while K and h stay the same (linear elastic bodies, springs on
+// translating points), else at every step.
+#pragma once
+
+#include "engine/forces.h"
+
+#include <Eigen/SparseCholesky>
+
+namespace csim {
+
+class StructuralOperators {
+ public:
+  static constexpr int kDenseLimit = 64;
+
+  explicit StructuralOperators(const World& world, const ForceModel& forces);
+
+  // Refreshes K at q and refactors W when needed (always the first time).
+  void update(const Vector& q, double h, double theta);
+  bool has_stiffness() const { return has_stiffness_; }
+  bool sparse() const { return sparse_; }
+  double factorization_seconds() const { return factorization_seconds_; }  // s, total
+
+  void solve_in_place(Vector& x) const;   // x ← W⁻¹ x
+  void solve_in_place(Matrix& X) const;   // X ← W⁻¹ X
+  void apply_mass(const Vector& v, Vector& out) const;       // out = M v
+  void apply_stiffness(const Vector& v, Vector& out) const;  // out = K v
+
+ private:
+  const World& world_;
+  const ForceModel& forces_;
+  bool sparse_, has_stiffness_, constant_;
+  bool factored_ = false;
+  double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;
+  Matrix dense_mass_, dense_stiffness_;
+  Eigen::LDLT<Matrix> dense_factor_;
+  SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_;
+  Eigen::SimplicialLDLT<SparseMatrix> sparse_factor_;
+};
+
+}  // namespace csim
