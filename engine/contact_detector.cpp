@@ -15,7 +15,6 @@ void contact_rows(const World& world, const Vector& q, int body_a, int body_b, c
   frame.col(0) = c.normal;
   frame.col(1) = c.t1;
   frame.col(2) = c.t2;
-  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6> J;
   const int ids[2] = {body_a, body_b};
   const Eigen::Vector3d* points[2] = {&c.point_a, &c.point_b};
   for (int side = 0; side < 2; ++side) {
@@ -23,11 +22,8 @@ void contact_rows(const World& world, const Vector& q, int body_a, int body_b, c
     if (b.body->fixed()) continue;
     const ConstVectorRef qb = positions_of(b, q);
     const Eigen::Vector3d local = b.body->pose(qb).inverse() * *points[side];
-    J.resize(3, b.body->velocity_size());
-    b.body->point_jacobian(qb, local, J);
-    const double sign = side == 0 ? -1.0 : 1.0;
-    rows.middleCols(b.velocity_offset, b.body->velocity_size()) =
-        sign * frame.leftCols(dimension).transpose() * J;
+    const PointJacobian J = b.body->point_jacobian(qb, local);
+    J.scatter(rows, b.velocity_offset, frame.leftCols(dimension).transpose(), side == 0 ? -1.0 : 1.0);
   }
 }
 

@@ -1,5 +1,7 @@
 #include "engine/forces.h"
 
+#include <array>
+
 #include "engine/bodies/rigid_body_2d.h"
 #include "engine/bodies/rigid_body_3d.h"
 
@@ -22,7 +24,7 @@ Eigen::Matrix3d projector(const Eigen::Vector3d& direction) {
 
 }  // namespace
 
-ForceModel::ForceModel(const World& world) : world_(world), jacobian_(3, world.velocity_size) {
+ForceModel::ForceModel(const World& world) : world_(world) {
   for (const Spring& s : world.springs) {
     const BodyInstance& a = world.bodies[s.body_a];
     reference_points_a_.push_back(a.body->point_world(a.reference_position, s.point_a));
@@ -45,39 +47,81 @@ void ForceModel::add_body_internal_forces(const Vector& q, Vector& f) const {
       b.body->add_internal_force(body_positions(b, q), f.segment(b.velocity_offset, b.body->velocity_size()));
 }
 
-// Only the columns of the (at most two) bodies a spring touches are non-zero in its Jacobian.
+namespace {
+
+// The relative velocity of a spring's two points, ṗ_a − ṗ_b, as the Jacobians of its ends, each with
+// its body's velocity offset.
+struct SpringEnds {
+  PointJacobian a, b;
+  int offset_a = 0, offset_b = 0;
+  bool has_b = false;
+};
+
+SpringEnds spring_ends(const World& world, const Spring& s, const Vector& q) {
+  SpringEnds ends;
+  const BodyInstance& a = world.bodies[s.body_a];
+  ends.a = a.body->point_jacobian(body_positions(a, q), s.point_a);
+  ends.offset_a = a.velocity_offset;
+  if (s.body_b >= 0) {
+    const BodyInstance& b = world.bodies[s.body_b];
+    ends.b = b.body->point_jacobian(body_positions(b, q), s.point_b);
+    ends.offset_b = b.velocity_offset;
+    ends.has_b = true;
+  }
+  return ends;
+}
+
+// The (global index, column) entries of a spring's Jacobian, at most six per end: a fixed-size list,
+// because this runs in every step.
+struct Entry {
+  int index = 0;
+  Eigen::Vector3d column = Eigen::Vector3d::Zero();
+};
+struct Entries {
+  std::array<Entry, 12> entry;
+  int count = 0;
+  const Entry* begin() const { return entry.data(); }
+  const Entry* end() const { return entry.data() + count; }
+};
+Entries entries_of(const SpringEnds& ends) {
+  Entries entries;
+  for (int k = 0; k < ends.a.count; ++k) entries.entry[entries.count++] = {ends.offset_a + ends.a.index[k], ends.a.column.col(k)};
+  if (ends.has_b)
+    for (int k = 0; k < ends.b.count; ++k)
+      entries.entry[entries.count++] = {ends.offset_b + ends.b.index[k], -ends.b.column.col(k)};
+  return entries;
+}
+
+}  // namespace
+
 void ForceModel::add_spring_stiffness(const Vector& q, Triplets& K) const {
   for (const Spring& s : world_.springs) {
-    spring_jacobian(s, q, jacobian_);
     const Eigen::Matrix3d P = projector(s.direction);
-    std::vector<int> columns;
-    for (int body : {s.body_a, s.body_b}) {
-      if (body < 0) continue;
-      const BodyInstance& b = world_.bodies[body];
-      for (int j = 0; j < b.body->velocity_size(); ++j) columns.push_back(b.velocity_offset + j);
-    }
-    for (int i : columns)
-      for (int j : columns) {
-        const double value = s.stiffness * jacobian_.col(i).dot(P * jacobian_.col(j));
-        if (value != 0.0) K.emplace_back(i, j, value);
+    const Entries entries = entries_of(spring_ends(world_, s, q));
+    for (const Entry& i : entries)
+      for (const Entry& j : entries) {
+        const double value = s.stiffness * i.column.dot(P * j.column);
+        if (value != 0.0) K.emplace_back(i.index, j.index, value);
       }
   }
 }
 
 void ForceModel::external(const Vector& q, double t, Vector& f) const {
   f.setZero(world_.velocity_size);
-  Matrix3X& J = jacobian_;
-  for (const BodyInstance& b : world_.bodies) {
-    if (b.body->fixed() || world_.gravity.isZero()) continue;
-    auto Jb = J.leftCols(b.body->velocity_size());
-    b.body->point_jacobian(body_positions(b, q), Eigen::Vector3d::Zero(), Jb);
-    f.segment(b.velocity_offset, b.body->velocity_size()) += Jb.transpose() * (b.body->mass() * world_.gravity);
-  }
+  if (!world_.gravity.isZero())
+    for (const BodyInstance& b : world_.bodies)
+      if (!b.body->fixed())
+        b.body->add_weight(body_positions(b, q), world_.gravity, f.segment(b.velocity_offset, b.body->velocity_size()));
   for (const Load& load : world_.loads) {
     const BodyInstance& b = world_.bodies[load.body];
-    auto Jb = J.leftCols(b.body->velocity_size());
-    b.body->point_jacobian(body_positions(b, q), load.point, Jb);
-    f.segment(b.velocity_offset, b.body->velocity_size()) += Jb.transpose() * (load.multiplier(t) * load.force);
+    const double multiplier = load.multiplier(t);
+    if (load.nodal_forces.size() > 0) {  // a distributed load, already in the body's coordinates
+      f.segment(b.velocity_offset, b.body->velocity_size()) += multiplier * load.nodal_forces;
+      continue;
+    }
+    const PointJacobian J = b.body->point_jacobian(body_positions(b, q), load.point);
+    for (int k = 0; k < J.count; ++k)
+      f(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier * load.force);
   }
 }
 
@@ -92,33 +136,20 @@ Eigen::Vector3d ForceModel::spring_displacement(const Spring& s, const Vector& q
   return d;
 }
 
-// J maps v to the relative velocity of the two points (ṗ_a − ṗ_b), 3 × velocity_size.
-void ForceModel::spring_jacobian(const Spring& s, const Vector& q, Matrix3X& J) const {
-  J.setZero();
-  const BodyInstance& a = world_.bodies[s.body_a];
-  a.body->point_jacobian(body_positions(a, q), s.point_a,
-                         J.middleCols(a.velocity_offset, a.body->velocity_size()));
-  if (s.body_b >= 0) {
-    const BodyInstance& b = world_.bodies[s.body_b];
-    Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6> Jb(3, b.body->velocity_size());
-    b.body->point_jacobian(body_positions(b, q), s.point_b, Jb);
-    J.middleCols(b.velocity_offset, b.body->velocity_size()) -= Jb;
-  }
-}
-
 void ForceModel::add_spring_forces(const Vector& q, Vector& f) const {
   for (const Spring& s : world_.springs) {
     const Eigen::Vector3d force_on_a = -s.stiffness * (projector(s.direction) * spring_displacement(s, q));
-    spring_jacobian(s, q, jacobian_);
-    f.noalias() += jacobian_.transpose() * force_on_a;
+    for (const Entry& e : entries_of(spring_ends(world_, s, q))) f(e.index) += e.column.dot(force_on_a);
   }
 }
 
 void ForceModel::spring_stiffness(const Vector& q, Matrix& K) const {
   K.setZero(world_.velocity_size, world_.velocity_size);
   for (const Spring& s : world_.springs) {
-    spring_jacobian(s, q, jacobian_);
-    K.noalias() += s.stiffness * (jacobian_.transpose() * projector(s.direction) * jacobian_);
+    const Eigen::Matrix3d P = projector(s.direction);
+    const Entries entries = entries_of(spring_ends(world_, s, q));
+    for (const Entry& i : entries)
+      for (const Entry& j : entries) K(i.index, j.index) += s.stiffness * i.column.dot(P * j.column);
   }
 }
 

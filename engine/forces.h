@@ -29,15 +29,13 @@ class ForceModel {
   bool has_springs() const { return !world_.springs.empty(); }
 
  private:
-  // Relative displacement d of a spring and the Jacobians of its two points.
+  // Relative displacement d of a spring's two points from the reference configuration (m).
   Eigen::Vector3d spring_displacement(const Spring& s, const Vector& q) const;
-  void spring_jacobian(const Spring& s, const Vector& q, Matrix3X& J) const;
 
   const World& world_;
   std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
   bool constant_stiffness_ = true;
   bool has_elastic_bodies_ = false;
-  mutable Matrix3X jacobian_;  // 3 × velocity_size work buffer
 };
 
 }  // namespace csim

@@ -49,12 +49,15 @@ struct Spring {
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
 };
 
-// A force λ(t)·F (N, world frame) applied at a material point of a body (body frame, m).
+// A force λ(t)·F (N, world frame) applied at a material point of a body (body frame, m), or a
+// distributed load λ(t)·f given directly in the body's velocity coordinates (nodal_forces, N: the
+// equivalent nodal forces of a pressure on a finite-element body's faces).
 struct Load {
   std::string name;
   int body = -1;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  Vector nodal_forces;
   TimeFunction multiplier;
 };
 

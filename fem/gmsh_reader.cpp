@@ -310,83 +310,119 @@ std::string node_list(const std::vector<long long>& tags) {
   return text;
 }
 
-Mesh build_mesh(const MshTokens& in, const MshContent& content) {
+// Node tags of the file -> mesh node indices (file order, nodes of the mesh elements only).
+struct NodeNumbering {
+  std::unordered_map<long long, int> position;  // node tag -> position in $Nodes (lookup only)
+  std::vector<int> index;                       // position -> mesh node, −1 outside the mesh elements
+
+  int mesh_node(long long tag) const { return index[static_cast<std::size_t>(position.at(tag))]; }
+};
+
+// The elements of the highest dimension, of one type, and their nodes.
+Mesh mesh_elements(const MshTokens& in, const MshContent& content, NodeNumbering& numbering) {
   int dimension = -1;
   for (const RawElement& element : content.elements) dimension = std::max(dimension, element.kind->dimension);
   if (dimension < 2)
     throw FemError(in.path() + ": no quadrangle or hexahedron elements (Gmsh saves only the elements of physical "
                                "groups when there are any: add a physical surface or volume)");
 
-  // Mesh elements: the highest dimension, one type.
-  Mesh mesh;
-  const RawElement* first_mesh_element = nullptr;
-  std::unordered_map<long long, int> node_position;  // node tag -> position in file order
   for (std::size_t i = 0; i < content.nodes.size(); ++i)
-    if (!node_position.emplace(content.nodes[i].tag, static_cast<int>(i)).second)
+    if (!numbering.position.emplace(content.nodes[i].tag, static_cast<int>(i)).second)
       in.fail_at(content.nodes[i].line, "node tag " + std::to_string(content.nodes[i].tag) + " appears twice");
   for (const RawElement& element : content.elements)
     for (long long tag : element.node_tags)
-      if (node_position.count(tag) == 0)
+      if (numbering.position.count(tag) == 0)
         in.fail_at(element.line,
                    "element " + std::to_string(element.tag) + " refers to unknown node tag " + std::to_string(tag));
 
-  std::vector<bool> used(content.nodes.size(), false);  // by file position: a node of a mesh element
+  Mesh mesh;
+  const RawElement* first = nullptr;
+  std::vector<bool> used(content.nodes.size(), false);
   for (const RawElement& element : content.elements) {
     if (element.kind->dimension != dimension) continue;
-    if (first_mesh_element == nullptr) {
-      first_mesh_element = &element;
+    if (first == nullptr) {
+      first = &element;
       mesh.element_type = *element.kind->mesh_type;
-    } else if (element.kind != first_mesh_element->kind) {
-      in.fail_at(element.line, std::string("element ") + std::to_string(element.tag) + " is a " + element.kind->name +
-                                   " but element " + std::to_string(first_mesh_element->tag) + " (line " +
-                                   std::to_string(first_mesh_element->line) + ") is a " +
-                                   first_mesh_element->kind->name + ": one element type per mesh");
+    } else if (element.kind != first->kind) {
+      in.fail_at(element.line, "element " + std::to_string(element.tag) + " is a " + element.kind->name +
+                                   " but element " + std::to_string(first->tag) + " (line " +
+                                   std::to_string(first->line) + ") is a " + first->kind->name +
+                                   ": one element type per mesh");
     }
-    for (long long tag : element.node_tags) used[static_cast<std::size_t>(node_position.at(tag))] = true;
+    for (long long tag : element.node_tags) used[static_cast<std::size_t>(numbering.position.at(tag))] = true;
   }
-  std::vector<int> node_index(content.nodes.size(), -1);  // file position -> mesh node, -1 if unused
+  numbering.index.assign(content.nodes.size(), -1);
   for (std::size_t i = 0; i < content.nodes.size(); ++i)
     if (used[i]) {
-      node_index[i] = static_cast<int>(mesh.nodes.size());
+      numbering.index[i] = static_cast<int>(mesh.nodes.size());
       mesh.nodes.push_back(content.nodes[i].x);
     }
-  auto mesh_node = [&](long long tag) { return node_index[static_cast<std::size_t>(node_position.at(tag))]; };
   for (const RawElement& element : content.elements) {
     if (element.kind->dimension != dimension) continue;
     std::vector<int> nodes;
-    for (long long tag : element.node_tags) nodes.push_back(mesh_node(tag));
+    for (long long tag : element.node_tags) nodes.push_back(numbering.mesh_node(tag));
     mesh.elements.push_back(std::move(nodes));
   }
+  return mesh;
+}
 
-  // Plane meshes live in z = 0 (fem/mesh.h); allow round-off relative to the size of the mesh.
-  if (dimension == 2) {
-    double extent = 0.0;
-    for (const Eigen::Vector3d& x : mesh.nodes) extent = std::max({extent, std::abs(x.x()), std::abs(x.y())});
-    for (std::size_t i = 0; i < content.nodes.size(); ++i) {
-      if (node_index[i] < 0) continue;
-      Eigen::Vector3d& x = mesh.nodes[static_cast<std::size_t>(node_index[i])];
-      if (std::abs(x.z()) > 1e-10 * std::max(extent, 1e-300))
-        in.fail_at(content.nodes[i].line, "node " + std::to_string(content.nodes[i].tag) + " has z = " +
-                                              std::to_string(x.z()) + " m: a plane mesh must lie in z = 0");
-      x.z() = 0.0;
-    }
+// Plane meshes live in z = 0 (fem/mesh.h); round-off relative to the size of the mesh is set to 0.
+void flatten_plane_mesh(const MshTokens& in, const MshContent& content, const NodeNumbering& numbering, Mesh& mesh) {
+  if (mesh.dimension() != 2) return;
+  double extent = 0.0;
+  for (const Eigen::Vector3d& x : mesh.nodes) extent = std::max({extent, std::abs(x.x()), std::abs(x.y())});
+  for (std::size_t i = 0; i < content.nodes.size(); ++i) {
+    if (numbering.index[i] < 0) continue;
+    Eigen::Vector3d& x = mesh.nodes[static_cast<std::size_t>(numbering.index[i])];
+    if (std::abs(x.z()) > 1e-10 * std::max(extent, 1e-300))
+      in.fail_at(content.nodes[i].line, "node " + std::to_string(content.nodes[i].tag) + " has z = " +
+                                            std::to_string(x.z()) + " m: a plane mesh must lie in z = 0");
+    x.z() = 0.0;
   }
+}
 
-  // Physical groups, in group order; their elements in file order.
+// The boundary faces of a face group, in element then local-face order; each group element must be one.
+std::vector<Face> match_boundary_faces(const MshTokens& in, const std::string& name, int group_dimension,
+                                       const std::vector<const RawElement*>& elements,
+                                       const NodeNumbering& numbering, const Mesh& mesh) {
+  const std::vector<Face> boundary = boundary_faces(mesh);
+  const std::size_t corners = mesh.dimension() == 3 ? 4 : 2;
+  auto corner_key = [&](std::vector<int> nodes) {
+    nodes.resize(corners);
+    std::sort(nodes.begin(), nodes.end());
+    return nodes;
+  };
+  std::map<std::vector<int>, int> boundary_by_corners;  // sorted corner nodes -> index in boundary
+  for (std::size_t f = 0; f < boundary.size(); ++f)
+    boundary_by_corners.emplace(corner_key(boundary[f].nodes), static_cast<int>(f));
+
+  std::vector<int> matched;
+  for (const RawElement* element : elements) {
+    std::vector<int> nodes;
+    for (long long tag : element->node_tags) nodes.push_back(numbering.mesh_node(tag));
+    const auto face = boundary_by_corners.find(corner_key(nodes));
+    if (face == boundary_by_corners.end())
+      in.fail_at(element->line, "physical group '" + name + "' (dimension " + std::to_string(group_dimension) +
+                                    "): element " + std::to_string(element->tag) + " (nodes " +
+                                    node_list(element->node_tags) + ") is not a face on the boundary of the mesh");
+    matched.push_back(face->second);
+  }
+  // boundary is in element then local-face order, so sorting indices sorts the faces that way.
+  std::sort(matched.begin(), matched.end());
+  matched.erase(std::unique(matched.begin(), matched.end()), matched.end());
+  std::vector<Face> faces;
+  for (int f : matched) faces.push_back(boundary[static_cast<std::size_t>(f)]);
+  return faces;
+}
+
+void add_physical_groups(const MshTokens& in, const MshContent& content, const NodeNumbering& numbering,
+                         Mesh& mesh) {
+  // Groups in (dimension, tag) order; their elements in file order.
   std::map<EntityKey, std::vector<const RawElement*>> groups;
   for (const RawElement& element : content.elements) {
     const auto physicals = content.entity_physicals.find(element.entity);
     if (physicals == content.entity_physicals.end()) continue;
     for (int physical : physicals->second) groups[{element.entity.first, physical}].push_back(&element);
-  }
-
-  const std::vector<Face> boundary = boundary_faces(mesh);
-  std::map<std::vector<int>, int> boundary_by_corners;  // sorted corner nodes -> index in boundary
-  const std::size_t corners = dimension == 3 ? 4 : 2;
-  for (std::size_t f = 0; f < boundary.size(); ++f) {
-    std::vector<int> key(boundary[f].nodes.begin(), boundary[f].nodes.begin() + static_cast<long>(corners));
-    std::sort(key.begin(), key.end());
-    boundary_by_corners.emplace(std::move(key), static_cast<int>(f));
   }
 
   std::map<std::string, int> name_dimension;
@@ -399,7 +435,7 @@ Mesh build_mesh(const MshTokens& in, const MshContent& content) {
     std::vector<int> nodes;
     for (const RawElement* element : elements)
       for (long long tag : element->node_tags) {
-        const int node = mesh_node(tag);
+        const int node = numbering.mesh_node(tag);
         if (node < 0)
           in.fail_at(element->line, "physical group '" + name + "': node " + std::to_string(tag) + " of element " +
                                         std::to_string(element->tag) + " belongs to no " +
@@ -409,30 +445,13 @@ Mesh build_mesh(const MshTokens& in, const MshContent& content) {
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
 
-    if (group.first == dimension - 1) {
-      std::vector<int> matched;
-      for (const RawElement* element : elements) {
-        std::vector<int> key;
-        for (std::size_t k = 0; k < corners && k < element->node_tags.size(); ++k)
-          key.push_back(mesh_node(element->node_tags[k]));
-        std::sort(key.begin(), key.end());
-        const auto face = boundary_by_corners.find(key);
-        if (face == boundary_by_corners.end())
-          in.fail_at(element->line, "physical group '" + name + "' (dimension " + std::to_string(group.first) +
-                                        "): element " + std::to_string(element->tag) + " (nodes " +
-                                        node_list(element->node_tags) + ") is not a face on the boundary of the mesh");
-        matched.push_back(face->second);
-      }
-      // boundary is in element then local-face order, so sorting indices sorts the faces that way.
-      std::sort(matched.begin(), matched.end());
-      matched.erase(std::unique(matched.begin(), matched.end()), matched.end());
-      std::vector<Face>& faces = mesh.face_sets[name];
-      for (int f : matched) faces.push_back(boundary[static_cast<std::size_t>(f)]);
+    if (group.first == mesh.dimension() - 1) {
+      std::vector<Face> faces = match_boundary_faces(in, name, group.first, elements, numbering, mesh);
       nodes = nodes_of(faces);  // the whole face, also the mid-side node a 2-node line leaves out
+      mesh.face_sets[name] = std::move(faces);
     }
     mesh.node_sets[name] = std::move(nodes);
   }
-  return mesh;
 }
 
 }  // namespace
@@ -440,7 +459,11 @@ Mesh build_mesh(const MshTokens& in, const MshContent& content) {
 Mesh read_gmsh(const std::string& path) {
   MshTokens in(path);
   const MshContent content = read_sections(in);
-  return build_mesh(in, content);
+  NodeNumbering numbering;
+  Mesh mesh = mesh_elements(in, content, numbering);
+  flatten_plane_mesh(in, content, numbering, mesh);
+  add_physical_groups(in, content, numbering, mesh);
+  return mesh;
 }
 
 }  // namespace csim

@@ -32,9 +32,13 @@ void require_divisions(const char* function, const char* argument, int value, in
 }
 
 // Keeps node counts and indices within int, the index type of Mesh.
-void require_size(const char* function, double node_count) {
-  if (node_count > static_cast<double>(std::numeric_limits<int>::max() / 8))
-    invalid(function, "the number of divisions", "small enough for int node indices; node count", node_count);
+void require_size(const char* function, const char* divisions, double node_count) {
+  if (node_count > static_cast<double>(std::numeric_limits<int>::max() / 8)) {
+    std::ostringstream message;
+    message << function << ": " << divisions << " give about " << node_count
+            << " nodes, too many for int node indices";
+    throw FemError(message.str());
+  }
 }
 
 void require_plane_type(const char* function, ElementType type) {
@@ -155,7 +159,7 @@ Mesh rectangle_mesh(double width, double height, int nx, int ny, ElementType typ
   require_divisions(kFunction, "ny", ny, 1);
   require_plane_type(kFunction, type);
   require_placement(kFunction, placement, true);
-  require_size(kFunction, (2.0 * nx + 1.0) * (2.0 * ny + 1.0));
+  require_size(kFunction, "nx, ny", (2.0 * nx + 1.0) * (2.0 * ny + 1.0));
 
   PlaneGrid grid(nx, ny, false, type,
                  [&](double a, double b) { return Eigen::Vector3d(width * a, height * b, 0.0); });
@@ -190,7 +194,7 @@ Mesh annulus_mesh(double inner_radius, double outer_radius, int n_circumferentia
   require_divisions(kFunction, "n_radial", n_radial, 1);
   require_plane_type(kFunction, type);
   require_placement(kFunction, placement, true);
-  require_size(kFunction, (2.0 * n_circumferential) * (2.0 * n_radial + 1.0));
+  require_size(kFunction, "n_circumferential, n_radial", (2.0 * n_circumferential) * (2.0 * n_radial + 1.0));
 
   // a runs outward along the radius and b counter-clockwise around: x_r × x_θ = r e_z, so every
   // element is counter-clockwise with a positive Jacobian.
@@ -218,7 +222,7 @@ Mesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, const Pla
   require_divisions(kFunction, "ny", ny, 1);
   require_divisions(kFunction, "nz", nz, 1);
   require_placement(kFunction, placement, false);
-  require_size(kFunction, (nx + 1.0) * (ny + 1.0) * (nz + 1.0));
+  require_size(kFunction, "nx, ny, nz", (nx + 1.0) * (ny + 1.0) * (nz + 1.0));
 
   Mesh mesh;
   mesh.element_type = ElementType::hexa8;

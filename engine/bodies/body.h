@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,25 @@ using Matrix = Eigen::MatrixXd;
 using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
+
+// The velocity of a material point as a short sum over the body's velocity components:
+//   v_point = Σ_k column(k) · v[index[k]],  k < count ≤ 6
+// (all six components of a rigid body, the two or three of a finite-element node), so that a contact
+// or a spring on a body of 50 000 unknowns still costs a handful of numbers.
+struct PointJacobian {
+  int count = 0;
+  std::array<int, 6> index{};                                         // body velocity components
+  Eigen::Matrix<double, 3, 6> column = Eigen::Matrix<double, 3, 6>::Zero();  // m/s per unit component
+  void add(int component, const Eigen::Vector3d& direction) {
+    index[count] = component;
+    column.col(count++) = direction;
+  }
+  // rows.col(offset + index[k]) += sign · projection · column(k); projection is r × 3.
+  template <typename Rows, typename Projection>
+  void scatter(Rows&& rows, int offset, const Projection& projection, double sign) const {
+    for (int k = 0; k < count; ++k) rows.col(offset + index[k]) += sign * (projection * column.col(k));
+  }
+};
 
 class Body {
  public:
@@ -48,13 +68,21 @@ class Body {
 
   // World pose of the body frame for positions q (this body's slice).
   virtual Eigen::Isometry3d pose(const ConstVectorRef& q) const = 0;
-  Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
+  // World position of a material point given by its body-frame coordinates (for an elastic body: its
+  // reference coordinates, a node's).
+  virtual Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
     return pose(q) * local;
   }
 
-  // World velocity of a material point = J v; J is 3 × velocity_size.
-  virtual void point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
-                              Eigen::Ref<Matrix3X> J) const = 0;
+  // World velocity of a material point = J v.
+  virtual PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const = 0;
+
+  // Adds the weight in the uniform field g (m/s²) as a generalized force (N, N·m): m g at the centre of
+  // mass of a rigid body, M·(g per node) for an elastic body (its exact consistent body force).
+  virtual void add_weight(const ConstVectorRef& q, const Eigen::Vector3d& g, VectorRef f) const {
+    const PointJacobian J = point_jacobian(q, Eigen::Vector3d::Zero());
+    for (int k = 0; k < J.count; ++k) f(J.index[k]) += J.column.col(k).dot(mass() * g);
+  }
 
   // q_next = q + h·v_theta, with the rotation part integrated on the rotation group where needed.
   virtual void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,

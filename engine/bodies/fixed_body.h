@@ -14,7 +14,7 @@ class FixedBody final : public Body {
   double mass() const override { return 0.0; }
   void add_mass(int, Triplets&) const override {}
   Eigen::Isometry3d pose(const ConstVectorRef&) const override { return pose_; }
-  void point_jacobian(const ConstVectorRef&, const Eigen::Vector3d&, Eigen::Ref<Matrix3X>) const override {}
+  PointJacobian point_jacobian(const ConstVectorRef&, const Eigen::Vector3d&) const override { return {}; }
   void integrate_position(const ConstVectorRef&, const ConstVectorRef&, double, VectorRef) const override {}
   int velocity_index(const std::string&) const override { return -1; }
 

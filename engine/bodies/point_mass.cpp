@@ -12,10 +12,10 @@ Eigen::Isometry3d PointMass::pose(const ConstVectorRef& q) const {
   return pose;
 }
 
-void PointMass::point_jacobian(const ConstVectorRef&, const Eigen::Vector3d&,
-                               Eigen::Ref<Matrix3X> J) const {
-  J.setZero();
-  for (int i = 0; i < dimension_; ++i) J(i, i) = 1.0;
+PointJacobian PointMass::point_jacobian(const ConstVectorRef&, const Eigen::Vector3d&) const {
+  PointJacobian J;
+  for (int i = 0; i < dimension_; ++i) J.add(i, Eigen::Vector3d::Unit(i));
+  return J;
 }
 
 void PointMass::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,

@@ -16,16 +16,15 @@ Eigen::Isometry3d RigidBody2d::pose(const ConstVectorRef& q) const {
 }
 
 // v_point = v + ω e_z × (R r): the rotation column is e_z × (R r) = (−(Rr)_y, (Rr)_x, 0).
-void RigidBody2d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
-                                 Eigen::Ref<Matrix3X> J) const {
+PointJacobian RigidBody2d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
   const double c = std::cos(q(2)), s = std::sin(q(2));
   const double rx = c * local.x() - s * local.y();
   const double ry = s * local.x() + c * local.y();
-  J.setZero();
-  J(0, 0) = 1.0;
-  J(1, 1) = 1.0;
-  J(0, 2) = -ry;
-  J(1, 2) = rx;
+  PointJacobian J;
+  J.add(0, Eigen::Vector3d::UnitX());
+  J.add(1, Eigen::Vector3d::UnitY());
+  J.add(2, Eigen::Vector3d(-ry, rx, 0.0));
+  return J;
 }
 
 void RigidBody2d::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta,

@@ -21,13 +21,15 @@ Eigen::Isometry3d RigidBody3d::pose(const ConstVectorRef& q) const {
 }
 
 // v_point = v + R(ω × r) = v − R [r]× ω.
-void RigidBody3d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
-                                 Eigen::Ref<Matrix3X> J) const {
+PointJacobian RigidBody3d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
   const Eigen::Matrix3d R = orientation(q).normalized().toRotationMatrix();
   Eigen::Matrix3d r_cross;
   r_cross << 0, -local.z(), local.y(), local.z(), 0, -local.x(), -local.y(), local.x(), 0;
-  J.leftCols<3>().setIdentity();
-  J.rightCols<3>() = -R * r_cross;
+  const Eigen::Matrix3d rotation_columns = -R * r_cross;
+  PointJacobian J;
+  for (int i = 0; i < 3; ++i) J.add(i, Eigen::Vector3d::Unit(i));
+  for (int i = 0; i < 3; ++i) J.add(3 + i, rotation_columns.col(i));
+  return J;
 }
 
 void RigidBody3d::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta,

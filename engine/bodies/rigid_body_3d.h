@@ -20,8 +20,7 @@ class RigidBody3d final : public Body {
   double mass() const override { return mass_; }
   void add_mass(int offset, Triplets& mass) const override;
   Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
-  void point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local,
-                      Eigen::Ref<Matrix3X> J) const override;
+  PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                           VectorRef q_next) const override;
   void position_rate(const ConstVectorRef& q, const ConstVectorRef& v, VectorRef q_dot) const override;

@@ -55,13 +55,12 @@ void EventContactModel::rows_at(const Vector& q) {
   const BodyInstance& b = world_.bodies[moving_];
   normal_rows_.setZero(np, n);
   tangent_rows_.setZero(np * (d_ - 1), n);
-  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 6> J(3, b.body->velocity_size());
   for (int i = 0; i < np; ++i) {
-    b.body->point_jacobian(positions_of(b, q), points_[i].local, J);
+    const PointJacobian J = b.body->point_jacobian(positions_of(b, q), points_[i].local);
     const ContactPoint& c = points_[i].point;
-    normal_rows_.row(i).segment(b.velocity_offset, J.cols()) = c.normal.transpose() * J;
-    tangent_rows_.row((d_ - 1) * i).segment(b.velocity_offset, J.cols()) = c.t1.transpose() * J;
-    if (d_ == 3) tangent_rows_.row(2 * i + 1).segment(b.velocity_offset, J.cols()) = c.t2.transpose() * J;
+    J.scatter(normal_rows_.row(i), b.velocity_offset, c.normal.transpose(), 1.0);
+    J.scatter(tangent_rows_.row((d_ - 1) * i), b.velocity_offset, c.t1.transpose(), 1.0);
+    if (d_ == 3) J.scatter(tangent_rows_.row(2 * i + 1), b.velocity_offset, c.t2.transpose(), 1.0);
   }
 }
 

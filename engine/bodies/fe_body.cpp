@@ -1,0 +1,129 @@
+#include "engine/bodies/fe_body.h"
+
+#include "fem/assembly.h"
+
+#include <cmath>
+
+namespace csim {
+
+namespace {
+
+// Keeps the rows and columns of the free dofs: A_ff = Pᵀ A P for the selection P.
+SparseMatrix restrict_matrix(const SparseMatrix& full, const std::vector<int>& free_of_dof, int free_count) {
+  Triplets kept;
+  kept.reserve(full.nonZeros());
+  for (int column = 0; column < full.outerSize(); ++column)
+    for (SparseMatrix::InnerIterator it(full, column); it; ++it) {
+      const int i = free_of_dof[it.row()], j = free_of_dof[it.col()];
+      if (i >= 0 && j >= 0) kept.emplace_back(i, j, it.value());
+    }
+  SparseMatrix restricted(free_count, free_count);
+  restricted.setFromTriplets(kept.begin(), kept.end());
+  return restricted;
+}
+
+void append_shifted(const SparseMatrix& matrix, int offset, Triplets& out) {
+  for (int column = 0; column < matrix.outerSize(); ++column)
+    for (SparseMatrix::InnerIterator it(matrix, column); it; ++it)
+      out.emplace_back(offset + it.row(), offset + it.col(), it.value());
+}
+
+}  // namespace
+
+FeBody::FeBody(Mesh mesh, const ElasticMaterial& material, double thickness, bool lumped_mass,
+               const std::vector<std::pair<int, int>>& fixed)
+    : mesh_(std::move(mesh)), material_(material), thickness_(thickness) {
+  check_material(material_);
+  check_mesh(mesh_);
+  const int d = mesh_.dofs_per_node();
+  std::vector<bool> held(mesh_.dof_count(), false);
+  for (const auto& [node, component] : fixed) held[d * node + component] = true;
+  free_of_dof_.assign(mesh_.dof_count(), -1);
+  for (int dof = 0; dof < mesh_.dof_count(); ++dof)
+    if (!held[dof]) free_of_dof_[dof] = free_count_++;
+
+  const FeModel model{mesh_, material_, thickness_};
+  const SparseMatrix full_mass = assemble_mass(model, lumped_mass);
+  mass_ = restrict_matrix(full_mass, free_of_dof_, free_count_);
+  stiffness_ = restrict_matrix(assemble_stiffness(model), free_of_dof_, free_count_);
+  // ρV from the mass of one direction: the sum of the x-x block.
+  for (int column = 0; column < full_mass.outerSize(); ++column)
+    for (SparseMatrix::InnerIterator it(full_mass, column); it; ++it)
+      if (it.row() % d == 0 && it.col() % d == 0) total_mass_ += it.value();
+
+  Eigen::Vector3d low = mesh_.nodes.front(), high = low;
+  for (const Eigen::Vector3d& x : mesh_.nodes) {
+    low = low.cwiseMin(x);
+    high = high.cwiseMax(x);
+  }
+  size_ = std::max((high - low).norm(), 1e-300);
+  bounding_radius = high.cwiseAbs().cwiseMax(low.cwiseAbs()).norm();
+}
+
+void FeBody::add_mass(int offset, Triplets& mass) const { append_shifted(mass_, offset, mass); }
+
+void FeBody::add_stiffness(int offset, Triplets& stiffness) const { append_shifted(stiffness_, offset, stiffness); }
+
+void FeBody::add_internal_force(const ConstVectorRef& q, VectorRef f) const { f -= stiffness_ * q; }
+
+double FeBody::strain_energy(const ConstVectorRef& q) const { return 0.5 * q.dot(stiffness_ * q); }
+
+int FeBody::node_at(const Eigen::Vector3d& point) const {
+  for (std::size_t i = 0; i < mesh_.nodes.size(); ++i)
+    if ((mesh_.nodes[i] - point).norm() <= 1e-9 * size_) return static_cast<int>(i);
+  return -1;
+}
+
+Eigen::Vector3d FeBody::node_displacement(const ConstVectorRef& q, int node) const {
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  for (int c = 0; c < dofs_per_node(); ++c) {
+    const int i = free_index(node, c);
+    if (i >= 0) u(c) = q(i);
+  }
+  return u;
+}
+
+Eigen::Vector3d FeBody::point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
+  const int node = node_at(local);
+  return node < 0 ? local : local + node_displacement(q, node);
+}
+
+PointJacobian FeBody::point_jacobian(const ConstVectorRef&, const Eigen::Vector3d& local) const {
+  PointJacobian J;
+  const int node = node_at(local);
+  if (node < 0) return J;
+  for (int c = 0; c < dofs_per_node(); ++c) {
+    const int i = free_index(node, c);
+    if (i >= 0) J.add(i, Eigen::Vector3d::Unit(c));
+  }
+  return J;
+}
+
+void FeBody::add_weight(const ConstVectorRef&, const Eigen::Vector3d& g, VectorRef f) const {
+  Eigen::VectorXd uniform(free_count_);
+  for (int node = 0; node < static_cast<int>(mesh_.nodes.size()); ++node)
+    for (int c = 0; c < dofs_per_node(); ++c)
+      if (free_index(node, c) >= 0) uniform(free_index(node, c)) = g(c);
+  f += mass_ * uniform;
+}
+
+void FeBody::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
+                                VectorRef q_next) const {
+  q_next = q + h * v_theta;
+}
+
+Eigen::VectorXd FeBody::full_displacement(const ConstVectorRef& q) const {
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh_.dof_count());
+  for (int dof = 0; dof < mesh_.dof_count(); ++dof)
+    if (free_of_dof_[dof] >= 0) u(dof) = q(free_of_dof_[dof]);
+  return u;
+}
+
+Eigen::VectorXd FeBody::restrict(const Eigen::VectorXd& full) const {
+  Eigen::VectorXd restricted(free_count_);
+  for (int dof = 0; dof < mesh_.dof_count(); ++dof)
+    if (free_of_dof_[dof] >= 0) restricted(free_of_dof_[dof]) = full(dof);
+  return restricted;
+}
+
+}  // namespace csim

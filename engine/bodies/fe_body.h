@@ -1,0 +1,65 @@
+// An elastic body discretized by finite elements (fem/): linear elasticity, small strain.
+//   q = displacements of the free dofs (m), v = their velocities (m/s); the fixed dofs are left out of
+//   the World's coordinates altogether, so that nothing else needs to know about them.
+//   M and K are constant, assembled once by fem/ and restricted to the free dofs.
+// The mesh is in world coordinates (its pose is the identity). A material point is a node, named by
+// its reference coordinates (springs and loads attach to nodes; contacts use the boundary nodes).
+#pragma once
+
+#include "engine/bodies/body.h"
+#include "fem/material.h"
+#include "fem/mesh.h"
+
+#include <Eigen/SparseCore>
+
+namespace csim {
+
+class FeBody final : public Body {
+ public:
+  // fixed: (node, component) pairs held at zero displacement. thickness in m (plane meshes).
+  FeBody(Mesh mesh, const ElasticMaterial& material, double thickness, bool lumped_mass,
+         const std::vector<std::pair<int, int>>& fixed);
+
+  int position_size() const override { return free_count_; }
+  int velocity_size() const override { return free_count_; }
+  double mass() const override { return total_mass_; }
+  bool elastic() const override { return true; }
+  void add_mass(int offset, Triplets& mass) const override;
+  void add_stiffness(int offset, Triplets& stiffness) const override;
+  void add_internal_force(const ConstVectorRef& q, VectorRef f) const override;
+  double strain_energy(const ConstVectorRef& q) const override;
+
+  Eigen::Isometry3d pose(const ConstVectorRef&) const override { return Eigen::Isometry3d::Identity(); }
+  Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
+  PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
+  void add_weight(const ConstVectorRef& q, const Eigen::Vector3d& g, VectorRef f) const override;
+  void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
+                          VectorRef q_next) const override;
+  int velocity_index(const std::string&) const override { return -1; }
+
+  const Mesh& mesh() const { return mesh_; }
+  const ElasticMaterial& material() const { return material_; }
+  double thickness() const { return thickness_; }
+  int dofs_per_node() const { return mesh_.dofs_per_node(); }
+  // Index of a node's displacement component among the free dofs, or −1 when it is fixed.
+  int free_index(int node, int component) const { return free_of_dof_[dofs_per_node() * node + component]; }
+  Eigen::Vector3d node_displacement(const ConstVectorRef& q, int node) const;
+  // The node at reference coordinates `point` (within 1e-9 of the mesh size), or −1.
+  int node_at(const Eigen::Vector3d& point) const;
+  // All dofs' displacement (fixed ones zero), node-major: for outputs and stresses.
+  Eigen::VectorXd full_displacement(const ConstVectorRef& q) const;
+  // A global force vector (N per dof of the whole mesh) restricted to the free dofs.
+  Eigen::VectorXd restrict(const Eigen::VectorXd& full) const;
+
+ private:
+  Mesh mesh_;
+  ElasticMaterial material_;
+  double thickness_;
+  int free_count_ = 0;
+  std::vector<int> free_of_dof_;   // mesh dof → free index or −1
+  SparseMatrix mass_, stiffness_;  // restricted to the free dofs
+  double total_mass_ = 0.0;
+  double size_ = 1.0;              // m, the mesh's bounding-box diagonal
+};
+
+}  // namespace csim

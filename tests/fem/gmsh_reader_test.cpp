@@ -1,0 +1,217 @@
+// Gmsh MSH 4.1 import: the two hand-written meshes of tests/fem/data, and malformed variants of the
+// rectangle written to temporary files, each of which must fail with the file, the line and the problem.
+#include "fem/gmsh_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace csim {
+namespace {
+
+#ifdef CSIM_SOURCE_DIR
+const std::string kDataDirectory = std::string(CSIM_SOURCE_DIR) + "/tests/fem/data/";
+#else
+const std::string kDataDirectory = std::filesystem::path(__FILE__).parent_path().string() + "/data/";
+#endif
+const std::string kRectangle = kDataDirectory + "rectangle_2x1.msh";
+const std::string kCube = kDataDirectory + "unit_cube_hexa.msh";
+
+std::string file_text(const std::string& path) {
+  std::ifstream file(path);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+// The 1-based line of the first occurrence of `needle` in `text`.
+int line_of(const std::string& text, const std::string& needle) {
+  const std::size_t at = text.find(needle);
+  EXPECT_NE(at, std::string::npos) << needle;
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+}
+
+// Writes `text` to a temporary file named after the test, reads it, returns the error message.
+class MalformedGmshTest : public ::testing::Test {
+ protected:
+  void TearDown() override {
+    if (!path_.empty()) std::filesystem::remove(path_);
+  }
+
+  std::string error_reading(const std::string& text) {
+    path_ = (std::filesystem::temp_directory_path() /
+             ("csim_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+              std::to_string(::getpid()) + ".msh"))
+                .string();
+    std::ofstream(path_) << text;
+    try {
+      read_gmsh(path_);
+    } catch (const FemError& error) {
+      return error.what();
+    }
+    return "no FemError";
+  }
+
+  // Replaces the first occurrence of `from` in the rectangle file.
+  static std::string rectangle_with(const std::string& from, const std::string& to) {
+    std::string text = file_text(kRectangle);
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+  }
+
+  std::string path_;
+};
+
+#define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)
+
+TEST(GmshReaderTest, RectangleQuad4) {
+  const Mesh mesh = read_gmsh(kRectangle);
+  EXPECT_EQ(mesh.element_type, ElementType::quad4);
+  ASSERT_EQ(mesh.nodes.size(), 6u);
+  ASSERT_EQ(mesh.elements.size(), 2u);
+  // Node tags 1 2 3 4 5 10 become 0..5 in file order.
+  EXPECT_EQ(mesh.nodes[4], Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(mesh.nodes[5], Eigen::Vector3d(1, 1, 0));
+  EXPECT_EQ(mesh.elements[0], (std::vector<int>{0, 4, 5, 3}));
+  EXPECT_EQ(mesh.elements[1], (std::vector<int>{4, 1, 2, 5}));
+
+  EXPECT_EQ(mesh.node_sets.size(), 3u);
+  EXPECT_EQ(mesh.node_sets.at("bottom"), (std::vector<int>{0, 1, 4}));
+  EXPECT_EQ(mesh.node_sets.at("top"), (std::vector<int>{2, 3, 5}));
+  EXPECT_EQ(mesh.node_sets.at("body"), (std::vector<int>{0, 1, 2, 3, 4, 5}));
+  ASSERT_EQ(mesh.face_sets.size(), 2u);  // the surface group gives nodes only
+  const std::vector<Face>& bottom = mesh.face_sets.at("bottom");
+  const std::vector<Face>& top = mesh.face_sets.at("top");
+  ASSERT_EQ(bottom.size(), 2u);
+  ASSERT_EQ(top.size(), 2u);
+  for (int e = 0; e < 2; ++e) {
+    EXPECT_EQ(bottom[e].element, e);
+    EXPECT_EQ(bottom[e].local_face, 0);
+    EXPECT_EQ(top[e].element, e);
+    EXPECT_EQ(top[e].local_face, 2);
+  }
+  // Outward normal (t_y, −t_x): down on "bottom", up on "top", whatever the lines' direction in the file.
+  for (const Face& face : bottom) {
+    const Eigen::Vector3d t = mesh.nodes[face.nodes[1]] - mesh.nodes[face.nodes[0]];
+    EXPECT_EQ(Eigen::Vector3d(t.y(), -t.x(), 0.0), Eigen::Vector3d(0, -1, 0));
+  }
+  for (const Face& face : top) {
+    const Eigen::Vector3d t = mesh.nodes[face.nodes[1]] - mesh.nodes[face.nodes[0]];
+    EXPECT_EQ(Eigen::Vector3d(t.y(), -t.x(), 0.0), Eigen::Vector3d(0, 1, 0));
+  }
+}
+
+TEST(GmshReaderTest, CubeHexa8) {
+  const Mesh mesh = read_gmsh(kCube);
+  EXPECT_EQ(mesh.element_type, ElementType::hexa8);
+  ASSERT_EQ(mesh.nodes.size(), 8u);
+  ASSERT_EQ(mesh.elements.size(), 1u);
+  EXPECT_EQ(mesh.elements[0], (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+  EXPECT_EQ(mesh.nodes[6], Eigen::Vector3d(1, 1, 1));
+  EXPECT_EQ(mesh.node_sets.size(), 1u);
+  EXPECT_EQ(mesh.node_sets.at("base"), (std::vector<int>{0, 1, 2, 3}));
+  ASSERT_EQ(mesh.face_sets.at("base").size(), 1u);
+  const Face& base = mesh.face_sets.at("base")[0];
+  EXPECT_EQ(base.element, 0);
+  EXPECT_EQ(base.local_face, 0);
+  // The file's quadrangle runs 1 2 3 4 (normal +z); the face set takes the outward order (normal −z).
+  const auto& x = mesh.nodes;
+  const Eigen::Vector3d normal = (x[base.nodes[1]] - x[base.nodes[0]]).cross(x[base.nodes[3]] - x[base.nodes[0]]);
+  EXPECT_EQ(normal, Eigen::Vector3d(0, 0, -1));
+}
+
+TEST(GmshReaderTest, MissingFile) {
+  const std::string path = kDataDirectory + "no_such_mesh.msh";
+  try {
+    read_gmsh(path);
+    FAIL() << "no FemError";
+  } catch (const FemError& error) {
+    const std::string message = error.what();
+    EXPECT_CONTAINS(message, "cannot open");
+    EXPECT_CONTAINS(message, path);
+  }
+}
+
+TEST_F(MalformedGmshTest, WrongVersion) {
+  const std::string message = error_reading(rectangle_with("4.1 0 8", "2.2 0 8"));
+  EXPECT_CONTAINS(message, path_ + ":2:");
+  EXPECT_CONTAINS(message, "only MSH 4.1 ASCII is supported");
+}
+
+TEST_F(MalformedGmshTest, BinaryFlag) {
+  const std::string message = error_reading(rectangle_with("4.1 0 8", "4.1 1 8"));
+  EXPECT_CONTAINS(message, path_ + ":2:");
+  EXPECT_CONTAINS(message, "binary");
+  EXPECT_CONTAINS(message, "only MSH 4.1 ASCII is supported");
+}
+
+TEST_F(MalformedGmshTest, Truncated) {
+  const std::string text = file_text(kRectangle);
+  const std::string message = error_reading(text.substr(0, text.find("1 3 0 1\n10")));
+  EXPECT_CONTAINS(message, path_ + ":");
+  EXPECT_CONTAINS(message, "unexpected end of file");
+}
+
+TEST_F(MalformedGmshTest, MissingSection) {
+  const std::string text = file_text(kRectangle);
+  const std::string message = error_reading(text.substr(0, text.find("$Elements")));
+  EXPECT_CONTAINS(message, path_ + ":");
+  EXPECT_CONTAINS(message, "missing section $Elements");
+}
+
+TEST_F(MalformedGmshTest, UnknownNodeTag) {
+  const std::string text = rectangle_with("6 5 2 3 10", "6 5 2 3 11");
+  const std::string message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "6 5 2 3 11")) + ":");
+  EXPECT_CONTAINS(message, "unknown node tag 11");
+}
+
+TEST_F(MalformedGmshTest, UnreadableNumber) {
+  const std::string text = rectangle_with("\n2 0 0\n", "\n2 zero 0\n");
+  const std::string message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "2 zero 0")) + ":");
+  EXPECT_CONTAINS(message, "'zero'");
+}
+
+TEST_F(MalformedGmshTest, PhysicalLineNotOnTheBoundary) {
+  // The second "top" line becomes the edge between the two quadrangles, shared by both.
+  const std::string text = rectangle_with("4 10 4", "4 10 5");
+  const std::string message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "4 10 5")) + ":");
+  EXPECT_CONTAINS(message, "'top'");
+  EXPECT_CONTAINS(message, "not a face on the boundary");
+}
+
+TEST_F(MalformedGmshTest, UnsupportedElementType) {
+  const std::string text = rectangle_with("2 1 3 2", "2 1 2 2");  // triangles
+  const std::string message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "2 1 2 2")) + ":");
+  EXPECT_CONTAINS(message, "element type 2");
+}
+
+TEST_F(MalformedGmshTest, MixedElementTypes) {
+  // The second quadrangle becomes an 8-node one, reusing the nodes it has.
+  std::string text = rectangle_with("3 6 1 6", "4 6 1 6");
+  const std::string quadrangles = "2 1 3 2\n5 1 5 10 4\n6 5 2 3 10\n";
+  text.replace(text.find(quadrangles), quadrangles.size(), "2 1 3 1\n5 1 5 10 4\n2 1 16 1\n6 5 2 3 10 1 2 3 4\n");
+  const std::string message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "6 5 2 3 10 1 2 3 4")) + ":");
+  EXPECT_CONTAINS(message, "one element type per mesh");
+}
+
+TEST_F(MalformedGmshTest, PlaneMeshOutOfItsPlane) {
+  const std::string text = rectangle_with("\n0 1 0\n", "\n0 1 0.5\n");
+  const std::string message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":");
+  EXPECT_CONTAINS(message, "z = 0");
+}
+
+}  // namespace
+}  // namespace csim
