@@ -106,6 +106,7 @@ void CheckEvaluator::add_sample(double t, const std::vector<double>& values, boo
     const Window& w = windows_[check.probe];
     at_values_[c] = quadratic_at(w.t + (3 - w.count), w.value + (3 - w.count), w.count, check.time);
   }
+  if (initial_values_.empty()) initial_values_ = values;
   last_values_ = values;
 }
 
@@ -164,6 +165,7 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
     }
     ExpressionScope scope = scope_;
     scope.variables["t"] = r.time;
+    scope.variables["initial"] = initial_values_.empty() ? 0.0 : initial_values_[check.probe];
     try {
       r.reference = evaluate_expression(check.reference, scope);
     } catch (const std::exception& e) {

@@ -61,6 +61,7 @@ class CheckEvaluator {
   std::vector<Window> windows_;                         // last three samples per probe
   std::vector<std::optional<double>> at_values_;        // per check (Mode::at)
   std::vector<double> last_values_;
+  std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`
 };
 
 }  // namespace csim

@@ -40,6 +40,7 @@ double ProbeEvaluator::evaluate(const ProbeDefinition& p, const State& state) co
       const EnergyBalance& e = state.energy;
       if (p.energy_term == "kinetic") return e.kinetic;
       if (p.energy_term == "elastic") return e.elastic;
+      if (p.energy_term == "mechanical") return e.kinetic + e.elastic;
       if (p.energy_term == "work") return e.work_of_loads;
       if (p.energy_term == "contact_dissipation") return e.contact_dissipation;
       if (p.energy_term == "numerical_dissipation") return e.numerical_dissipation;

@@ -1,6 +1,7 @@
 // Evaluation of the scene's probes on a State (see scene.h for their definitions).
 //   displacement  dir·(p(q) − p(q_ref)) of a material point (m);  position  dir·p(q) (m);
-//   velocity      one velocity component (m/s or rad/s);  energy  a term of the balance (J);
+//   velocity      one velocity component (m/s or rad/s);  energy  a term of the balance (J), or
+//                 mechanical = kinetic + elastic;
 //   contact_force the resultant of a contact law's impulses / h on its first body (N): normal
 //                 (compressive positive), tangential (2D: along e_z × n with n pointing into that
 //                 body; 3D: magnitude), or a world component.

@@ -1,6 +1,6 @@
-// Direct-stiffness assembly of assembly.h: each element matrix is computed once in fixed-size storage
-// (elements.cpp) and scattered into a reserved triplet list; Eigen sums the duplicates when it
-// compresses the list into the column-major sparse matrix.
+// Direct-stiffness assembly of assembly.h: each element matrix is computed once in fixed-size
+// storage (elements.cpp) and scattered into a reserved triplet list; Eigen sums the duplicates when
+// it compresses the list into the column-major sparse matrix.
 #include "fem/assembly.h"
 
 #include <Eigen/SparseCore>
@@ -19,7 +19,8 @@ int global_dof(const Mesh& mesh, int element, int a, int i) {
 }
 
 void check_thickness(const FeModel& model) {
-  if (model.mesh.dimension() == 2 && (!(model.thickness > 0.0) || !std::isfinite(model.thickness))) {
+  if (model.mesh.dimension() == 2 &&
+      (!(model.thickness > 0.0) || !std::isfinite(model.thickness))) {
     std::ostringstream message;
     message << "thickness = " << model.thickness << " m must be > 0 for a plane-strain mesh";
     throw FemError(message.str());
@@ -52,8 +53,8 @@ Eigen::SparseMatrix<double> assemble_stiffness(const FeModel& model) {
     triplets.reserve(static_cast<std::size_t>(element_count) * element_dofs * element_dofs);
   }
   for (int e = 0; e < element_count; ++e) {
-    const ElementMatrix K = element_stiffness(element_geometry(mesh, e), model.material,
-                                              model.thickness);
+    const ElementMatrix K =
+        element_stiffness(element_geometry(mesh, e), model.material, model.thickness);
     const int n = static_cast<int>(K.rows()) / d;
     for (int b = 0; b < n; ++b)
       for (int j = 0; j < d; ++j) {
@@ -105,7 +106,8 @@ Eigen::SparseMatrix<double> assemble_mass(const FeModel& model, bool lumped) {
   return M;
 }
 
-Eigen::VectorXd pressure_load(const FeModel& model, const std::vector<Face>& faces, double pressure) {
+Eigen::VectorXd pressure_load(const FeModel& model, const std::vector<Face>& faces,
+                              double pressure) {
   const Mesh& mesh = model.mesh;
   check_thickness(model);
   const int d = mesh.dofs_per_node();
@@ -146,7 +148,8 @@ std::vector<Stress> element_stresses(const FeModel& model, const Eigen::VectorXd
     const ElementGeometry geometry = element_geometry(mesh, e);
     const int n = static_cast<int>(geometry.coordinates.rows());
     ElementVector u(n * d);
-    for (int a = 0; a < n; ++a) u.segment(d * a, d) = displacement.segment(d * mesh.elements[e][a], d);
+    for (int a = 0; a < n; ++a)
+      u.segment(d * a, d) = displacement.segment(d * mesh.elements[e][a], d);
     stresses.push_back(element_centroid_stress(geometry, model.material, u));
   }
   return stresses;

@@ -2,9 +2,9 @@
 //
 // Dofs are node-major: node i has the dofs [d·i, d·i + d), d = 2 (plane strain) or 3, displacement
 // components x, y (, z) in m. The global matrices are the standard direct-stiffness sums
-// K = Σ_e A_eᵀ K_e A_e (Hughes, The Finite Element Method, §1.14 and §2.8), built once from triplets
-// (duplicates summed) as column-major Eigen::SparseMatrix, symmetric, with the structural pattern of
-// the mesh (entries that cancel numerically are kept).
+// K = Σ_e A_eᵀ K_e A_e (Hughes, The Finite Element Method, §1.14 and §2.8), built once from
+// triplets (duplicates summed) as column-major Eigen::SparseMatrix, symmetric, with the structural
+// pattern of the mesh (entries that cancel numerically are kept).
 #pragma once
 
 #include "fem/elements.h"
@@ -37,10 +37,11 @@ Eigen::SparseMatrix<double> assemble_stiffness(const FeModel& model);
 Eigen::SparseMatrix<double> assemble_mass(const FeModel& model, bool lumped);
 
 // Equivalent nodal forces (N per dof, dof_count entries) of a uniform pressure p (Pa) on the faces:
-// positive p pushes INTO the body (traction −p n, n the outward normal of mesh.h's Face convention);
-// a negative p pulls, e.g. a tensile traction. Throws FemError naming the face (its position in the
-// list and its element) when its node count or a node index is wrong.
-Eigen::VectorXd pressure_load(const FeModel& model, const std::vector<Face>& faces, double pressure);
+// positive p pushes INTO the body (traction −p n, n the outward normal of mesh.h's Face
+// convention); a negative p pulls, e.g. a tensile traction. Throws FemError naming the face (its
+// position in the list and its element) when its node count or a node index is wrong.
+Eigen::VectorXd pressure_load(const FeModel& model, const std::vector<Face>& faces,
+                              double pressure);
 
 // Stress at each element's centroid (Pa), (σxx, σyy, σzz, σxy, σyz, σxz), from the global
 // displacement (m, dof_count entries); plane strain: σzz = ν(σxx + σyy).

@@ -1,6 +1,6 @@
 // Element kernels of elements.h. Each element type is a small traits struct (node count, dimension,
-// Gauss points per direction, shape functions); the kernels are templates on it so that every matrix
-// has a fixed size, and the shape functions at the Gauss points are computed once per type.
+// Gauss points per direction, shape functions); the kernels are templates on it so that every
+// matrix has a fixed size, and the shape functions at the Gauss points are computed once per type.
 #include "fem/elements.h"
 
 #include <array>
@@ -99,9 +99,9 @@ decltype(auto) dispatch(ElementType type, Function&& f) {
 // The shape functions at the points of the full rule, computed once per element type.
 template <class E>
 struct GaussData {
-  static constexpr int count = E::dimension == 2 ? E::gauss_per_direction * E::gauss_per_direction
-                                                 : E::gauss_per_direction * E::gauss_per_direction *
-                                                       E::gauss_per_direction;
+  static constexpr int count =
+      E::dimension == 2 ? E::gauss_per_direction * E::gauss_per_direction
+                        : E::gauss_per_direction * E::gauss_per_direction * E::gauss_per_direction;
   std::array<Eigen::Vector3d, count> natural;
   std::array<double, count> weight;
   std::array<Shape<E::nodes, E::dimension>, count> shape;
@@ -231,7 +231,8 @@ ElementMatrix stiffness(const ElementGeometry& element, const ElasticMaterial& m
   Eigen::Matrix<double, dofs, dofs> K = Eigen::Matrix<double, dofs, dofs>::Zero();
   Eigen::Matrix<double, E::nodes, E::dimension> dN_dx;
   for (int g = 0; g < rule.count; ++g) {
-    const double det = physical_gradients<E>(x, rule.shape[g], element.index, rule.natural[g], dN_dx);
+    const double det =
+        physical_gradients<E>(x, rule.shape[g], element.index, rule.natural[g], dN_dx);
     const auto B = strain_displacement<E::nodes>(dN_dx);
     K.noalias() += (rule.weight[g] * det * scale) * (B.transpose() * (D * B));
   }
@@ -241,17 +242,17 @@ ElementMatrix stiffness(const ElementGeometry& element, const ElasticMaterial& m
 
 // The scalar mass m_ab = ∫ ρ N_a N_b dV (kg), common to every direction.
 template <class E>
-Eigen::Matrix<double, E::nodes, E::nodes> scalar_mass(const ElementGeometry& element, double density,
-                                                      double thickness) {
+Eigen::Matrix<double, E::nodes, E::nodes> scalar_mass(const ElementGeometry& element,
+                                                      double density, double thickness) {
   const Coordinates<E> x = fixed_coordinates<E>(element);
   const double scale = volume_scale<E>(thickness, element.index);
   const GaussData<E>& rule = gauss_data<E>();
   Eigen::Matrix<double, E::nodes, E::nodes> m = Eigen::Matrix<double, E::nodes, E::nodes>::Zero();
   for (int g = 0; g < rule.count; ++g) {
     const auto& s = rule.shape[g];
-    const double det = checked_determinant(Eigen::Matrix<double, E::dimension, E::dimension>(
-                                               x.transpose() * s.dN),
-                                           element.index, rule.natural[g]);
+    const double det =
+        checked_determinant(Eigen::Matrix<double, E::dimension, E::dimension>(x.transpose() * s.dN),
+                            element.index, rule.natural[g]);
     m.noalias() += (density * rule.weight[g] * det * scale) * (s.N * s.N.transpose());
   }
   return m;
@@ -277,7 +278,8 @@ ShapeFunctions shape_functions(ElementType type, const Eigen::Vector3d& natural)
 
 std::vector<Eigen::Vector3d> reference_nodes(ElementType type) {
   std::vector<Eigen::Vector3d> nodes;
-  for (const auto& [x, y] : kSquareCorners) nodes.emplace_back(x, y, type == ElementType::hexa8 ? -1 : 0);
+  for (const auto& [x, y] : kSquareCorners)
+    nodes.emplace_back(x, y, type == ElementType::hexa8 ? -1 : 0);
   if (type == ElementType::quad8) {
     for (const Eigen::Vector3d& middle : {Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(1, 0, 0),
                                           Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(-1, 0, 0)})
@@ -309,8 +311,9 @@ std::vector<GaussPoint> gauss_legendre(int points) {
       return {point(-outer, w_outer), point(-inner, w_inner), point(inner, w_inner),
               point(outer, w_outer)};
     }
-    default: throw FemError("Gauss–Legendre rule with " + std::to_string(points) +
-                            " points: only 1 to 4 are available");
+    default:
+      throw FemError("Gauss–Legendre rule with " + std::to_string(points) +
+                     " points: only 1 to 4 are available");
   }
 }
 
@@ -318,7 +321,8 @@ std::vector<GaussPoint> gauss_rule(ElementType type) {
   const std::vector<GaussPoint> line = gauss_legendre(type == ElementType::quad8 ? 3 : 2);
   const bool solid = type == ElementType::hexa8;
   std::vector<GaussPoint> rule;
-  for (const GaussPoint& c : solid ? line : std::vector<GaussPoint>{GaussPoint{Eigen::Vector3d::Zero(), 1.0}})
+  for (const GaussPoint& c :
+       solid ? line : std::vector<GaussPoint>{GaussPoint{Eigen::Vector3d::Zero(), 1.0}})
     for (const GaussPoint& b : line)
       for (const GaussPoint& a : line)
         rule.push_back({Eigen::Vector3d(a.natural.x(), b.natural.x(), solid ? c.natural.x() : 0.0),
@@ -336,7 +340,8 @@ ElementGeometry element_geometry(const Mesh& mesh, int element) {
   const int expected = dispatch(mesh.element_type, [](auto e) { return decltype(e)::nodes; });
   if (static_cast<int>(nodes.size()) != expected) {
     throw FemError("element " + std::to_string(element) + " has " + std::to_string(nodes.size()) +
-                   " nodes, a " + to_string(mesh.element_type) + " has " + std::to_string(expected));
+                   " nodes, a " + to_string(mesh.element_type) + " has " +
+                   std::to_string(expected));
   }
   ElementGeometry geometry{mesh.element_type, NodeCoordinates(expected, 3), element};
   const int node_count = static_cast<int>(mesh.nodes.size());
@@ -381,25 +386,30 @@ ElementMatrix element_consistent_mass(const ElementGeometry& element, double den
     ElementMatrix M = ElementMatrix::Zero(E::nodes * E::dimension, E::nodes * E::dimension);
     for (int a = 0; a < E::nodes; ++a)
       for (int b = 0; b < E::nodes; ++b)
-        for (int i = 0; i < E::dimension; ++i) M(E::dimension * a + i, E::dimension * b + i) = m(a, b);
+        for (int i = 0; i < E::dimension; ++i)
+          M(E::dimension * a + i, E::dimension * b + i) = m(a, b);
     return M;
   });
 }
 
-ElementVector element_lumped_mass(const ElementGeometry& element, double density, double thickness) {
+ElementVector element_lumped_mass(const ElementGeometry& element, double density,
+                                  double thickness) {
   check_density(density, element.index);
   return dispatch(element.type, [&](auto e) {
     using E = decltype(e);
     const auto m = scalar_mass<E>(element, density, thickness);
     Eigen::Matrix<double, E::nodes, 1> nodal;
     if constexpr (E::type == ElementType::quad8) {
-      const double diagonal_sum = m.diagonal().sum();  // > 0: det J > 0 was checked
-      nodal = m.diagonal() * (m.sum() / diagonal_sum);  // HRZ, see elements.h
+      // HRZ, see elements.h. The diagonal sum is > 0 (det J > 0 was checked) unless ρ = 0.
+      const double diagonal_sum = m.diagonal().sum();
+      nodal = diagonal_sum > 0.0 ? (m.diagonal() * (m.sum() / diagonal_sum)).eval()
+                                 : Eigen::Matrix<double, E::nodes, 1>::Zero().eval();
     } else {
       nodal = m.rowwise().sum();
     }
     ElementVector lumped(E::nodes * E::dimension);
-    for (int a = 0; a < E::nodes; ++a) lumped.segment<E::dimension>(E::dimension * a).setConstant(nodal(a));
+    for (int a = 0; a < E::nodes; ++a)
+      lumped.segment<E::dimension>(E::dimension * a).setConstant(nodal(a));
     return lumped;
   });
 }
@@ -420,7 +430,8 @@ Stress element_centroid_stress(const ElementGeometry& element, const ElasticMate
     Eigen::Matrix<double, E::nodes, E::dimension> dN_dx;
     physical_gradients<E>(x, E::shape(centroid), element.index, centroid, dN_dx);
     const Eigen::Matrix<double, dofs, 1> u = displacement;
-    const auto sigma = (elasticity<E::dimension>(material) * (strain_displacement<E::nodes>(dN_dx) * u)).eval();
+    const auto sigma =
+        (elasticity<E::dimension>(material) * (strain_displacement<E::nodes>(dN_dx) * u)).eval();
     Stress stress;
     if constexpr (E::dimension == 2) {
       stress << sigma(0), sigma(1), material.poisson * (sigma(0) + sigma(1)), sigma(2), 0.0, 0.0;
@@ -445,7 +456,8 @@ ElementVector face_pressure_forces(ElementType type, const NodeCoordinates& face
   const int n = nodes_per_face(type);
   if (face_nodes.rows() != n) {
     throw FemError("element " + std::to_string(element) + ": a face of a " + to_string(type) +
-                   " has " + std::to_string(n) + " nodes, not " + std::to_string(face_nodes.rows()));
+                   " has " + std::to_string(n) + " nodes, not " +
+                   std::to_string(face_nodes.rows()));
   }
   auto degenerate = [&](const Eigen::Vector3d& natural) {
     std::ostringstream message;

@@ -2,15 +2,16 @@
 // hexa8 (trilinear), in the node order of mesh.h. Plane elements are plane strain with a thickness.
 //
 // Reference element: natural coordinates ξ = (ξ, η, ζ) ∈ [−1, 1]^d (ζ unused in 2D). Node a sits at
-// ξ_a: quad4 and the corners of quad8 at (−1,−1), (1,−1), (1,1), (−1,1); the quad8 mid-side nodes at
-// (0,−1), (1,0), (0,1), (−1,0); hexa8 at the quad4 corners with ζ = −1, then with ζ = +1.
+// ξ_a: quad4 and the corners of quad8 at (−1,−1), (1,−1), (1,1), (−1,1); the quad8 mid-side nodes
+// at (0,−1), (1,0), (0,1), (−1,0); hexa8 at the quad4 corners with ζ = −1, then with ζ = +1.
 //
-// Formulas (Hughes, The Finite Element Method, 2000, ch. 3; Zienkiewicz & Taylor, The Finite Element
-// Method vol. 1, 6th ed., ch. 6 and 9):
+// Formulas (Hughes, The Finite Element Method, 2000, ch. 3; Zienkiewicz & Taylor, The Finite
+// Element Method vol. 1, 6th ed., ch. 6 and 9):
 //   Jacobian        J_ij = ∂x_i/∂ξ_j = Σ_a x_ai ∂N_a/∂ξ_j,   ∂N_a/∂x = J⁻ᵀ ∂N_a/∂ξ
 //   stiffness       K_e = ∫ Bᵀ D B dV,     consistent mass  M_e = ∫ ρ Nᵀ N dV,
-//   with dV = t det J dξ dη (plane, thickness t) or det J dξ dη dζ, by full Gauss–Legendre integration
-//   (2×2 for quad4, 3×3 for quad8, 2×2×2 for hexa8: exact for K and M of undistorted elements).
+//   with dV = t det J dξ dη (plane, thickness t) or det J dξ dη dζ, by full Gauss–Legendre
+//   integration (2×2 for quad4, 3×3 for quad8, 2×2×2 for hexa8: exact for K and M of undistorted
+//   elements).
 // Strain and stress in Voigt order with engineering shears:
 //   2D (plane strain): ε = (εxx, εyy, γxy), σzz = ν(σxx + σyy) (from εzz = 0);
 //   3D:                ε = (εxx, εyy, εzz, γxy, γyz, γxz).
@@ -35,12 +36,11 @@ using NodeCoordinates =  // one row per node, x y z in m
     Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::ColMajor, kMaxElementNodes, 3>;
 using ElementMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor,
                                     kMaxElementDofs, kMaxElementDofs>;
-using ElementVector =
-    Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxElementDofs, 1>;
+using ElementVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxElementDofs, 1>;
 // (σxx, σyy, σzz, σxy, σyz, σxz), Pa; tension positive.
 using Stress = Eigen::Matrix<double, 6, 1>;
 
-// ---- reference element -------------------------------------------------------------------------
+// ---- reference element --------------------------------------------------------------------------
 
 struct ShapeFunctions {
   Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxElementNodes, 1>
@@ -67,7 +67,7 @@ std::vector<GaussPoint> gauss_legendre(int points);
 // The tensor-product rule of full integration: 2×2 (quad4), 3×3 (quad8), 2×2×2 (hexa8).
 std::vector<GaussPoint> gauss_rule(ElementType type);
 
-// ---- one element ---------------------------------------------------------------------------------
+// ---- one element --------------------------------------------------------------------------------
 
 // An element as the kernels see it. index is the element's index in its mesh, named in errors.
 struct ElementGeometry {
@@ -97,9 +97,9 @@ ElementMatrix element_consistent_mass(const ElementGeometry& element, double den
 //   quad4, hexa8: row sums of the consistent mass (positive for these elements);
 //   quad8: HRZ scaling (Hinton, Rock & Zienkiewicz, Earthquake Eng. Struct. Dyn. 4, 1976, 245–249;
 //          Zienkiewicz & Taylor vol. 1, §16.2.4): the row sums of a serendipity element are
-//          negative at the corners (−1/12 of the element mass each on a rectangle), which would make
-//          M indefinite, so the mass is instead m_a = M_aa · m_e / Σ_b M_bb, the consistent diagonal
-//          scaled to the element mass m_e: positive, and the total is kept.
+//          negative at the corners (−1/12 of the element mass each on a rectangle), which would
+//          make M indefinite, so the mass is instead m_a = M_aa · m_e / Σ_b M_bb, the consistent
+//          diagonal scaled to the element mass m_e: positive, and the total is kept.
 ElementVector element_lumped_mass(const ElementGeometry& element, double density, double thickness);
 
 // Stress at the element centroid ξ = 0 (Pa) from the element's displacements (m, n·d entries, node-
@@ -107,15 +107,16 @@ ElementVector element_lumped_mass(const ElementGeometry& element, double density
 Stress element_centroid_stress(const ElementGeometry& element, const ElasticMaterial& material,
                                const ElementVector& displacement);
 
-// ---- loads -------------------------------------------------------------------------------------
+// ---- loads --------------------------------------------------------------------------------------
 
 // Equivalent nodal forces (N) f_a = ∫ N_a (−p n) dA of a uniform pressure p (Pa) on one face:
 // positive p pushes INTO the body, along −n, n the outward normal of mesh.h's Face convention.
-//   quad4 mesh: 2-node edge, 2 Gauss points; quad8: 3-node edge (corner, corner, mid-side), 3 points;
-//   both times the thickness t (m);   hexa8: 4-node quadrilateral face, 2×2 points (t unused).
+//   quad4 mesh: 2-node edge, 2 Gauss points, times the thickness t (m);
+//   quad8 mesh: 3-node edge (corner, corner, mid-side), 3 Gauss points, times t;
+//   hexa8 mesh: 4-node quadrilateral face, 2×2 Gauss points (t unused).
 // face_nodes holds the face's node coordinates in the face's order (2, 3 or 4 rows); the result has
-// one block of d components per face node, in that order. element names the face's element in errors
-// (a non-positive face Jacobian throws like an element's).
+// one block of d components per face node, in that order. element names the face's element in
+// errors (a non-positive face Jacobian throws like an element's).
 ElementVector face_pressure_forces(ElementType type, const NodeCoordinates& face_nodes,
                                    double pressure, double thickness, int element);
 

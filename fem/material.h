@@ -3,7 +3,8 @@
 // Hooke's law in Lamé form, σ = λ tr(ε) I + 2μ ε, with
 //   λ = E ν / ((1 + ν)(1 − 2ν)),   μ = E / (2(1 + ν))
 // (Hughes, The Finite Element Method, 2000, §2.7). λ is infinite at ν = 0.5: an incompressible law
-// needs a mixed (u–p) formulation, which these displacement elements are not, hence the bound below.
+// needs a mixed (u–p) formulation, which these displacement elements are not, hence the bound
+// below.
 #pragma once
 
 #include "fem/mesh.h"
@@ -19,8 +20,8 @@ struct ElasticMaterial {
   double density = 0.0;  // ρ, kg/m³
 };
 
-// Throws FemError naming the key (young, poisson, density) unless E > 0, −1 < ν < 0.5 and ρ ≥ 0, all
-// finite (the bounds of a positive-definite, compressible isotropic law).
+// Throws FemError naming the key (young, poisson, density) unless E > 0, −1 < ν < 0.5 and ρ ≥ 0,
+// all finite (the bounds of a positive-definite, compressible isotropic law).
 inline void check_material(const ElasticMaterial& material) {
   auto fail = [](const char* key, double value, const char* rule) {
     std::ostringstream message;

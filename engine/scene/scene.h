@@ -35,7 +35,8 @@ struct CheckDefinition {
   Mode mode = Mode::final_value;
   double time = 0.0;         // Mode::at (s)
   int index = 0;             // extremum index, from 1
-  std::string reference;     // expression text ('=' stripped) or a number; may use t, the check's time
+  std::string reference;     // expression text ('=' stripped) or a number; may use t (the check's time)
+                             // and initial (the probe's value at t = 0)
   int reference_line = 0;
   double absolute_tolerance = 0.0;
   double relative_tolerance = 0.0;

@@ -122,7 +122,7 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
       b.body = std::make_unique<RigidBody3d>(mass, inertia);
     }
   } else {
-    node.fail_at("type", "unknown body type '" + type + "' (available: point, rigid, fixed)");
+    node.fail_at("type", "unknown body type '" + type + "' (available: point, rigid, fixed, elastic)");
   }
   b.body->bounding_radius = bounding_radius(b.shapes);
   if (!b.body->fixed() && !std::isfinite(b.body->bounding_radius))
@@ -158,7 +158,8 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
 void read_bodies(const SceneNode& root, World& world) {
   for (const auto& [name, node] : root.child("bodies").entries()) {
     node.expect_map();
-    read_body(name, node, world);
+    if (node.has("type") && node.string("type") == "elastic") read_elastic_body(name, node, world);
+    else read_body(name, node, world);
   }
   if (world.bodies.empty()) root.fail_at("bodies", "a scene needs at least one body");
   world.finalize_layout();

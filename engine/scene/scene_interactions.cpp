@@ -1,5 +1,7 @@
 // springs, loads, constraints and contacts: what acts on the bodies.
+#include "engine/bodies/fe_body.h"
 #include "engine/scene/scene_parts.h"
+#include "fem/assembly.h"
 
 namespace csim::scene_parts {
 
@@ -37,18 +39,29 @@ void read_springs(const SceneNode& root, World& world) {
   }
 }
 
-// A load: {body, point, force, ramp (s) | table [[t, λ], ...]}.
+// A load: {body, point, force, ramp (s) | table [[t, λ], ...]}, or on an elastic body a uniform
+// pressure (Pa, positive into the body) on a face set: {body, pressure, faces, ramp | table}.
 void read_loads(const SceneNode& root, World& world) {
   if (!root.has("loads")) return;
   const int d = world.dimension;
   for (const auto& [name, node] : root.child("loads").entries()) {
-    node.allow_only({"body", "point", "force", "ramp", "table"});
+    node.allow_only({"body", "point", "force", "pressure", "faces", "ramp", "table"});
     Load load;
     load.name = name;
     load.body = body_named(node, "body", world);
     if (world.bodies[load.body].body->fixed()) node.fail_at("body", "a load on a fixed body does nothing");
-    load.point = point(node, "point", d);
-    load.force = node.vector("force", d, d);
+    if (node.has("pressure")) {
+      const auto* body = dynamic_cast<const FeBody*>(world.bodies[load.body].body.get());
+      if (!body) node.fail_at("pressure", "a pressure acts on the faces of an elastic body");
+      if (node.has("force") || node.has("point")) node.fail("give either pressure and faces, or force and point");
+      const std::string faces = node.string("faces");
+      if (!body->mesh().face_sets.count(faces)) node.fail_at("faces", "the mesh has no face set '" + faces + "'");
+      const FeModel model{body->mesh(), body->material(), body->thickness()};
+      load.nodal_forces = body->restrict(pressure_load(model, body->mesh().face_sets.at(faces), node.number("pressure")));
+    } else {
+      load.point = point(node, "point", d);
+      load.force = node.vector("force", d, d);
+    }
     if (node.has("ramp") && node.has("table")) node.fail("give either ramp or table, not both");
     load.multiplier.ramp_time = node.non_negative("ramp", 0.0);
     if (node.has("table")) {

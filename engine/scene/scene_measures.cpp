@@ -45,10 +45,13 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
   } else if (kind == "energy") {
     p.kind = ProbeDefinition::Kind::energy;
     p.energy_term = spec.as_string();
-    const char* terms[] = {"kinetic", "elastic", "work", "contact_dissipation", "numerical_dissipation", "balance"};
+    const char* terms[] = {"kinetic", "elastic", "mechanical", "work", "contact_dissipation", "numerical_dissipation",
+                           "balance"};
     bool known = false;
     for (const char* t : terms) known = known || p.energy_term == t;
-    if (!known) spec.fail("unknown energy term (expected kinetic, elastic, work, contact_dissipation, numerical_dissipation or balance)");
+    if (!known)
+      spec.fail("unknown energy term (expected kinetic, elastic, mechanical, work, contact_dissipation, "
+                "numerical_dissipation or balance)");
   } else if (kind == "contact_force") {
     spec.allow_only({"contact", "component"});
     p.kind = ProbeDefinition::Kind::contact_force;
@@ -102,8 +105,8 @@ CheckDefinition read_check(const std::string& name, const SceneNode& node, const
     c.reference.erase(0, 1);
     try {
       for (const std::string& n : Expression::parse(c.reference).names())
-        if (n != "t" && !scope.variables.count(n) && !scope.functions.count(n))
-          reference.fail("unknown name '" + n + "' (not a parameter, a reference function or t)");
+        if (n != "t" && n != "initial" && !scope.variables.count(n) && !scope.functions.count(n))
+          reference.fail("unknown name '" + n + "' (not a parameter, a reference function, t or initial)");
     } catch (const ExpressionError& e) {
       reference.fail(std::string("in expression: ") + e.what());
     }

@@ -16,10 +16,10 @@
 namespace csim {
 namespace {
 
-constexpr double kYoung = 2.1e11;    // Pa
-constexpr double kDensity = 7800.0;  // kg/m³
-constexpr double kThickness = 0.1;   // m
-constexpr double kTraction = 1.0e7;  // Pa, tensile
+constexpr double kYoung = 2.1e11;                             // Pa
+constexpr double kDensity = 7800.0;                           // kg/m³
+constexpr double kThickness = 0.1;                            // m
+constexpr double kTraction = 1.0e7;                           // Pa, tensile
 constexpr double kLength = 2.0, kHeight = 0.5, kDepth = 0.4;  // m
 
 void rotate(Mesh& mesh, const Eigen::Matrix3d& rotation) {
@@ -35,9 +35,9 @@ Mesh bar(ElementType type) {
                                     : test::rectangle(type, 8, 2, kLength, kHeight);
 }
 
-// A bar [0, L] × [0, H] (× [0, W]) pulled by the traction p on its right end (pressure −p): left end
-// fixed along x, lateral rigid motions removed at the left corners only, so that σxx = p is uniform
-// and, in plane strain, u_x(L) = (1 − ν²) p L / E (σzz = ν p); in 3D, u_x(L) = p L / E.
+// A bar [0, L] × [0, H] (× [0, W]) pulled by the traction p on its right end (pressure −p): left
+// end fixed along x, lateral rigid motions removed at the left corners only, so that σxx = p is
+// uniform and, in plane strain, u_x(L) = (1 − ν²) p L / E (σzz = ν p); in 3D, u_x(L) = p L / E.
 struct TensionResult {
   Eigen::VectorXd u, f;
   Eigen::SparseMatrix<double> K;
@@ -136,8 +136,10 @@ TEST(PressureLoad, ResultantIsPressureTimesAreaAlongMinusNormal) {
     for (const auto& [side, normal_area] : sides) {
       const auto& [normal, area] = normal_area;
       const Eigen::Vector3d expected = -p * area * ((solid ? R3 : R2) * normal);
-      const Eigen::Vector3d total = resultant(mesh, pressure_load(model, mesh.face_sets.at(side), p));
-      EXPECT_LT((total - expected).norm(), 1e-12 * expected.norm()) << to_string(type) << " " << side;
+      const Eigen::Vector3d total =
+          resultant(mesh, pressure_load(model, mesh.face_sets.at(side), p));
+      EXPECT_LT((total - expected).norm(), 1e-12 * expected.norm())
+          << to_string(type) << " " << side;
     }
   }
 }
@@ -175,7 +177,7 @@ TEST(PressureLoad, CurvedAndWarpedFacesGiveTheProjectedArea) {
 
 TEST(PressureLoad, NodalSharesOfAStraightFace) {
   const double p = 1.0e6;  // Pa
-  // quad8 edge: 1/6, 1/6, 2/3 of the edge's force (Zienkiewicz & Taylor vol. 1, §9.x consistent load).
+  // Consistent load of a straight quadratic edge: 1/6, 1/6, 2/3 of the edge's force (∫ N_a ds / L).
   const Mesh mesh = test::rectangle(ElementType::quad8, 1, 1, kLength, kHeight);
   const FeModel model{mesh, {kYoung, 0.3, kDensity}, kThickness};
   const Face& right = mesh.face_sets.at("right").front();
@@ -195,7 +197,8 @@ TEST(PressureLoad, MalformedFacesThrowNamingThem) {
     pressure_load(model, faces, 1.0);
     ADD_FAILURE() << "a 3-node face accepted on a quad4 mesh";
   } catch (const FemError& error) {
-    EXPECT_NE(std::string(error.what()).find("face 1 (element 1)"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("face 1 (element 1)"), std::string::npos)
+        << error.what();
   }
   faces[1].nodes = {0, 1000};
   EXPECT_THROW(pressure_load(model, faces, 1.0), FemError);
@@ -229,11 +232,13 @@ TEST(Mass, TotalIsDensityTimesVolumePerDirection) {
 TEST(Assembly, StiffnessIsSymmetricWithTheMeshPattern) {
   Mesh mesh = test::rectangle(ElementType::quad8, 3, 2, kLength, kHeight);
   test::distort(mesh, 0.02);
-  const Eigen::SparseMatrix<double> K = assemble_stiffness({mesh, {kYoung, 0.3, kDensity}, kThickness});
+  const Eigen::SparseMatrix<double> K =
+      assemble_stiffness({mesh, {kYoung, 0.3, kDensity}, kThickness});
   EXPECT_EQ(K.rows(), mesh.dof_count());
   EXPECT_EQ((K - Eigen::SparseMatrix<double>(K.transpose())).norm(), 0.0);
-  EXPECT_THROW(element_stresses({mesh, {kYoung, 0.3, kDensity}, kThickness}, Eigen::VectorXd::Zero(3)),
-               FemError);
+  EXPECT_THROW(
+      element_stresses({mesh, {kYoung, 0.3, kDensity}, kThickness}, Eigen::VectorXd::Zero(3)),
+      FemError);
   EXPECT_THROW(strain_energy(K, Eigen::VectorXd::Zero(3)), FemError);
   EXPECT_THROW(assemble_stiffness({mesh, {kYoung, 0.3, kDensity}, 0.0}), FemError);
 }
@@ -249,7 +254,9 @@ TEST(Assembly, TimeOf160By160Quad4) {
   const auto mass_done = Clock::now();
   const Eigen::SparseMatrix<double> M_lumped = assemble_mass(model, true);
   const auto lumped_done = Clock::now();
-  auto ms = [](auto duration) { return std::chrono::duration<double, std::milli>(duration).count(); };
+  auto ms = [](auto duration) {
+    return std::chrono::duration<double, std::milli>(duration).count();
+  };
   std::cout << "[ timing   ] 160×160 quad4, " << K.rows() << " dofs, " << K.nonZeros()
             << " nonzeros: K " << ms(stiffness_done - start) << " ms, consistent M "
             << ms(mass_done - stiffness_done) << " ms, lumped M " << ms(lumped_done - mass_done)

@@ -44,7 +44,8 @@ inline Mesh rectangle(ElementType type, int nx, int ny, double lx, double ly) {
     for (int ex = 0; ex < nx; ++ex) {
       const int i = s * ex, j = s * ey, e = static_cast<int>(mesh.elements.size());
       std::vector<int> nodes{at(i, j), at(i + s, j), at(i + s, j + s), at(i, j + s)};
-      if (s == 2) nodes.insert(nodes.end(), {at(i + 1, j), at(i + 2, j + 1), at(i + 1, j + 2), at(i, j + 1)});
+      if (s == 2)
+        nodes.insert(nodes.end(), {at(i + 1, j), at(i + 2, j + 1), at(i + 1, j + 2), at(i, j + 1)});
       // Edge k runs from corner k to corner k+1 (mid-side node 4 + k): counter-clockwise, outward.
       auto edge = [&](int k) {
         Face face{e, k, {nodes[k], nodes[(k + 1) % 4]}};
@@ -83,9 +84,9 @@ inline Mesh box(int nx, int ny, int nz, double lx, double ly, double lz) {
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const int e = static_cast<int>(mesh.elements.size());
-        const std::vector<int> n{at(i, j, k),         at(i + 1, j, k),     at(i + 1, j + 1, k),
-                                 at(i, j + 1, k),     at(i, j, k + 1),     at(i + 1, j, k + 1),
-                                 at(i + 1, j + 1, k + 1), at(i, j + 1, k + 1)};
+        const std::vector<int> n{
+            at(i, j, k),     at(i + 1, j, k),     at(i + 1, j + 1, k),     at(i, j + 1, k),
+            at(i, j, k + 1), at(i + 1, j, k + 1), at(i + 1, j + 1, k + 1), at(i, j + 1, k + 1)};
         if (i == 0) mesh.face_sets["left"].push_back({e, 0, {n[0], n[4], n[7], n[3]}});
         if (i == nx - 1) mesh.face_sets["right"].push_back({e, 1, {n[1], n[2], n[6], n[5]}});
         if (j == 0) mesh.face_sets["bottom"].push_back({e, 2, {n[0], n[1], n[5], n[4]}});
@@ -97,8 +98,8 @@ inline Mesh box(int nx, int ny, int nz, double lx, double ly, double lz) {
   return mesh;
 }
 
-// Moves every node (or only those not in the "boundary" set) by a deterministic pseudo-random offset
-// of at most `amplitude` (m) per component; z is moved only in 3D meshes.
+// Moves every node (or only those not in the "boundary" set) by a deterministic pseudo-random
+// offset of at most `amplitude` (m) per component; z is moved only in 3D meshes.
 inline void distort(Mesh& mesh, double amplitude, bool interior_only = false) {
   const std::vector<int>& boundary = mesh.node_sets["boundary"];
   const bool solid = mesh.element_type == ElementType::hexa8;
@@ -119,8 +120,10 @@ inline Eigen::VectorXd solve(const Eigen::SparseMatrix<double>& K, const Eigen::
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
   for (int dof = 0; dof < n; ++dof) {
     const auto fixed = prescribed.find(dof);
-    if (fixed == prescribed.end()) free_index[dof] = free_count++;
-    else u(dof) = fixed->second;
+    if (fixed == prescribed.end())
+      free_index[dof] = free_count++;
+    else
+      u(dof) = fixed->second;
   }
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::VectorXd rhs(free_count);
@@ -130,8 +133,10 @@ inline Eigen::VectorXd solve(const Eigen::SparseMatrix<double>& K, const Eigen::
     for (Eigen::SparseMatrix<double>::InnerIterator it(K, column); it; ++it) {
       const int row = static_cast<int>(it.row());
       if (free_index[row] < 0) continue;
-      if (free_index[column] >= 0) triplets.emplace_back(free_index[row], free_index[column], it.value());
-      else rhs(free_index[row]) -= it.value() * u(column);
+      if (free_index[column] >= 0)
+        triplets.emplace_back(free_index[row], free_index[column], it.value());
+      else
+        rhs(free_index[row]) -= it.value() * u(column);
     }
   Eigen::SparseMatrix<double> K_free(free_count, free_count);
   K_free.setFromTriplets(triplets.begin(), triplets.end());
