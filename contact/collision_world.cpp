@@ -3,6 +3,8 @@
 #include "contact/narrow_phase.h"
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/math/bv/OBBRSS.h>
 #include <fcl/narrowphase/collision_object.h>
 
 #include <algorithm>
@@ -25,6 +27,12 @@ class MarginCollisionObject : public fcl::CollisionObjectd {
   void set_world_aabb(const Eigen::Vector3d& centre, const Eigen::Vector3d& half_size) {
     aabb.min_ = centre - half_size;
     aabb.max_ = centre + half_size;
+  }
+  // FCL's own world AABB (from the geometry's local AABB), widened by the margin.
+  void compute_inflated_aabb(double margin) {
+    computeAABB();
+    aabb.min_.array() -= margin;
+    aabb.max_.array() += margin;
   }
 };
 
@@ -68,12 +76,38 @@ Shape normalised(Shape shape) {
 }  // namespace
 
 struct CollisionWorld::Impl {
+  // A deformable surface: its node positions and the FCL BVH of its triangles.
+  struct Surface {
+    DeformableSurfaceGeometry geometry;
+    std::vector<Eigen::Vector3d> positions;      // m, world, every node
+    std::vector<fcl::Vector3d> vertices;         // BVH vertices (2D: each node at z = ±½)
+    std::vector<fcl::Triangle> triangles;
+    std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
+  };
+
   struct Object {
     ShapeInstance instance;
     int body = -1;
     bool fixed = false;
     std::unique_ptr<MarginCollisionObject> fcl_object;  // null for halfspaces (kept out of the tree)
+    std::unique_ptr<Surface> surface;                    // deformable surfaces only
   };
+
+  void fill_vertices(Surface& surface) const {
+    const std::size_t n = surface.positions.size();
+    surface.vertices.resize(planar ? 2 * n : n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (planar) {
+        surface.vertices[2 * i] = surface.positions[i] - 0.5 * Eigen::Vector3d::UnitZ();
+        surface.vertices[2 * i + 1] = surface.positions[i] + 0.5 * Eigen::Vector3d::UnitZ();
+      } else {
+        surface.vertices[i] = surface.positions[i];
+      }
+    }
+  }
+
+  void surface_contacts(const Object& surface, const Object& shape, bool surface_is_a,
+                        std::vector<ContactPoint>& out) const;
 
   explicit Impl(bool planar_scene)
       : planar(planar_scene),
@@ -83,10 +117,14 @@ struct CollisionWorld::Impl {
   bool can_collide(int a, int b) const {
     const Object& oa = objects[a];
     const Object& ob = objects[b];
-    return oa.body != ob.body && !(oa.fixed && ob.fixed);
+    return oa.body != ob.body && !(oa.fixed && ob.fixed) && !(oa.surface && ob.surface);
   }
 
   void refresh_aabb(Object& object) const {
+    if (object.surface) {
+      object.fcl_object->compute_inflated_aabb(margin);
+      return;
+    }
     object.fcl_object->set_world_aabb(
         object.instance.pose.translation(),
         world_half_size(object.instance.shape, object.instance.pose).array() + margin);
@@ -175,12 +213,73 @@ void CollisionWorld::find_contacts(std::vector<ContactPoint>& out) const {
   out.clear();
   impl_->gather_candidate_pairs();
   for (const auto& [a, b] : impl_->candidates) {
-    impl_->narrow_phase.collide(impl_->objects[a].instance, impl_->objects[b].instance,
-                                impl_->margin, out);
+    const Impl::Object& oa = impl_->objects[a];
+    const Impl::Object& ob = impl_->objects[b];
+    if (oa.surface) impl_->surface_contacts(oa, ob, true, out);
+    else if (ob.surface) impl_->surface_contacts(ob, oa, false, out);
+    else impl_->narrow_phase.collide(oa.instance, ob.instance, impl_->margin, out);
   }
   // Pairs come sorted and features ascend within a pair, so this only guards that invariant.
   const auto by_key = [](const ContactPoint& x, const ContactPoint& y) { return x.key < y.key; };
   if (!std::is_sorted(out.begin(), out.end(), by_key)) std::sort(out.begin(), out.end(), by_key);
+}
+
+void CollisionWorld::Impl::surface_contacts(const Object& surface, const Object& shape, bool surface_is_a,
+                                           std::vector<ContactPoint>& out) const {
+  const std::size_t begin = out.size();
+  for (int node : surface.surface->geometry.contact_nodes)
+    node_shape_contact(surface.surface->positions[node], node, shape.instance.shape, shape.instance.pose, margin,
+                       surface_is_a, planar, out);
+  for (std::size_t i = begin; i < out.size(); ++i) {
+    out[i].key.object_a = surface_is_a ? surface.instance.id : shape.instance.id;
+    out[i].key.object_b = surface_is_a ? shape.instance.id : surface.instance.id;
+    complete_frame(out[i], planar);
+  }
+}
+
+int CollisionWorld::add_deformable_surface(int body, const std::vector<Eigen::Vector3d>& node_positions,
+                                           const DeformableSurfaceGeometry& geometry) {
+  const int id = object_count();
+  Impl::Object& object = impl_->objects.emplace_back();
+  object.instance.id = id;
+  object.body = body;
+  object.surface = std::make_unique<Impl::Surface>();
+  Impl::Surface& surface = *object.surface;
+  surface.geometry = geometry;
+  surface.positions = node_positions;
+  impl_->fill_vertices(surface);
+  if (impl_->planar) {
+    for (const auto& [a, b] : geometry.segments) {  // the edge a-b as the quad (a−, b−, b+, a+)
+      surface.triangles.emplace_back(2 * a, 2 * b, 2 * b + 1);
+      surface.triangles.emplace_back(2 * a, 2 * b + 1, 2 * a + 1);
+    }
+  } else {
+    for (const auto& t : geometry.triangles) surface.triangles.emplace_back(t[0], t[1], t[2]);
+  }
+  surface.model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  surface.model->beginModel();
+  surface.model->addSubModel(surface.vertices, surface.triangles);
+  surface.model->endModel();
+  surface.model->computeLocalAABB();
+  object.fcl_object = std::make_unique<MarginCollisionObject>(surface.model);
+  object.fcl_object->setUserData(id_as_user_data(id));
+  impl_->refresh_aabb(object);
+  impl_->manager->registerObject(object.fcl_object.get());
+  impl_->moving_in_tree.push_back(id);
+  return id;
+}
+
+void CollisionWorld::set_node_positions(int object, const std::vector<Eigen::Vector3d>& node_positions) {
+  Impl::Object& o = impl_->objects.at(object);
+  if (!o.surface) throw std::invalid_argument("set_node_positions: object is not a deformable surface");
+  Impl::Surface& surface = *o.surface;
+  surface.positions = node_positions;
+  impl_->fill_vertices(surface);
+  // The refit sequence of FCL 0.7: without computeLocalAABB() the object's AABB keeps the old extent.
+  surface.model->beginUpdateModel();
+  surface.model->updateSubModel(surface.vertices);
+  surface.model->endUpdateModel();
+  surface.model->computeLocalAABB();
 }
 
 int CollisionWorld::body_of(int object) const { return impl_->objects.at(object).body; }

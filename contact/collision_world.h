@@ -21,6 +21,7 @@
 #pragma once
 
 #include "contact/contact_point.h"
+#include "contact/deformable_surface.h"
 #include "contact/shape.h"
 
 #include <Eigen/Geometry>
@@ -41,8 +42,15 @@ class CollisionWorld {
   // non-positive size, a zero halfspace normal, or a halfspace on a non-fixed body.
   int add_object(int body, const Shape& shape, bool fixed);
 
+  // A deformable surface (deformable_surface.h) of `body`, with its nodes' world positions (m).
+  // Deformable surfaces touch rigid shapes only (not each other). Returns the object id.
+  int add_deformable_surface(int body, const std::vector<Eigen::Vector3d>& node_positions,
+                             const DeformableSurfaceGeometry& geometry);
+
   // World pose of the object's shape frame. Call for the moving objects, then update().
   void set_pose(int object, const Eigen::Isometry3d& pose);
+  // Current node positions of a deformable surface (all its nodes, as given to add_…); then update().
+  void set_node_positions(int object, const std::vector<Eigen::Vector3d>& node_positions);
 
   // Refreshes AABBs (inflated by margin, m, ≥ 0) and the manager (FCL's update()).
   void update(double margin);

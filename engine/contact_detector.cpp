@@ -1,5 +1,9 @@
 #include "engine/contact_detector.h"
 
+#include "engine/bodies/fe_body.h"
+
+#include <cmath>
+
 namespace csim {
 
 namespace {
@@ -8,21 +12,20 @@ ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
 }
 }  // namespace
 
-void contact_rows(const World& world, const Vector& q, int body_a, int body_b, const ContactPoint& c,
-                  int dimension, Eigen::Ref<Matrix> rows) {
+void contact_rows(const World& world, const Vector& q, int body_a, const Eigen::Vector3d& local_a, int body_b,
+                  const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, Eigen::Ref<Matrix> rows) {
   rows.setZero();
   Eigen::Matrix<double, 3, 3> frame;
   frame.col(0) = c.normal;
   frame.col(1) = c.t1;
   frame.col(2) = c.t2;
   const int ids[2] = {body_a, body_b};
-  const Eigen::Vector3d* points[2] = {&c.point_a, &c.point_b};
+  const Eigen::Vector3d* locals[2] = {&local_a, &local_b};
   for (int side = 0; side < 2; ++side) {
     const BodyInstance& b = world.bodies[ids[side]];
     if (b.body->fixed()) continue;
     const ConstVectorRef qb = positions_of(b, q);
-    const Eigen::Vector3d local = b.body->pose(qb).inverse() * *points[side];
-    const PointJacobian J = b.body->point_jacobian(qb, local);
+    const PointJacobian J = b.body->point_jacobian(qb, *locals[side]);
     J.scatter(rows, b.velocity_offset, frame.leftCols(dimension).transpose(), side == 0 ? -1.0 : 1.0);
   }
 }
@@ -45,6 +48,28 @@ ContactDetector::ContactDetector(const World& world)
   for (int i = 0; i < nb; ++i) {
     if (!in_contact[i]) continue;
     const BodyInstance& b = world.bodies[i];
+    if (const auto* fe = dynamic_cast<const FeBody*>(b.body.get())) {
+      // An elastic body touches through its boundary nodes (node-to-surface against rigid shapes).
+      DeformableSurfaceGeometry geometry;
+      const std::vector<Face> faces = boundary_faces(fe->mesh());
+      for (const Face& f : faces) {
+        if (f.nodes.size() == 2) geometry.segments.push_back({f.nodes[0], f.nodes[1]});
+        else if (fe->mesh().dimension() == 2) {  // quad8 edge: corner, corner, mid-side
+          geometry.segments.push_back({f.nodes[0], f.nodes[2]});
+          geometry.segments.push_back({f.nodes[2], f.nodes[1]});
+        } else {
+          geometry.triangles.push_back({f.nodes[0], f.nodes[1], f.nodes[2]});
+          geometry.triangles.push_back({f.nodes[0], f.nodes[2], f.nodes[3]});
+        }
+      }
+      geometry.contact_nodes = nodes_of(faces);
+      const int object = collision_->add_deformable_surface(i, fe->mesh().nodes, geometry);
+      object_body_.resize(object + 1);
+      object_shape_.resize(object + 1);
+      object_body_[object] = i;
+      object_shape_[object] = -1;
+      continue;
+    }
     for (std::size_t s = 0; s < b.shapes.size(); ++s) {
       const int object = collision_->add_object(i, b.shapes[s].shape, b.body->fixed());
       object_body_.resize(object + 1);
@@ -58,14 +83,26 @@ ContactDetector::ContactDetector(const World& world)
 
 ContactDetector::~ContactDetector() = default;
 
+Eigen::Vector3d ContactDetector::material_point(const Vector& q, int object, const ContactPoint& c,
+                                               const Eigen::Vector3d& world_point) const {
+  const BodyInstance& b = world_.bodies[object_body_[object]];
+  if (object_shape_[object] < 0) return static_cast<const FeBody&>(*b.body).mesh().nodes[c.key.feature];
+  return b.body->pose(positions_of(b, q)).inverse() * world_point;
+}
+
 double ContactDetector::travel_bound(const Vector& v, double h) const {
   double speed = 0.0;
   for (const BodyInstance& b : world_.bodies) {
     if (b.body->fixed()) continue;
     const auto vb = v.segment(b.velocity_offset, b.body->velocity_size());
-    const int translations = std::min<int>(world_.dimension, static_cast<int>(vb.size()));
-    double s = vb.head(translations).norm();
-    if (vb.size() > translations) s += vb.tail(vb.size() - translations).norm() * b.body->bounding_radius;
+    double s = 0.0;
+    if (b.body->elastic()) {  // nodal velocities: the fastest node, all its components at that speed
+      s = vb.size() > 0 ? vb.cwiseAbs().maxCoeff() * std::sqrt(double(world_.dimension)) : 0.0;
+    } else {
+      const int translations = std::min<int>(world_.dimension, static_cast<int>(vb.size()));
+      s = vb.head(translations).norm();
+      if (vb.size() > translations) s += vb.tail(vb.size() - translations).norm() * b.body->bounding_radius;
+    }
     speed = std::max(speed, s);
   }
   return speed * h;
@@ -81,6 +118,15 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;
+    if (object_shape_[o] < 0) {
+      const auto& fe = static_cast<const FeBody&>(*b.body);
+      const auto qb = positions_of(b, q);
+      node_positions_.resize(fe.mesh().nodes.size());
+      for (std::size_t n = 0; n < node_positions_.size(); ++n)
+        node_positions_[n] = fe.mesh().nodes[n] + fe.node_displacement(qb, static_cast<int>(n));
+      collision_->set_node_positions(static_cast<int>(o), node_positions_);
+      continue;
+    }
     collision_->set_pose(static_cast<int>(o),
                          b.body->pose(positions_of(b, q)) * b.shapes[object_shape_[o]].local_pose);
   }
@@ -97,7 +143,8 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     const ContactLaw& law = world_.contact_laws[law_index];
     if (!law.isotropic()) complete_frame(point, world_.dimension == 2, law.friction_direction);
     const int i = static_cast<int>(contacts.size());
-    contact_rows(world_, q, body_a, body_b, point, d, rows.middleRows(d * i, d));
+    contact_rows(world_, q, body_a, material_point(q, point.key.object_a, point, point.point_a), body_b,
+                 material_point(q, point.key.object_b, point, point.point_b), point, d, rows.middleRows(d * i, d));
     ActiveContact& c = contacts.emplace_back();
     c.point = point;
     c.law = law_index;

@@ -27,6 +27,10 @@ class ContactDetector {
   // velocity_size columns (rows may be longer: it is sized for every candidate point, not reallocated).
   void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, Matrix& rows);
 
+  // The material point of a contact on one side: a node's reference coordinates on an elastic body
+  // (feature = node), the world point taken to the body frame otherwise.
+  Eigen::Vector3d material_point(const Vector& q, int object, const ContactPoint& c, const Eigen::Vector3d& world_point) const;
+
   // The bound on how far any material point moves in time h at velocities v (m), for margins.
   double travel_bound(const Vector& v, double h) const;
 
@@ -35,13 +39,16 @@ class ContactDetector {
   int dimension_;
   std::unique_ptr<CollisionWorld> collision_;
   std::vector<int> object_body_;   // collision object → body index
-  std::vector<int> object_shape_;  // collision object → shape index in its body
+  std::vector<int> object_shape_;  // collision object → shape index in its body, −1 for a deformable surface
+  std::vector<Eigen::Vector3d> node_positions_;  // work buffer for the elastic bodies' surfaces
   std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
   std::vector<ContactPoint> points_;
 };
 
-// Rows of one contact point between bodies A and B at positions q, into rows (dimension × n).
-void contact_rows(const World& world, const Vector& q, int body_a, int body_b, const ContactPoint& c,
-                  int dimension, Eigen::Ref<Matrix> rows);
+// Rows of one contact point between bodies A and B at positions q, into rows (dimension × n); local_a
+// and local_b are the touching material points in their bodies' frames (a node's reference
+// coordinates on an elastic body).
+void contact_rows(const World& world, const Vector& q, int body_a, const Eigen::Vector3d& local_a, int body_b,
+                  const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, Eigen::Ref<Matrix> rows);
 
 }  // namespace csim

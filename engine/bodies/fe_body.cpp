@@ -57,6 +57,7 @@ FeBody::FeBody(Mesh mesh, const ElasticMaterial& material, double thickness, boo
     high = high.cwiseMax(x);
   }
   size_ = std::max((high - low).norm(), 1e-300);
+  for (std::size_t i = 0; i < mesh_.nodes.size(); ++i) node_of_coordinates_.emplace(mesh_.nodes[i], static_cast<int>(i));
   bounding_radius = high.cwiseAbs().cwiseMax(low.cwiseAbs()).norm();
 }
 
@@ -68,7 +69,10 @@ void FeBody::add_internal_force(const ConstVectorRef& q, VectorRef f) const { f 
 
 double FeBody::strain_energy(const ConstVectorRef& q) const { return 0.5 * q.dot(stiffness_ * q); }
 
+// Exact reference coordinates (contacts pass a node's own) are found at once; a point typed by a user
+// (a spring's or a probe's) within 1e-9 of the mesh size by a search.
 int FeBody::node_at(const Eigen::Vector3d& point) const {
+  if (const auto it = node_of_coordinates_.find(point); it != node_of_coordinates_.end()) return it->second;
   for (std::size_t i = 0; i < mesh_.nodes.size(); ++i)
     if ((mesh_.nodes[i] - point).norm() <= 1e-9 * size_) return static_cast<int>(i);
   return -1;

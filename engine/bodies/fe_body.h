@@ -11,6 +11,7 @@
 #include "fem/mesh.h"
 
 #include <Eigen/SparseCore>
+#include <unordered_map>
 
 namespace csim {
 
@@ -60,6 +61,13 @@ class FeBody final : public Body {
   SparseMatrix mass_, stiffness_;  // restricted to the free dofs
   double total_mass_ = 0.0;
   double size_ = 1.0;              // m, the mesh's bounding-box diagonal
+  struct CoordinatesHash {
+    std::size_t operator()(const Eigen::Vector3d& x) const {
+      const std::hash<double> h;
+      return h(x.x()) ^ (h(x.y()) << 1) ^ (h(x.z()) << 2);
+    }
+  };
+  std::unordered_map<Eigen::Vector3d, int, CoordinatesHash> node_of_coordinates_;  // exact reference coordinates
 };
 
 }  // namespace csim

@@ -131,8 +131,13 @@ void read_contacts(const SceneNode& root, World& world) {
     law.restitution = node.number("restitution", 0.0);
     if (law.restitution < 0.0 || law.restitution > 1.0)
       node.fail_at("restitution", "must lie in [0, 1]");
-    if (world.bodies[law.body_a].shapes.empty()) node.fail_at("between", "body '" + world.bodies[law.body_a].name + "' has no shapes");
-    if (world.bodies[law.body_b].shapes.empty()) node.fail_at("between", "body '" + world.bodies[law.body_b].name + "' has no shapes");
+    // An elastic body touches through its boundary nodes; the other bodies through their shapes.
+    for (int body : {law.body_a, law.body_b})
+      if (world.bodies[body].shapes.empty() && !world.bodies[body].body->elastic())
+        node.fail_at("between", "body '" + world.bodies[body].name + "' has no shapes");
+    if (world.bodies[law.body_a].body->elastic() && world.bodies[law.body_b].body->elastic())
+      node.fail_at("between", "contact between two elastic bodies is not supported yet (node-to-surface "
+                              "contact works against rigid shapes)");
     world.contact_laws.push_back(law);
   }
 }
