@@ -48,6 +48,24 @@ double ProbeEvaluator::evaluate(const ProbeDefinition& p, const State& state) co
     }
     case Kind::contact_force:
       return contact_force(p, state);
+    case Kind::contact_count: {
+      int count = 0;
+      for (const ActiveContact& c : state.contacts) {
+        if (c.law != p.contact_law || !(c.impulse(0) > 0.0)) continue;
+        if (p.force_component == "closed" || (p.force_component == "stick") == (c.status == ContactStatus::stick))
+          ++count;
+      }
+      return count;
+    }
+    case Kind::contact_count: {
+      int count = 0;
+      for (const ActiveContact& c : state.contacts) {
+        if (c.law != p.contact_law || !(c.impulse(0) > 0.0)) continue;
+        if (p.force_component == "closed" || (p.force_component == "stick") == (c.status == ContactStatus::stick))
+          ++count;
+      }
+      return count;
+    }
   }
   return 0.0;
 }

@@ -4,7 +4,9 @@
 //                 mechanical = kinetic + elastic;
 //   contact_force the resultant of a contact law's impulses / h on its first body (N): normal
 //                 (compressive positive), tangential (2D: along e_z × n with n pointing into that
-//                 body; 3D: magnitude), or a world component.
+//                 body; 3D: magnitude), or a world component;
+//   contact_count the number of a law's points that carry a normal force (closed), or of those in stick
+//                 or in slip.
 #pragma once
 
 #include "engine/scene/scene.h"

@@ -2,9 +2,11 @@
 
 #include "engine/output/atomic_file.h"
 #include "engine/output/json_writer.h"
+#include "engine/output/vtk_writer.h"
 #include "engine/probes.h"
 #include "engine/steppers/ida_integrator.h"
 #include "engine/steppers/moreau_jean.h"
+#include "engine/steppers/quasi_static.h"
 
 #include <chrono>
 #include <cstdio>
@@ -69,9 +71,11 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     const std::filesystem::path dir(options.output_directory);
     std::filesystem::remove(dir / "probes.csv");
     std::filesystem::remove(dir / "summary.json");
+    remove_paraview_outputs(options.output_directory);
   }
   std::unique_ptr<Stepper> stepper_owner;
   if (run.integrator == "ida" || run.integrator == "ida-events") stepper_owner = std::make_unique<IdaIntegrator>(scene.world, run.ida);
+  else if (run.integrator == "quasi-static") stepper_owner = std::make_unique<QuasiStatic>(scene.world, run.quasi_static);
   else stepper_owner = std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
   Stepper& stepper = *stepper_owner;
   ProbeEvaluator probes(scene.world, run);
@@ -89,10 +93,18 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const double h = run.moreau_jean.step;
   const long steps = std::lround(std::ceil(run.end_time / h - 1e-9));
   const double rate = std::max(run.output_rate, h);
+  // ParaView frames of the elastic bodies, at the rows of probes.csv (DESIGN.md §4).
+  std::unique_ptr<ParaviewSeries> paraview;
+  if (!options.output_directory.empty() && has_elastic_bodies(scene.world))
+    paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory);
+  const auto output_row = [&](const std::vector<double>& row) {
+    append_row(csv, state.t, row, report);
+    if (paraview) paraview->write_frame(scene.world, state, state.t);
+  };
   std::vector<double> values;
   probes.evaluate(state, values);
   checks.add_sample(state.t, values);
-  append_row(csv, state.t, values, report);
+  output_row(values);
   double next_output = rate;
 
   Progress progress(options.progress);
@@ -111,7 +123,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     probes.evaluate(state, values);
     checks.add_sample(state.t, values);
     if (state.t >= next_output - 0.5 * h || k + 1 == steps) {
-      append_row(csv, state.t, values, report);
+      output_row(values);
       while (next_output <= state.t + 0.5 * h) next_output += rate;
     }
     progress.update(state.t, run.end_time);
@@ -124,6 +136,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     const std::filesystem::path dir(options.output_directory);
     write_file_atomically((dir / "probes.csv").string(), csv.str());
     write_file_atomically((dir / "summary.json").string(), summary_json(scene, report));
+    if (paraview) paraview->finish();
   }
   return report;
 }

@@ -5,6 +5,7 @@
 #include "engine/scene/scene_node.h"
 #include "engine/steppers/ida_integrator.h"
 #include "engine/steppers/moreau_jean.h"
+#include "engine/steppers/quasi_static.h"
 #include "engine/world.h"
 
 #include <memory>
@@ -15,7 +16,7 @@ namespace csim {
 
 // A named time series sampled every step.
 struct ProbeDefinition {
-  enum class Kind { displacement, position, velocity, energy, contact_force };
+  enum class Kind { displacement, position, velocity, energy, contact_force, contact_count };
   std::string name;
   Kind kind = Kind::displacement;
   int body = -1;
@@ -24,7 +25,7 @@ struct ProbeDefinition {
   int velocity_index = -1;                              // velocity probes
   std::string energy_term;                              // kinetic, elastic, work, contact_dissipation, numerical_dissipation, balance
   int contact_law = -1;                                 // contact_force probes: force on the law's first body
-  std::string force_component;                          // normal, tangential, x, y, z
+  std::string force_component;                          // normal, tangential, x, y, z; contact_count: closed, stick, slip
 };
 
 // What a check compares with its reference.
@@ -51,6 +52,7 @@ struct RunSettings {
   double end_time = 1.0;     // s
   MoreauJeanParameters moreau_jean;
   IdaParameters ida;         // used when integrator == "ida"; its sample_step is time.step
+  QuasiStaticParameters quasi_static;  // used when integrator == "quasi-static"
   double output_rate = 0.0;  // s between rows of probes.csv; 0 = every step
   std::vector<ProbeDefinition> probes;
   std::vector<CheckDefinition> checks;

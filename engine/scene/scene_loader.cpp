@@ -22,10 +22,12 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   // `--set integrator.type=ida --set integrator.rtol=1e-8` works on any scene.
   const SceneNode integrator = root.section("integrator");
   integrator.allow_only({"type", "theta", "rtol", "atol", "penalty_stiffness", "penalty_damping", "epsilon",
-                         "linear_solver", "max_step", "max_steps"});
+                         "linear_solver", "max_step", "max_steps", "contact_distance"});
   run.integrator = integrator.string("type", "moreau-jean");
-  if (run.integrator != "moreau-jean" && run.integrator != "ida" && run.integrator != "ida-events")
-    integrator.fail_at("type", "unknown integrator '" + run.integrator + "' (available: moreau-jean, ida, ida-events)");
+  if (run.integrator != "moreau-jean" && run.integrator != "ida" && run.integrator != "ida-events" &&
+      run.integrator != "quasi-static")
+    integrator.fail_at("type", "unknown integrator '" + run.integrator +
+                                   "' (available: moreau-jean, quasi-static, ida, ida-events)");
   mj.theta = integrator.number("theta", 0.5);
   if (mj.theta < 0.5 || mj.theta > 1.0) integrator.fail_at("theta", "theta must lie in [0.5, 1]");
   IdaParameters& ida = run.ida;
@@ -42,6 +44,7 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   ida.linear_solver = integrator.string("linear_solver", "auto");
   if (ida.linear_solver != "auto" && ida.linear_solver != "dense" && ida.linear_solver != "klu")
     integrator.fail_at("linear_solver", "expected auto, dense or klu");
+  run.quasi_static.contact_distance = integrator.non_negative("contact_distance", 0.0);
   ida.max_step = integrator.non_negative("max_step", 0.0);
   const double max_steps = integrator.number("max_steps", 1000000);
   if (max_steps < 1 || max_steps != static_cast<long>(max_steps))
@@ -61,6 +64,9 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   mj.failure_residual = solver.number("failure_residual", 1e-6);
   if (!(mj.failure_residual >= mj.solver.tolerance))
     solver.fail_at("failure_residual", "must be >= contact_solver.tolerance");
+  run.quasi_static.step = mj.step;
+  run.quasi_static.solver = mj.solver;
+  run.quasi_static.failure_residual = mj.failure_residual;
 }
 
 void read_output(const SceneNode& root, RunSettings& run) {

@@ -1,4 +1,5 @@
 // probes (named time series) and checks (a probe against a reference, with a tolerance).
+#include "engine/bodies/fe_body.h"
 #include "engine/scene/scene_parts.h"
 
 namespace csim::scene_parts {
@@ -24,14 +25,23 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
   node.expect_map();
   const auto entries = node.entries();
   if (entries.size() != 1)
-    node.fail("a probe has exactly one kind: displacement, position, velocity, energy or contact_force");
+    node.fail("a probe has exactly one kind: displacement, position, velocity, energy, contact_force or contact_count");
   const auto& [kind, spec] = entries.front();
   const int d = world.dimension;
   if (kind == "displacement" || kind == "position") {
-    spec.allow_only({"body", "point", "component", "direction"});
+    spec.allow_only({"body", "point", "node", "component", "direction"});
     p.kind = kind == "position" ? ProbeDefinition::Kind::position : ProbeDefinition::Kind::displacement;
     p.body = body_named(spec, "body", world);
     if (spec.has("point")) p.point = spec.vector("point", d, d);
+    if (spec.has("node")) {  // a one-node set of an elastic body's mesh
+      const auto* fe = dynamic_cast<const FeBody*>(world.bodies[p.body].body.get());
+      if (!fe) spec.fail_at("node", "node sets belong to elastic bodies");
+      const std::string set = spec.string("node");
+      const auto it = fe->mesh().node_sets.find(set);
+      if (it == fe->mesh().node_sets.end() || it->second.size() != 1)
+        spec.fail_at("node", "the mesh has no one-node set '" + set + "'");
+      p.point = fe->mesh().nodes[it->second.front()];
+    }
     p.direction = component_direction(spec, d);
   } else if (kind == "velocity") {
     spec.allow_only({"body", "component"});
@@ -52,6 +62,16 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     if (!known)
       spec.fail("unknown energy term (expected kinetic, elastic, mechanical, work, contact_dissipation, "
                 "numerical_dissipation or balance)");
+  } else if (kind == "contact_count") {
+    spec.allow_only({"contact", "status"});
+    p.kind = ProbeDefinition::Kind::contact_count;
+    const std::string law = spec.string("contact");
+    for (std::size_t i = 0; i < world.contact_laws.size(); ++i)
+      if (world.contact_laws[i].name == law) p.contact_law = static_cast<int>(i);
+    if (p.contact_law < 0) spec.fail_at("contact", "no contact law named '" + law + "'");
+    p.force_component = spec.string("status", "closed");
+    if (p.force_component != "closed" && p.force_component != "stick" && p.force_component != "slip")
+      spec.fail_at("status", "expected closed, stick or slip");
   } else if (kind == "contact_force") {
     spec.allow_only({"contact", "component"});
     p.kind = ProbeDefinition::Kind::contact_force;
@@ -65,7 +85,8 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     for (const char* c : components) known = known || p.force_component == c;
     if (!known) spec.fail_at("component", "expected normal, tangential, x, y or z");
   } else {
-    spec.fail("unknown probe kind '" + kind + "' (expected displacement, position, velocity, energy or contact_force)");
+    spec.fail("unknown probe kind '" + kind +
+              "' (expected displacement, position, velocity, energy, contact_force or contact_count)");
   }
   return p;
 }

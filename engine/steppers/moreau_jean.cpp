@@ -1,5 +1,7 @@
 #include "engine/steppers/moreau_jean.h"
 
+#include "engine/steppers/contact_solve.h"
+
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -160,41 +162,9 @@ void MoreauJean::assemble(const State& state) {
 }
 
 void MoreauJean::solve(State& state) {
-  const int d = contact_dimension_;
-  const int nc = static_cast<int>(active_.size());
-  const int m = problem_.size();
-  r_.setZero(m);
-  // Warm start: the previous step's impulse of the contact with the same key (both lists sorted).
-  std::size_t j = 0;
-  for (int i = 0; i < nc; ++i) {
-    const ContactKey& key = active_[i].point.key;
-    while (j < state.contacts.size() && state.contacts[j].point.key < key) ++j;
-    if (j < state.contacts.size() && state.contacts[j].point.key == key)
-      r_.segment(d * i, d) = state.contacts[j].impulse.head(d);
-  }
-  if (m == 0) return;
-  const PgsStatistics stats = pgs_.solve(problem_, r_, &status_);
-  SolverCounters& c = state.counters;
-  ++c.solves;
-  c.total_iterations += stats.iterations;
-  c.max_iterations = std::max(c.max_iterations, stats.iterations);
-  c.max_residual = std::max(c.max_residual, stats.residual);
-  c.rejected_local_solutions += stats.rejected_local_solutions;
-  if (!stats.converged) {
-    if (c.not_converged++ == 0) c.first_not_converged_time = state.t + parameters_.step;
-    if (!(stats.residual <= parameters_.failure_residual)) {
-      std::ostringstream message;
-      message << "contact solver failed at t = " << state.t + parameters_.step << " s: residual "
-              << stats.residual << " after " << stats.iterations
-              << " iterations (failure threshold contact_solver.failure_residual = "
-              << parameters_.failure_residual << ")";
-      throw RunError(state.t + parameters_.step, message.str());
-    }
-  }
-  for (int i = 0; i < nc; ++i) {
-    active_[i].impulse.head(d) = r_.segment(d * i, d);
-    active_[i].status = status_.empty() ? ContactStatus::open : status_[i];
-  }
+  warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
+  solve_contacts(pgs_, problem_, parameters_.failure_residual, state.t + parameters_.step, r_, active_,
+                 state.counters);
 }
 
 void MoreauJean::update(State& state) {

@@ -71,7 +71,6 @@ class MoreauJean final : public Stepper {
   std::vector<int> active_rows_;      // candidate index of each active contact
   Matrix H_, X_;                      // contact/constraint rows (m × n) and W_it⁻¹ Hᵀ
   FrictionContactProblem problem_;
-  std::vector<ContactStatus> status_;
   Matrix constraint_rows_;            // equalities × n
   std::vector<std::vector<int>> constraint_positions_;  // position index of each term (−1: velocity only)
 };

@@ -1,0 +1,48 @@
+#include "engine/steppers/contact_solve.h"
+
+#include "engine/steppers/stepper.h"
+
+#include <sstream>
+
+namespace csim {
+
+void warm_start(const std::vector<ActiveContact>& previous, const std::vector<ActiveContact>& active,
+                int dimension, int size, Vector& r) {
+  r.setZero(size);
+  std::size_t j = 0;  // both lists are sorted by key
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    const ContactKey& key = active[i].point.key;
+    while (j < previous.size() && previous[j].point.key < key) ++j;
+    if (j < previous.size() && previous[j].point.key == key)
+      r.segment(dimension * i, dimension) = previous[j].impulse.head(dimension);
+  }
+}
+
+void solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
+                    double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c) {
+  if (problem.size() == 0) return;
+  std::vector<ContactStatus> status;
+  const PgsStatistics stats = pgs.solve(problem, r, &status);
+  ++c.solves;
+  c.total_iterations += stats.iterations;
+  c.max_iterations = std::max(c.max_iterations, stats.iterations);
+  c.max_residual = std::max(c.max_residual, stats.residual);
+  c.rejected_local_solutions += stats.rejected_local_solutions;
+  if (!stats.converged) {
+    if (c.not_converged++ == 0) c.first_not_converged_time = t_next;
+    if (!(stats.residual <= failure_residual)) {
+      std::ostringstream message;
+      message << "contact solver failed at t = " << t_next << " s: residual " << stats.residual << " after "
+              << stats.iterations << " iterations (failure threshold contact_solver.failure_residual = "
+              << failure_residual << ")";
+      throw RunError(t_next, message.str());
+    }
+  }
+  const int d = problem.dimension;
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    active[i].impulse.head(d) = r.segment(d * i, d);
+    active[i].status = status.empty() ? ContactStatus::open : status[i];
+  }
+}
+
+}  // namespace csim

@@ -1,0 +1,252 @@
+// ParaView output: the files of an elastic scene read back through a small XML parser (well-formed,
+// counts right, the tip displacement equal to the probe's), the contact writer on hand-made states, and
+// no ParaView files for lumped scenes or for a run that stopped.
+#include "engine/output/vtk_writer.h"
+#include "engine/run.h"
+#include "engine/scene/scene.h"
+#include "tests/engine/xml_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+namespace csim {
+namespace {
+
+namespace fs = std::filesystem;
+using test_xml::XmlElement;
+using test_xml::XmlReader;
+
+const std::string kBar = CSIM_SOURCE_DIR "/scenes/fe-free-vibration/scene.yaml";
+const std::string kIncline = CSIM_SOURCE_DIR "/scenes/incline/scene.yaml";
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+XmlElement read_xml(const fs::path& path) { return XmlReader(read_text(path)).document(); }
+
+const XmlElement& piece_of(const XmlElement& vtu) { return vtu.child("UnstructuredGrid").child("Piece"); }
+
+// probes.csv as a header and rows of numbers.
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  int column(const std::string& name) const {
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      if (columns[i] == name) return static_cast<int>(i);
+    throw std::runtime_error("no column " + name);
+  }
+};
+
+Table read_csv(const fs::path& path) {
+  std::istringstream in(read_text(path));
+  Table table;
+  std::string line, cell;
+  std::getline(in, line);
+  for (std::istringstream header(line); std::getline(header, cell, ',');) table.columns.push_back(cell);
+  while (std::getline(in, line)) {
+    table.rows.emplace_back();
+    for (std::istringstream row(line); std::getline(row, cell, ',');) table.rows.back().push_back(std::stod(cell));
+  }
+  return table;
+}
+
+fs::path fresh_directory(const std::string& name) {
+  const fs::path dir = fs::path(::testing::TempDir()) / name;
+  fs::remove_all(dir);
+  return dir;
+}
+
+// ---- the writers on plain data --------------------------------------------------------------------
+
+TEST(VtkWriter, XmlReaderRejectsMalformedText) {
+  for (const char* bad : {"<a><b></a></b>", "<a x=1/>", "<a x=\"1\"y=\"2\"/>", "<a>", "<a></a><b/>", "<a>&bad;</a>"})
+    EXPECT_THROW(XmlReader(bad).document(), std::runtime_error) << bad;
+  EXPECT_NO_THROW(XmlReader("<?xml version=\"1.0\"?>\n<a x='1'><b y=\"&amp;\"/>text</a>\n").document());
+}
+
+TEST(VtkWriter, VonMisesOfUniaxialAndPureShear) {
+  Stress uniaxial, shear;
+  uniaxial << 3.0, 0, 0, 0, 0, 0;
+  shear << 0, 0, 0, 2.0, 0, 0;
+  EXPECT_DOUBLE_EQ(von_mises(uniaxial), 3.0);
+  EXPECT_DOUBLE_EQ(von_mises(shear), 2.0 * std::sqrt(3.0));
+}
+
+ActiveContact contact_at(double x, ContactStatus status, const Eigen::Vector3d& impulse) {
+  ActiveContact c;
+  c.point.point_a = Eigen::Vector3d(x, 0.0, 0.0);
+  c.point.point_b = Eigen::Vector3d(x, -2e-6, 0.0);  // gap −2 µm along n = −e_y
+  c.point.normal = -Eigen::Vector3d::UnitY();
+  c.point.gap = -2e-6;
+  c.impulse = impulse;
+  c.status = status;
+  return c;
+}
+
+TEST(VtkWriter, ContactsCarryStatusImpulseNormalAndGap) {
+  const std::vector<ActiveContact> contacts{contact_at(0.5, ContactStatus::stick, {10.0, 1.5, 0.0}),
+                                            contact_at(2.0, ContactStatus::slip, {20.0, -6.0, 0.0})};
+  const XmlElement piece = piece_of(XmlReader(contacts_vtu(contacts, 0.25)).document());
+  EXPECT_EQ(piece.attributes.at("NumberOfPoints"), "2");
+  EXPECT_EQ(piece.attributes.at("NumberOfCells"), "2");
+  const XmlElement& data = piece.child("PointData");
+  EXPECT_EQ(data.array("status").attributes.at("type"), "Int32");
+  EXPECT_EQ(data.array("status").numbers(), (std::vector<double>{1, 2}));
+  EXPECT_EQ(data.array("impulse").numbers(), (std::vector<double>{10.0, 1.5, 0.0, 20.0, -6.0, 0.0}));
+  EXPECT_EQ(data.array("normal").numbers(), (std::vector<double>{0, -1, 0, 0, -1, 0}));
+  EXPECT_EQ(data.array("gap").numbers(), (std::vector<double>{-2e-6, -2e-6}));
+  EXPECT_EQ(piece.child("Points").child("DataArray").numbers(),
+            (std::vector<double>{0.5, -1e-6, 0, 2.0, -1e-6, 0}));  // midpoints of A's and B's points
+  const XmlElement& cells = piece.child("Cells");
+  EXPECT_EQ(cells.array("connectivity").numbers(), (std::vector<double>{0, 1}));
+  EXPECT_EQ(cells.array("offsets").numbers(), (std::vector<double>{1, 2}));
+  EXPECT_EQ(cells.array("types").numbers(), (std::vector<double>{1, 1}));  // VTK_VERTEX
+}
+
+TEST(VtkWriter, NoContactsGiveAValidEmptyGrid) {
+  const XmlElement vtu = XmlReader(contacts_vtu({}, 0.0)).document();
+  const XmlElement& piece = piece_of(vtu);
+  EXPECT_EQ(piece.attributes.at("NumberOfPoints"), "0");
+  EXPECT_EQ(piece.attributes.at("NumberOfCells"), "0");
+  EXPECT_TRUE(piece.child("PointData").array("status").numbers().empty());
+  EXPECT_TRUE(piece.child("Cells").array("offsets").numbers().empty());
+}
+
+TEST(VtkWriter, CollectionListsFilesWithTheirTimes) {
+  const XmlElement pvd = XmlReader(pvd_collection({{0.0, "a_000000.vtu"}, {1e-5, "a&b_000001.vtu"}})).document();
+  ASSERT_EQ(pvd.attributes.at("type"), "Collection");
+  const auto& sets = pvd.child("Collection").children;
+  ASSERT_EQ(sets.size(), 2u);
+  EXPECT_EQ(std::stod(sets[1].attributes.at("timestep")), 1e-5);
+  EXPECT_EQ(sets[1].attributes.at("file"), "a&amp;b_000001.vtu");  // escaped in the attribute
+}
+
+TEST(VtkWriter, CellTypesAndThreeComponentsForEachElementType) {
+  // One element of each type; 3D displacements keep their z, plane ones get z = 0.
+  for (const auto& [type, cell, d] : {std::tuple{ElementType::quad4, 9, 2}, std::tuple{ElementType::quad8, 23, 2},
+                                      std::tuple{ElementType::hexa8, 12, 3}}) {
+    Mesh mesh;
+    mesh.element_type = type;
+    const int n = nodes_per_element(type);
+    mesh.nodes.assign(n, Eigen::Vector3d::Zero());
+    mesh.elements.push_back({});
+    for (int i = 0; i < n; ++i) mesh.elements[0].push_back(i);
+    const Eigen::VectorXd u = Eigen::VectorXd::LinSpaced(d * n, 1.0, d * n);
+    const XmlElement piece =
+        piece_of(XmlReader(fe_body_vtu(mesh, u, u, {Stress::Zero()}, 0.0)).document());
+    EXPECT_EQ(piece.child("Cells").array("types").numbers(), std::vector<double>{double(cell)});
+    const std::vector<double> written = piece.child("PointData").array("displacement").numbers();
+    ASSERT_EQ(written.size(), 3u * n);
+    EXPECT_EQ(written[3 * (n - 1) + 1], d * (n - 1) + 2.0);              // y of the last node
+    EXPECT_EQ(written[3 * (n - 1) + 2], d == 3 ? 3.0 * n : 0.0);         // its z
+  }
+}
+
+// ---- a whole run ------------------------------------------------------------------------------------
+
+TEST(VtkWriter, ElasticBarFramesMatchTheProbes) {
+  const fs::path dir = fresh_directory("csim_vtk_bar");
+  const auto scene = load_scene(kBar, {"time.end=1e-4"});
+  const RunReport report = run_scene(*scene, {dir.string()});
+  const Table probes = read_csv(dir / "probes.csv");
+  ASSERT_EQ(probes.rows.size(), 11u);  // t = 0 and every 1e-5 s
+
+  for (const char* series : {"bar", "contacts"}) {
+    const XmlElement pvd = read_xml(dir / "paraview" / (std::string(series) + ".pvd"));
+    const auto& sets = pvd.child("Collection").children;
+    ASSERT_EQ(sets.size(), probes.rows.size()) << series;
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+      const double t = std::stod(sets[k].attributes.at("timestep"));
+      EXPECT_EQ(t, report.sample_times[k]) << series;
+      EXPECT_NEAR(t, probes.rows[k][0], 1e-12 * 1e-4) << series;  // probes.csv holds 15 digits
+      if (k > 0) {
+        EXPECT_GT(t, std::stod(sets[k - 1].attributes.at("timestep"))) << series;
+      }
+      EXPECT_TRUE(fs::exists(dir / "paraview" / sets[k].attributes.at("file"))) << series;
+    }
+  }
+
+  const int tip_column = probes.column("tip");
+  for (std::size_t k = 0; k < probes.rows.size(); ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "bar_%06zu.vtu", k);
+    const XmlElement piece = piece_of(read_xml(dir / "paraview" / name));
+    ASSERT_EQ(piece.attributes.at("NumberOfPoints"), "63") << name;  // 21 × 3 nodes
+    ASSERT_EQ(piece.attributes.at("NumberOfCells"), "40") << name;
+    const std::vector<double> u = piece.child("PointData").array("displacement").numbers();
+    const std::vector<double> v = piece.child("PointData").array("velocity").numbers();
+    const std::vector<double> x = piece.child("Points").child("DataArray").numbers();
+    ASSERT_EQ(u.size(), 3u * 63) << name;
+    ASSERT_EQ(v.size(), 3u * 63) << name;
+    EXPECT_EQ(piece.child("CellData").array("stress").numbers().size(), 6u * 40) << name;
+    EXPECT_EQ(piece.child("CellData").array("von_mises").numbers().size(), 40u) << name;
+    const std::vector<double> types = piece.child("Cells").array("types").numbers();
+    EXPECT_EQ(types, std::vector<double>(40, 9.0)) << name;  // VTK_QUAD
+    EXPECT_EQ(piece.child("Cells").array("connectivity").numbers().size(), 4u * 40) << name;
+
+    int tip = -1;
+    for (int i = 0; i < 63; ++i)
+      if (x[3 * i] == 1.0 && x[3 * i + 1] == 0.0) tip = i;
+    ASSERT_GE(tip, 0);
+    // The file holds u itself; the probe is (x_tip + u) − x_tip, rounded to an ulp of x_tip = 1 m
+    // (2.2e-16 m, 2e-12 of u at these times): allow that on top of 1e-12 relative.
+    const double probe = probes.rows[k][tip_column];
+    EXPECT_NEAR(u[3 * tip], probe, 1e-12 * std::abs(probe) + std::numeric_limits<double>::epsilon() * x[3 * tip])
+        << name;
+    if (k == 0) {  // uniform initial velocity 1 m/s along x, except the clamped nodes at x = 0
+      for (int i = 0; i < 63; ++i) EXPECT_EQ(v[3 * i], x[3 * i] == 0.0 ? 0.0 : 1.0) << "node " << i;
+    }
+  }
+  ASSERT_NE(report.samples.back()[tip_column - 1], 0.0);  // the last frame checks a moving tip
+
+  const XmlElement contacts = piece_of(read_xml(dir / "paraview" / "contacts_000010.vtu"));
+  EXPECT_EQ(contacts.attributes.at("NumberOfPoints"), "0");  // the bar touches nothing
+}
+
+TEST(VtkWriter, LumpedSceneWritesNoParaviewFiles) {
+  const fs::path dir = fresh_directory("csim_vtk_incline");
+  const auto scene = load_scene(kIncline, {"time.end=0.01", "checks.slide_at_half_time.at=0.005"});
+  run_scene(*scene, {dir.string()});
+  EXPECT_TRUE(fs::exists(dir / "probes.csv"));
+  EXPECT_FALSE(fs::exists(dir / "paraview"));
+}
+
+TEST(VtkWriter, StaleFramesOfAnEarlierRunAreRemoved) {
+  const fs::path dir = fresh_directory("csim_vtk_stale");
+  fs::create_directories(dir / "paraview");
+  std::ofstream(dir / "paraview" / "bar_000099.vtu") << "old";
+  const auto scene = load_scene(kBar, {"time.end=2e-5"});
+  run_scene(*scene, {dir.string()});
+  EXPECT_FALSE(fs::exists(dir / "paraview" / "bar_000099.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "paraview" / "bar_000002.vtu"));
+}
+
+TEST(VtkWriter, UnfinishedSeriesLeavesNoFiles) {
+  const fs::path dir = fresh_directory("csim_vtk_unfinished");
+  const auto scene = load_scene(kBar, {"time.end=1e-5"});
+  State state;
+  state.q.setZero(scene->world.position_size);
+  state.v.setZero(scene->world.velocity_size);
+  {
+    ParaviewSeries series(scene->world, dir.string());
+    series.write_frame(scene->world, state, 0.0);
+    EXPECT_TRUE(fs::exists(dir / "paraview" / "bar_000000.vtu"));
+  }  // destroyed without finish(): as when the run stops with an error
+  EXPECT_FALSE(fs::exists(dir / "paraview"));
+}
+
+}  // namespace
+}  // namespace csim
