@@ -57,15 +57,6 @@ double ProbeEvaluator::evaluate(const ProbeDefinition& p, const State& state) co
       }
       return count;
     }
-    case Kind::contact_count: {
-      int count = 0;
-      for (const ActiveContact& c : state.contacts) {
-        if (c.law != p.contact_law || !(c.impulse(0) > 0.0)) continue;
-        if (p.force_component == "closed" || (p.force_component == "stick") == (c.status == ContactStatus::stick))
-          ++count;
-      }
-      return count;
-    }
   }
   return 0.0;
 }
