@@ -82,6 +82,7 @@ double ProbeEvaluator::contact_force(const ProbeDefinition& p, const State& stat
   if (k == "x") return force.x();
   if (k == "y") return force.y();
   if (k == "z") return force.z();
+  if (k == "direction") return force.dot(p.direction);
   if (world_.dimension == 2) return tangential_2d;
   // 3D: magnitude of the resultant's tangential part (about the mean normal).
   Eigen::Vector3d mean_normal = Eigen::Vector3d::Zero();

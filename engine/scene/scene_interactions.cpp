@@ -11,18 +11,31 @@ Eigen::Vector3d point(const SceneNode& node, const std::string& key, int dimensi
   return node.has(key) ? node.vector(key, dimension, dimension) : Eigen::Vector3d::Zero();
 }
 
+// The reference coordinates of the node of a one-node set (key `node`) of an elastic body.
+Eigen::Vector3d node_point(const SceneNode& node, const BodyInstance& body) {
+  const auto* fe = dynamic_cast<const FeBody*>(body.body.get());
+  if (!fe) node.fail_at("node", "node sets belong to elastic bodies");
+  const std::string set = node.string("node");
+  const auto it = fe->mesh().node_sets.find(set);
+  if (it == fe->mesh().node_sets.end() || it->second.size() != 1)
+    node.fail_at("node", "the mesh of '" + body.name + "' has no one-node set '" + set + "'");
+  return fe->mesh().nodes[it->second.front()];
+}
+
 }  // namespace
 
-// A spring: {body, point, other (default: the ground), other_point, stiffness, direction (optional)}.
+// A spring: {body, point | node, other (default: the ground), other_point, stiffness, direction}.
+// On an elastic body the attachment is a node: `node` names a one-node set of its mesh.
 void read_springs(const SceneNode& root, World& world) {
   if (!root.has("springs")) return;
   const int d = world.dimension;
   for (const auto& [name, node] : root.child("springs").entries()) {
-    node.allow_only({"body", "point", "other", "other_point", "stiffness", "direction"});
+    node.allow_only({"body", "point", "node", "other", "other_point", "stiffness", "direction"});
     Spring s;
     s.name = name;
     s.body_a = body_named(node, "body", world);
     s.point_a = point(node, "point", d);
+    if (node.has("node")) s.point_a = node_point(node, world.bodies[s.body_a]);
     if (node.has("other")) {
       s.body_b = body_named(node, "other", world);
       if (world.bodies[s.body_b].body->fixed()) s.body_b = -1;  // a fixed body is the ground

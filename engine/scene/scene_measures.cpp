@@ -73,17 +73,23 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     if (p.force_component != "closed" && p.force_component != "stick" && p.force_component != "slip")
       spec.fail_at("status", "expected closed, stick or slip");
   } else if (kind == "contact_force") {
-    spec.allow_only({"contact", "component"});
+    spec.allow_only({"contact", "component", "direction"});
     p.kind = ProbeDefinition::Kind::contact_force;
     const std::string law = spec.string("contact");
     for (std::size_t i = 0; i < world.contact_laws.size(); ++i)
       if (world.contact_laws[i].name == law) p.contact_law = static_cast<int>(i);
     if (p.contact_law < 0) spec.fail_at("contact", "no contact law named '" + law + "'");
-    p.force_component = spec.string("component");
-    const char* components[] = {"normal", "tangential", "x", "y", "z"};
+    if (spec.has("direction")) {
+      if (spec.has("component")) spec.fail("give either component or direction");
+      p.direction = component_direction(spec, d);
+      p.force_component = "direction";
+    } else {
+      p.force_component = spec.string("component");
+    }
+    const char* components[] = {"normal", "tangential", "x", "y", "z", "direction"};
     bool known = false;
     for (const char* c : components) known = known || p.force_component == c;
-    if (!known) spec.fail_at("component", "expected normal, tangential, x, y or z");
+    if (!known) spec.fail_at("component", "expected normal, tangential, x, y or z (or give a direction)");
   } else {
     spec.fail("unknown probe kind '" + kind +
               "' (expected displacement, position, velocity, energy, contact_force or contact_count)");
