@@ -26,6 +26,9 @@ using Matrix = Eigen::Matrix<double, D, D>;
 // boundary to the same precision is at the stick/slip threshold, where both descriptions hold.
 constexpr double kBoundaryTolerance = 1e-9;
 
+// Sweeps between two attempts at the active-set polish (see polish()).
+constexpr int kPolishInterval = 200;
+
 void check_problem(const FrictionContactProblem& problem) {
   if (const std::string problem_with_it = inconsistency(problem); !problem_with_it.empty())
     throw std::invalid_argument("PgsSolver: " + problem_with_it);
@@ -212,6 +215,67 @@ double relative_residual(const FrictionContactProblem& problem, const Eigen::Vec
   return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
 }
 
+// Active-set polish: with the statuses of the current iterate taken as known, the law reduces to a
+// square linear system (stick: u = 0; slip: u_n = 0 with r_t = r_n times its current ratio; open:
+// r = 0; equalities: u = 0), solved directly. Gauss–Seidel converges slowly when W mixes very
+// different scales (a body held by weak springs: rigid-mode entries 1e7 times the elastic ones), and
+// stalls at a residual of about that ratio times the round-off; the direct solve does not. The result
+// is kept only if its full residual is smaller.
+template <int D>
+bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual) {
+  const Eigen::Index m = problem.size();
+  std::vector<Eigen::Index> equations;               // rows of u set to zero
+  std::vector<std::pair<Eigen::Index, Eigen::VectorXd>> unknowns;  // (first row, its column of S)
+  for (int c = 0; c < problem.contacts; ++c) {
+    const Eigen::Index row = static_cast<Eigen::Index>(D) * c;
+    const Vector<D> rc = r.template segment<D>(row);
+    const ContactStatus status = status_of<D>(rc, problem.mu[c]);
+    if (status == ContactStatus::open) continue;
+    Eigen::VectorXd normal = Eigen::VectorXd::Zero(m);
+    normal(row) = 1.0;
+    equations.push_back(row);
+    if (status == ContactStatus::slip) {
+      for (int k = 1; k < D; ++k) normal(row + k) = rc(k) / rc(0);
+      unknowns.emplace_back(row, normal);
+      continue;
+    }
+    unknowns.emplace_back(row, normal);
+    for (int k = 1; k < D; ++k) {
+      if (!(problem.mu[c](k - 1) > 0.0)) continue;
+      Eigen::VectorXd tangential = Eigen::VectorXd::Zero(m);
+      tangential(row + k) = 1.0;
+      unknowns.emplace_back(row + k, tangential);
+      equations.push_back(row + k);
+    }
+  }
+  for (int e = 0; e < problem.equalities; ++e) {
+    const Eigen::Index row = static_cast<Eigen::Index>(D) * problem.contacts + e;
+    Eigen::VectorXd column = Eigen::VectorXd::Zero(m);
+    column(row) = 1.0;
+    unknowns.emplace_back(row, column);
+    equations.push_back(row);
+  }
+  const Eigen::Index k = static_cast<Eigen::Index>(unknowns.size());
+  if (k == 0) return false;
+  Eigen::MatrixXd S(m, k);
+  for (Eigen::Index j = 0; j < k; ++j) S.col(j) = unknowns[j].second;
+  const Eigen::MatrixXd WS = problem.W * S;
+  Eigen::MatrixXd A(k, k);
+  Eigen::VectorXd b(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    A.row(i) = WS.row(equations[i]);
+    b(i) = -problem.q(equations[i]);
+  }
+  const Eigen::VectorXd z = A.fullPivLu().solve(b);
+  if (!z.allFinite()) return false;
+  const Eigen::VectorXd candidate = S * z;
+  const double candidate_residual = relative_residual(problem, candidate);
+  if (!(candidate_residual < residual)) return false;
+  r = candidate;
+  residual = candidate_residual;
+  return true;
+}
+
 template <int D>
 PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsParameters& parameters,
                               Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
@@ -232,6 +296,17 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
         sweep<D>(problem, parameters, equalities, r, statistics.rejected_local_solutions);
     statistics.iterations = iteration;
     residual_is_current = false;
+    // A stalled iteration: try the active-set polish every kPolishInterval sweeps.
+    if (parameters.polish && iteration % kPolishInterval == 0) {
+      statistics.residual = relative_residual(problem, r);
+      residual_is_current = true;
+      if (polish<D>(problem, r, statistics.residual)) statistics.polished = true;
+      if (statistics.residual <= parameters.tolerance) {
+        statistics.converged = true;
+        break;
+      }
+      continue;
+    }
     // Cheap test: a sweep that barely moved r. Only then is the full residual (about one more sweep of
     // work) worth computing; it decides.
     const double scale = velocity_scale(norm_q, std::sqrt(swept.Wr_squared));
@@ -246,6 +321,10 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
   }
   if (!residual_is_current) {
     statistics.residual = relative_residual(problem, r);
+    statistics.converged = statistics.residual <= parameters.tolerance;
+  }
+  if (parameters.polish && !statistics.converged && polish<D>(problem, r, statistics.residual)) {
+    statistics.polished = true;
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
 

@@ -14,6 +14,10 @@
 //             max(‖q‖, ‖W r‖, 1e-300).
 //   converged when the full residual ≤ tolerance. Non-finite local results are rejected (the previous
 //   impulse is kept) and counted.
+// Active-set polish: every 200 sweeps without convergence, and at the end, the statuses of the iterate
+// (open, stick, slip with its current direction) turn the law into a square linear system solved
+// directly (full-pivot LU); its solution is kept when its full residual is smaller. It rescues problems
+// whose Delassus mixes very different scales, on which Gauss–Seidel stalls.
 //
 // Details of this implementation:
 //   - W is taken as symmetric (coupling is read from its contiguous columns);
@@ -40,6 +44,7 @@ struct PgsParameters {
   int max_iterations = 2000;  // sweeps
   double tolerance = 1e-12;   // relative residual (see above), dimensionless
   double omega = 1.0;         // relaxation, (0, 2)
+  bool polish = true;         // the active-set polish (below)
 };
 
 struct PgsStatistics {
@@ -47,6 +52,7 @@ struct PgsStatistics {
   double residual = 0.0;      // final full residual, relative
   bool converged = false;
   int rejected_local_solutions = 0;  // non-finite local results filtered out
+  bool polished = false;      // the active-set polish improved the iterate
 };
 
 class PgsSolver {
