@@ -222,15 +222,16 @@ double relative_residual(const FrictionContactProblem& problem, const Eigen::Vec
 // stalls at a residual of about that ratio times the round-off; the direct solve does not. The result
 // is kept only if its full residual is smaller.
 template <int D>
-bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual) {
+bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual, bool closed_stick = false) {
   const Eigen::Index m = problem.size();
   std::vector<Eigen::Index> equations;               // rows of u set to zero
   std::vector<std::pair<Eigen::Index, Eigen::VectorXd>> unknowns;  // (first row, its column of S)
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index row = static_cast<Eigen::Index>(D) * c;
     const Vector<D> rc = r.template segment<D>(row);
-    const ContactStatus status = status_of<D>(rc, problem.mu[c]);
+    ContactStatus status = status_of<D>(rc, problem.mu[c]);
     if (status == ContactStatus::open) continue;
+    if (closed_stick) status = ContactStatus::stick;
     Eigen::VectorXd normal = Eigen::VectorXd::Zero(m);
     normal(row) = 1.0;
     equations.push_back(row);
@@ -300,7 +301,11 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     if (parameters.polish && iteration % kPolishInterval == 0) {
       statistics.residual = relative_residual(problem, r);
       residual_is_current = true;
+      // The statuses of the iterate, then every closed contact in stick (the usual state of a pressed
+      // interface, which a slowly converging iterate misclassifies at the cone's edge).
       if (polish<D>(problem, r, statistics.residual)) statistics.polished = true;
+      if (statistics.residual > parameters.tolerance && polish<D>(problem, r, statistics.residual, true))
+        statistics.polished = true;
       if (statistics.residual <= parameters.tolerance) {
         statistics.converged = true;
         break;
@@ -323,8 +328,10 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     statistics.residual = relative_residual(problem, r);
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
-  if (parameters.polish && !statistics.converged && polish<D>(problem, r, statistics.residual)) {
-    statistics.polished = true;
+  if (parameters.polish && !statistics.converged) {
+    if (polish<D>(problem, r, statistics.residual)) statistics.polished = true;
+    if (statistics.residual > parameters.tolerance && polish<D>(problem, r, statistics.residual, true))
+      statistics.polished = true;
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
 
