@@ -83,6 +83,7 @@ struct State {
   EnergyBalance energy;
   IdaStatistics ida;
   PhaseTimers timers;
+  double factorization_seconds = 0.0;   // s, the iteration matrix's (re)factorizations, in total
 };
 
 }  // namespace csim

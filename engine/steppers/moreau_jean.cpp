@@ -215,6 +215,7 @@ void MoreauJean::step(State& state) {
     mark = now;
   };
   compute_free_velocity(state);
+  state.factorization_seconds = operators_.factorization_seconds();
   lap(state.timers.free_velocity);
   detect(state);
   lap(state.timers.detection);
