@@ -13,20 +13,19 @@ ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
 }  // namespace
 
 void contact_rows(const World& world, const Vector& q, int body_a, const Eigen::Vector3d& local_a, int body_b,
-                  const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, Eigen::Ref<Matrix> rows) {
-  rows.setZero();
-  Eigen::Matrix<double, 3, 3> frame;
-  frame.col(0) = c.normal;
-  frame.col(1) = c.t1;
-  frame.col(2) = c.t2;
+                  const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, SparseRow* rows) {
+  const Eigen::Vector3d* axes[3] = {&c.normal, &c.t1, &c.t2};
+  for (int k = 0; k < dimension; ++k) rows[k].clear();
   const int ids[2] = {body_a, body_b};
   const Eigen::Vector3d* locals[2] = {&local_a, &local_b};
   for (int side = 0; side < 2; ++side) {
     const BodyInstance& b = world.bodies[ids[side]];
     if (b.body->fixed()) continue;
-    const ConstVectorRef qb = positions_of(b, q);
-    const PointJacobian J = b.body->point_jacobian(qb, *locals[side]);
-    J.scatter(rows, b.velocity_offset, frame.leftCols(dimension).transpose(), side == 0 ? -1.0 : 1.0);
+    const PointJacobian J = b.body->point_jacobian(positions_of(b, q), *locals[side]);
+    const double sign = side == 0 ? -1.0 : 1.0;
+    for (int k = 0; k < dimension; ++k)
+      for (int j = 0; j < J.count; ++j)
+        rows[k].add(b.velocity_offset + J.index[j], sign * axes[k]->dot(J.column.col(j)));
   }
 }
 
@@ -109,12 +108,10 @@ double ContactDetector::travel_bound(const Vector& v, double h) const {
 }
 
 void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts,
-                             Matrix& rows) {
+                             std::vector<SparseRow>& rows) {
   contacts.clear();
-  if (!collision_) {
-    rows.resize(0, world_.velocity_size);
-    return;
-  }
+  rows.clear();
+  if (!collision_) return;
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;
@@ -135,7 +132,7 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
 
   const int nb = static_cast<int>(world_.bodies.size());
   const int d = dimension_;
-  rows.resize(d * static_cast<int>(points_.size()), world_.velocity_size);
+  rows.resize(d * points_.size());
   for (ContactPoint& point : points_) {
     const int body_a = object_body_[point.key.object_a], body_b = object_body_[point.key.object_b];
     const int law_index = law_of_pair_[body_a * nb + body_b];
@@ -144,7 +141,7 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     if (!law.isotropic()) complete_frame(point, world_.dimension == 2, law.friction_direction);
     const int i = static_cast<int>(contacts.size());
     contact_rows(world_, q, body_a, material_point(q, point.key.object_a, point, point.point_a), body_b,
-                 material_point(q, point.key.object_b, point, point.point_b), point, d, rows.middleRows(d * i, d));
+                 material_point(q, point.key.object_b, point, point.point_b), point, d, &rows[d * i]);
     ActiveContact& c = contacts.emplace_back();
     c.point = point;
     c.law = law_index;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "contact/collision_world.h"
+#include "engine/sparse_row.h"
 #include "engine/state.h"
 #include "engine/world.h"
 
@@ -23,9 +24,8 @@ class ContactDetector {
   int dimension() const { return dimension_; }  // rows per contact: 2 in plane scenes, 3 in space
 
   // Contacts with gap ≤ margin (m) at positions q: `contacts` gets one entry per point (law, bodies,
-  // point with its frame), `rows` their H rows: contact i owns rows [dimension·i, dimension·(i+1)) of
-  // velocity_size columns (rows may be longer: it is sized for every candidate point, not reallocated).
-  void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, Matrix& rows);
+  // point with its frame), `rows` their H rows: contact i owns rows [dimension·i, dimension·(i+1)).
+  void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, std::vector<SparseRow>& rows);
 
   // The material point of a contact on one side: a node's reference coordinates on an elastic body
   // (feature = node), the world point taken to the body frame otherwise.
@@ -49,6 +49,6 @@ class ContactDetector {
 // and local_b are the touching material points in their bodies' frames (a node's reference
 // coordinates on an elastic body).
 void contact_rows(const World& world, const Vector& q, int body_a, const Eigen::Vector3d& local_a, int body_b,
-                  const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, Eigen::Ref<Matrix> rows);
+                  const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, SparseRow* rows);
 
 }  // namespace csim

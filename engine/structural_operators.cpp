@@ -50,6 +50,7 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     dense_factor_.compute(dense_mass_ + scale * dense_stiffness_);
   }
   factored_ = true;
+  ++factorizations_;
   factored_h_ = h;
   factored_theta_ = theta;
   factorization_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

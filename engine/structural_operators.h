@@ -24,6 +24,7 @@ class StructuralOperators {
   bool has_stiffness() const { return has_stiffness_; }
   bool sparse() const { return sparse_; }
   double factorization_seconds() const { return factorization_seconds_; }  // s, total
+  long factorizations() const { return factorizations_; }  // how many times W was factored
 
   void solve_in_place(Vector& x) const;   // x ← W⁻¹ x
   void solve_in_place(Matrix& X) const;   // X ← W⁻¹ X
@@ -36,6 +37,7 @@ class StructuralOperators {
   bool sparse_, has_stiffness_, constant_;
   bool factored_ = false;
   double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;
+  long factorizations_ = 0;
   Matrix dense_mass_, dense_stiffness_;
   Eigen::LDLT<Matrix> dense_factor_;
   SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_;

@@ -29,7 +29,7 @@ EventContactModel::EventContactModel(const World& world, const Vector& q0, const
 
   ContactDetector detector(world);
   std::vector<ActiveContact> contacts;
-  Matrix rows;
+  std::vector<SparseRow> rows;
   detector.detect(q0, 1e-9, contacts, rows);
   const BodyInstance& body = world.bodies[moving_];
   for (const ActiveContact& c : contacts) {

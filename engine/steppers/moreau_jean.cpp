@@ -98,44 +98,83 @@ void MoreauJean::detect(const State& state) {
   detector_.detect(state.q, margin, candidates_, candidate_rows_);
   const int d = contact_dimension_;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    const auto rows = candidate_rows_.middleRows(d * k, d);
+    const SparseRow& normal_row = candidate_rows_[d * k];
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at
     // rest under a load that presses it on the surface is caught at the first step, whatever the
     // round-off in its gap.
     const double normal_velocity =
-        (1.0 - theta) * rows.row(0).dot(state.v) + theta * rows.row(0).dot(v_free_);
+        (1.0 - theta) * normal_row.dot(state.v) + theta * normal_row.dot(v_free_);
     if (candidates_[k].point.gap + kActivationGamma * h * normal_velocity > 0.0) continue;
     active_.push_back(candidates_[k]);
     active_rows_.push_back(static_cast<int>(k));
   }
 }
 
-void MoreauJean::assemble(const State& state) {
+// W_it⁻¹ hᵀ for every row of the problem, reused while the factorization and the row are the same.
+void MoreauJean::gather_columns() {
   const int n = world_.velocity_size;
+  const int d = contact_dimension_;
+  const int nc = static_cast<int>(active_.size());
+  const int ne = static_cast<int>(world_.constraints.size());
+  if (operators_.factorizations() != cache_factorization_) {
+    column_cache_.clear();
+    constraint_columns_.clear();
+    cache_factorization_ = operators_.factorizations();
+  }
+  for (auto& [key, entry] : column_cache_) entry.used = false;
+  columns_.resize(d * nc + ne);
+  for (int i = 0; i < nc; ++i)
+    for (int k = 0; k < d; ++k) {
+      const SparseRow& row = rows_[d * i + k];
+      CachedColumn& entry = column_cache_[{active_[i].point.key, k}];
+      if (entry.column.size() != n || !(entry.row == row)) {
+        entry.row = row;
+        entry.column.setZero(n);
+        row.scatter(1.0, entry.column);
+        operators_.solve_in_place(entry.column);
+      }
+      entry.used = true;
+      columns_[d * i + k] = &entry.column;
+    }
+  std::erase_if(column_cache_, [](const auto& item) { return !item.second.used; });
+  if (static_cast<int>(constraint_columns_.size()) != ne) {
+    constraint_columns_.resize(ne);
+    for (int e = 0; e < ne; ++e) {
+      constraint_columns_[e] = constraint_rows_.row(e).transpose();
+      operators_.solve_in_place(constraint_columns_[e]);
+    }
+  }
+  for (int e = 0; e < ne; ++e) columns_[d * nc + e] = &constraint_columns_[e];
+}
+
+void MoreauJean::assemble(const State& state) {
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
   const int ne = static_cast<int>(world_.constraints.size());
   const int m = d * nc + ne;
   const double h = parameters_.step, theta = parameters_.theta;
 
-  H_.resize(m, n);
   problem_.dimension = d;
   problem_.contacts = nc;
   problem_.equalities = ne;
   problem_.mu.resize(nc);
+  rows_.resize(d * nc);
   for (int i = 0; i < nc; ++i) {
-    H_.middleRows(d * i, d) = candidate_rows_.middleRows(d * active_rows_[i], d);
+    for (int k = 0; k < d; ++k) rows_[d * i + k] = candidate_rows_[d * active_rows_[i] + k];
     problem_.mu[i] = world_.contact_laws[active_[i].law].mu;
   }
-  if (ne > 0) H_.bottomRows(ne) = constraint_rows_;
+  gather_columns();
 
-  X_ = H_.transpose();
-  operators_.solve_in_place(X_);
-  problem_.W.noalias() = H_ * X_;
-  problem_.q.noalias() = H_ * v_free_;
+  problem_.W.resize(m, m);
+  problem_.q.resize(m);
+  for (int a = 0; a < m; ++a) {
+    for (int b = 0; b < m; ++b)
+      problem_.W(a, b) = a < d * nc ? rows_[a].dot(*columns_[b]) : constraint_rows_.row(a - d * nc).dot(*columns_[b]);
+    problem_.q(a) = a < d * nc ? rows_[a].dot(v_free_) : constraint_rows_.row(a - d * nc).dot(v_free_);
+  }
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
-    if (e > 0.0) problem_.q(d * i) += e * H_.row(d * i).dot(state.v);
+    if (e > 0.0) problem_.q(d * i) += e * rows_[d * i].dot(state.v);
   }
   // Constraint targets: C v_{k+1} such that C (q_{k+1} − q_ref) = value exactly.
   for (int e = 0; e < ne; ++e) {
@@ -170,7 +209,18 @@ void MoreauJean::solve(State& state) {
 void MoreauJean::update(State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
   v_next_ = v_free_;
-  if (r_.size() > 0) v_next_.noalias() += X_ * r_;
+  const int rows = static_cast<int>(r_.size());
+  const int contact_rows = static_cast<int>(rows_.size());
+  if (rows > 0 && operators_.sparse()) {
+    // One solve W_it⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
+    work_.setZero(world_.velocity_size);
+    for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(r_(a), work_);
+    for (int e = contact_rows; e < rows; ++e) work_ += r_(e) * constraint_rows_.row(e - contact_rows).transpose();
+    operators_.solve_in_place(work_);
+    v_next_ += work_;
+  } else {
+    for (int a = 0; a < rows; ++a) v_next_ += r_(a) * *columns_[a];
+  }
   v_theta_ = (1.0 - theta) * state.v + theta * v_next_;
   q_next_.resize(state.q.size());
   for (const BodyInstance& b : world_.bodies) {
@@ -185,10 +235,10 @@ void MoreauJean::account_energy(State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
   EnergyBalance& e = state.energy;
   e.work_of_loads += h * f_loads_.dot(v_theta_);
-  if (r_.size() > 0) {
-    local_work_.noalias() = H_ * v_theta_;
-    e.contact_dissipation -= r_.dot(local_work_);
-  }
+  const int contact_rows = static_cast<int>(rows_.size());
+  for (int a = 0; a < static_cast<int>(r_.size()); ++a)
+    e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a].dot(v_theta_)
+                                                        : constraint_rows_.row(a - contact_rows).dot(v_theta_));
   dv_ = v_next_ - state.v;
   operators_.apply_mass(dv_, work_);
   double numerical = dv_.dot(work_);

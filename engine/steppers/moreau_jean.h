@@ -9,7 +9,10 @@
 //                      (1−θ)v_k + θ v_free; warm start from the last impulse with the same key;
 //   3. assemble        u = H v, Delassus W = H W_it⁻¹ Hᵀ, q = H v_free + e·u_n(v_k) on normal rows
 //                      (Newton impact law), plus the rows of the linear constraints, whose target
-//                      makes them hold exactly in position at t_{k+1};
+//                      makes them hold exactly in position at t_{k+1}. H is sparse (a few entries a
+//                      row), and the columns W_it⁻¹ hᵀ are cached by contact key while W_it and the row
+//                      do not change (a node sliding on a plane keeps its column), so that a step costs
+//                      O(unknowns + contacts²) once W_it is factored;
 //   4. solve           projected Gauss–Seidel on {W, q, μ};
 //   5. update          v_{k+1} = v_free + W_it⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
 //   6. post            energy balance, counters, non-finite check.
@@ -26,6 +29,7 @@
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
 
+#include <map>
 #include <memory>
 
 namespace csim {
@@ -49,6 +53,7 @@ class MoreauJean final : public Stepper {
  private:
   void compute_free_velocity(const State& state);
   void detect(const State& state);
+  void gather_columns();
   void assemble(const State& state);
   void solve(State& state);
   void update(State& state);
@@ -67,9 +72,20 @@ class MoreauJean final : public Stepper {
   Vector f_loads_, f_total_, v_free_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
   std::vector<ActiveContact> candidates_;
   std::vector<ActiveContact> active_;
-  Matrix candidate_rows_;             // rows of every candidate contact (dimension each)
+  std::vector<SparseRow> candidate_rows_;  // rows of every candidate contact (dimension each)
   std::vector<int> active_rows_;      // candidate index of each active contact
-  Matrix H_, X_;                      // contact/constraint rows (m × n) and W_it⁻¹ Hᵀ
+  std::vector<SparseRow> rows_;       // rows of the active contacts
+  // W_it⁻¹ hᵀ for each row of the problem: cached per (contact key, row) while the factorization and
+  // the row stay the same; the constraints' once per factorization.
+  struct CachedColumn {
+    SparseRow row;
+    Vector column;
+    bool used = false;
+  };
+  std::map<std::pair<ContactKey, int>, CachedColumn> column_cache_;
+  std::vector<Vector> constraint_columns_;
+  long cache_factorization_ = -1;
+  std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and W_it⁻¹ Hᵀ
   FrictionContactProblem problem_;
   Matrix constraint_rows_;            // equalities × n
   std::vector<std::vector<int>> constraint_positions_;  // position index of each term (−1: velocity only)

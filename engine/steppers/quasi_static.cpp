@@ -44,13 +44,16 @@ void QuasiStatic::step(State& state) {
   const int nc = static_cast<int>(candidates_.size());
   active_ = candidates_;
   const int m = d_ * nc;
-  H_.resize(m, world_.velocity_size);
+  H_.setZero(m, world_.velocity_size);
   problem_.dimension = d_;
   problem_.contacts = nc;
   problem_.equalities = 0;
   problem_.mu.resize(nc);
   for (int i = 0; i < nc; ++i) {
-    H_.middleRows(d_ * i, d_) = rows_.middleRows(d_ * i, d_);
+    for (int k = 0; k < d_; ++k) {
+      const SparseRow& row = rows_[d_ * i + k];
+      for (int j = 0; j < row.count; ++j) H_(d_ * i + k, row.index[j]) += row.value[j];
+    }
     problem_.mu[i] = world_.contact_laws[active_[i].law].mu;
   }
   if (m > 0) {

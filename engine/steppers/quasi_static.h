@@ -54,7 +54,8 @@ class QuasiStatic final : public Stepper {
 
   Vector f_, u_free_, u_next_, r_;
   std::vector<ActiveContact> candidates_, active_;
-  Matrix rows_, H_, X_;
+  std::vector<SparseRow> rows_;
+  Matrix H_, X_;
   FrictionContactProblem problem_;
 };
 

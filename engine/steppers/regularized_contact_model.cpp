@@ -34,11 +34,10 @@ void RegularizedContactModel::force(double, const Vector& q, const Vector& v, co
   const int d = detector_.dimension();
   for (std::size_t i = 0; i < contacts_.size(); ++i) {
     ActiveContact& c = contacts_[i];
-    const auto rows = rows_.middleRows(d * i, d);
     Eigen::Vector3d u = Eigen::Vector3d::Zero();
-    u.head(d) = rows * v;
+    for (int k = 0; k < d; ++k) u(k) = rows_[d * i + k].dot(v);
     const Eigen::Vector3d force = regularized_contact_force(laws_[c.law], c.point.gap, u, d);
-    for (int k = 0; k < d; ++k) f.noalias() += force(k) * rows.row(k).transpose();
+    for (int k = 0; k < d; ++k) rows_[d * i + k].scatter(force(k), f);
     c.impulse = force * sample_step_;
     c.status = force(0) == 0.0 ? ContactStatus::open : ContactStatus::slip;
   }

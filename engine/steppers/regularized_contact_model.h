@@ -25,7 +25,7 @@ class RegularizedContactModel final : public SmoothContactModel {
   std::vector<RegularizedContactLaw> laws_;  // per contact law of the world
   double sample_step_;
   std::vector<ActiveContact> contacts_;
-  Matrix rows_;
+  std::vector<SparseRow> rows_;
 };
 
 }  // namespace csim

@@ -1,0 +1,44 @@
+// One row of the contact Jacobian H: u_row = Σ_k value[k] · v[index[k]], over at most twelve velocity
+// components (a contact joins two bodies, each moving the point through at most six). Stored this way
+// a contact costs a handful of numbers whatever the size of the bodies, which keeps a step linear in
+// the number of unknowns for finite-element bodies.
+#pragma once
+
+#include "engine/bodies/body.h"
+
+#include <array>
+
+namespace csim {
+
+struct SparseRow {
+  int count = 0;
+  std::array<int, 12> index{};
+  std::array<double, 12> value{};
+
+  void clear() { count = 0; }
+  void add(int i, double x) {
+    for (int k = 0; k < count; ++k)
+      if (index[k] == i) {
+        value[k] += x;
+        return;
+      }
+    index[count] = i;
+    value[count++] = x;
+  }
+  double dot(const Vector& v) const {
+    double sum = 0.0;
+    for (int k = 0; k < count; ++k) sum += value[k] * v(index[k]);
+    return sum;
+  }
+  void scatter(double scale, Vector& f) const {  // f += scale · rowᵀ
+    for (int k = 0; k < count; ++k) f(index[k]) += scale * value[k];
+  }
+  bool operator==(const SparseRow& other) const {
+    if (count != other.count) return false;
+    for (int k = 0; k < count; ++k)
+      if (index[k] != other.index[k] || value[k] != other.value[k]) return false;
+    return true;
+  }
+};
+
+}  // namespace csim
