@@ -121,9 +121,19 @@ void MoreauJean::gather_columns() {
     constraint_columns_.clear();
     cache_factorization_ = operators_.factorizations();
   }
-  for (auto& [key, entry] : column_cache_) entry.used = false;
   columns_.resize(d * nc + ne);
-  for (int i = 0; i < nc; ++i)
+  if (!operators_.sparse()) {
+    // A small dense system: a column costs less than a cache look-up.
+    direct_columns_.resize(d * nc);
+    for (int a = 0; a < d * nc; ++a) {
+      direct_columns_[a].setZero(n);
+      rows_[a].scatter(1.0, direct_columns_[a]);
+      operators_.solve_in_place(direct_columns_[a]);
+      columns_[a] = &direct_columns_[a];
+    }
+  }
+  for (auto& [key, entry] : column_cache_) entry.used = false;
+  for (int i = 0; i < nc && operators_.sparse(); ++i)
     for (int k = 0; k < d; ++k) {
       const SparseRow& row = rows_[d * i + k];
       CachedColumn& entry = column_cache_[{active_[i].point.key, k}];

@@ -84,6 +84,7 @@ class MoreauJean final : public Stepper {
   };
   std::map<std::pair<ContactKey, int>, CachedColumn> column_cache_;
   std::vector<Vector> constraint_columns_;
+  std::vector<Vector> direct_columns_;  // small dense systems: recomputed each step, no cache
   long cache_factorization_ = -1;
   std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and W_it⁻¹ Hᵀ
   FrictionContactProblem problem_;
