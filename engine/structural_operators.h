@@ -41,6 +41,9 @@ class StructuralOperators {
   Matrix dense_mass_, dense_stiffness_;
   Eigen::LDLT<Matrix> dense_factor_;
   SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_;
+  // Eigen's SimplicialLDLT. CHOLMOD's supernodal LLT (Debian's SuiteSparse) was measured on
+  // bench/bench_fe: 10 % faster per step at 51 842 unknowns (46.8 against 52.2 ms), 3 % slower at
+  // 13 122: not worth a second dependency yet.
   Eigen::SimplicialLDLT<SparseMatrix> sparse_factor_;
 };
 
