@@ -1,6 +1,7 @@
 // The outputs of `csim stress`: stability.md (a table per sweep, for people) and stability.csv (one
 // row per run, for scripts), and the texts of a row both share with the command's own table.
 #include "engine/output/atomic_file.h"
+#include "engine/output/csv_text.h"
 #include "engine/stress.h"
 
 #include <algorithm>
@@ -24,22 +25,6 @@ std::string join(const std::vector<std::string>& items, const char* separator = 
   std::string out;
   for (const std::string& item : items) out += (out.empty() ? "" : separator) + item;
   return out;
-}
-
-std::string one_line(std::string text) {
-  for (char& c : text)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!text.empty() && text.back() == ' ') text.pop_back();
-  return text;
-}
-
-// RFC 4180: a field holding a comma or a quote is quoted, its quotes doubled (messages do).
-std::string csv_field(const std::string& text) {
-  const std::string line = one_line(text);
-  if (line.find_first_of(",\"") == std::string::npos) return line;
-  std::string quoted = "\"";
-  for (char c : line) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
 }
 
 std::string markdown_cell(const std::string& text) {

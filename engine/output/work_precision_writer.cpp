@@ -1,5 +1,6 @@
 // The outputs of `csim compare`: work_precision.csv, work_precision.gp and the PNG gnuplot draws from it.
 #include "engine/compare.h"
+#include "engine/output/csv_text.h"
 #include "engine/output/atomic_file.h"
 
 #include <sys/wait.h>
@@ -21,22 +22,6 @@ std::string number(double x, int digits = 10) {
   char buffer[40];
   std::snprintf(buffer, sizeof buffer, "%.*g", digits, x);
   return buffer;
-}
-
-std::string one_line(std::string text) {
-  for (char& c : text)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!text.empty() && text.back() == ' ') text.pop_back();
-  return text;
-}
-
-// RFC 4180: a field holding a comma or a quote is quoted, its quotes doubled (failure messages do).
-std::string csv_field(const std::string& text) {
-  const std::string line = one_line(text);
-  if (line.find_first_of(",\"") == std::string::npos) return line;
-  std::string quoted = "\"";
-  for (char c : line) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
 }
 
 void write_comment_header(std::ostringstream& csv, const Comparison& comparison) {

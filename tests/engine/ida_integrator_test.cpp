@@ -15,6 +15,7 @@
 namespace csim {
 namespace {
 
+using test::constrained_point;
 using test::oscillator;
 using test::point_mass;
 using test::start;
@@ -44,19 +45,7 @@ TEST(IdaIntegrator, FreeOscillatorMatchesTheClosedFormAndKeepsItsEnergy) {
 }
 
 TEST(IdaIntegrator, LinearConstraintsAreEliminatedExactly) {
-  World world;
-  world.dimension = 3;
-  world.bodies.push_back(point_mass("p", 3, 1.5, Eigen::Vector3d::Zero()));
-  world.bodies[0].initial_position << 0.01, 0.0, 0.0;
-  world.finalize_layout();
-  Load load;
-  load.body = 0;
-  load.force << 3.0, 0.0, -1.0;
-  world.loads.push_back(load);
-  LinearConstraint c;
-  c.terms = {{0, 1.0}, {1, -2.0}};
-  c.value = 0.01;
-  world.constraints.push_back(c);
+  const World world = constrained_point();
   IdaIntegrator ida(world, tight(1e-2));
   State s = start(world);
   ida.initialize(s);

@@ -47,4 +47,23 @@ inline World oscillator() {
   return world;
 }
 
+// A 1.5 kg point mass in space pushed by (3, 0, −1) N, constrained to x − 2y = 0.01 m (it starts on
+// the line, at rest).
+inline World constrained_point() {
+  World world;
+  world.dimension = 3;
+  world.bodies.push_back(point_mass("p", 3, 1.5, Eigen::Vector3d::Zero()));
+  world.bodies[0].initial_position << 0.01, 0.0, 0.0;
+  world.finalize_layout();
+  Load load;
+  load.body = 0;
+  load.force << 3.0, 0.0, -1.0;
+  world.loads.push_back(load);
+  LinearConstraint c;
+  c.terms = {{0, 1.0}, {1, -2.0}};
+  c.value = 0.01;
+  world.constraints.push_back(c);
+  return world;
+}
+
 }  // namespace csim::test
