@@ -6,12 +6,6 @@
 
 namespace csim {
 
-namespace {
-ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
-  return q.segment(b.position_offset, b.body->position_size());
-}
-}  // namespace
-
 void contact_rows(const World& world, const Vector& q, int body_a, const Eigen::Vector3d& local_a, int body_b,
                   const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, SparseRow* rows) {
   const Eigen::Vector3d* axes[3] = {&c.normal, &c.t1, &c.t2};
@@ -21,7 +15,7 @@ void contact_rows(const World& world, const Vector& q, int body_a, const Eigen::
   for (int side = 0; side < 2; ++side) {
     const BodyInstance& b = world.bodies[ids[side]];
     if (b.body->fixed()) continue;
-    const PointJacobian J = b.body->point_jacobian(positions_of(b, q), *locals[side]);
+    const PointJacobian J = b.body->point_jacobian(b.positions(q), *locals[side]);
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int k = 0; k < dimension; ++k)
       for (int j = 0; j < J.count; ++j)
@@ -86,7 +80,7 @@ Eigen::Vector3d ContactDetector::material_point(const Vector& q, int object, con
                                                const Eigen::Vector3d& world_point) const {
   const BodyInstance& b = world_.bodies[object_body_[object]];
   if (object_shape_[object] < 0) return static_cast<const FeBody&>(*b.body).mesh().nodes[c.key.feature];
-  return b.body->pose(positions_of(b, q)).inverse() * world_point;
+  return b.body->pose(b.positions(q)).inverse() * world_point;
 }
 
 double ContactDetector::travel_bound(const Vector& v, double h) const {
@@ -117,7 +111,7 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     if (b.body->fixed()) continue;
     if (object_shape_[o] < 0) {
       const auto& fe = static_cast<const FeBody&>(*b.body);
-      const auto qb = positions_of(b, q);
+      const auto qb = b.positions(q);
       node_positions_.resize(fe.mesh().nodes.size());
       for (std::size_t n = 0; n < node_positions_.size(); ++n)
         node_positions_[n] = fe.mesh().nodes[n] + fe.node_displacement(qb, static_cast<int>(n));
@@ -125,7 +119,7 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
       continue;
     }
     collision_->set_pose(static_cast<int>(o),
-                         b.body->pose(positions_of(b, q)) * b.shapes[object_shape_[o]].local_pose);
+                         b.body->pose(b.positions(q)) * b.shapes[object_shape_[o]].local_pose);
   }
   collision_->update(margin);
   collision_->find_contacts(points_);

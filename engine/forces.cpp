@@ -9,10 +9,6 @@ namespace csim {
 
 namespace {
 
-ConstVectorRef body_positions(const BodyInstance& b, const Vector& q) {
-  return q.segment(b.position_offset, b.body->position_size());
-}
-
 bool rotates(const Body& body) {
   return dynamic_cast<const RigidBody2d*>(&body) || dynamic_cast<const RigidBody3d*>(&body);
 }
@@ -44,7 +40,7 @@ ForceModel::ForceModel(const World& world) : world_(world) {
 void ForceModel::add_body_internal_forces(const Vector& q, Vector& f) const {
   for (const BodyInstance& b : world_.bodies)
     if (b.body->elastic())
-      b.body->add_internal_force(body_positions(b, q), f.segment(b.velocity_offset, b.body->velocity_size()));
+      b.body->add_internal_force(b.positions(q), f.segment(b.velocity_offset, b.body->velocity_size()));
 }
 
 namespace {
@@ -60,11 +56,11 @@ struct SpringEnds {
 SpringEnds spring_ends(const World& world, const Spring& s, const Vector& q) {
   SpringEnds ends;
   const BodyInstance& a = world.bodies[s.body_a];
-  ends.a = a.body->point_jacobian(body_positions(a, q), s.point_a);
+  ends.a = a.body->point_jacobian(a.positions(q), s.point_a);
   ends.offset_a = a.velocity_offset;
   if (s.body_b >= 0) {
     const BodyInstance& b = world.bodies[s.body_b];
-    ends.b = b.body->point_jacobian(body_positions(b, q), s.point_b);
+    ends.b = b.body->point_jacobian(b.positions(q), s.point_b);
     ends.offset_b = b.velocity_offset;
     ends.has_b = true;
   }
@@ -111,7 +107,7 @@ void ForceModel::external(const Vector& q, double t, Vector& f) const {
   if (!world_.gravity.isZero())
     for (const BodyInstance& b : world_.bodies)
       if (!b.body->fixed())
-        b.body->add_weight(body_positions(b, q), world_.gravity, f.segment(b.velocity_offset, b.body->velocity_size()));
+        b.body->add_weight(b.positions(q), world_.gravity, f.segment(b.velocity_offset, b.body->velocity_size()));
   for (const Load& load : world_.loads) {
     const BodyInstance& b = world_.bodies[load.body];
     const double multiplier = load.multiplier(t);
@@ -119,7 +115,7 @@ void ForceModel::external(const Vector& q, double t, Vector& f) const {
       f.segment(b.velocity_offset, b.body->velocity_size()) += multiplier * load.nodal_forces;
       continue;
     }
-    const PointJacobian J = b.body->point_jacobian(body_positions(b, q), load.point);
+    const PointJacobian J = b.body->point_jacobian(b.positions(q), load.point);
     for (int k = 0; k < J.count; ++k)
       f(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier * load.force);
   }
@@ -128,10 +124,10 @@ void ForceModel::external(const Vector& q, double t, Vector& f) const {
 Eigen::Vector3d ForceModel::spring_displacement(const Spring& s, const Vector& q) const {
   const std::size_t i = &s - world_.springs.data();
   const BodyInstance& a = world_.bodies[s.body_a];
-  Eigen::Vector3d d = a.body->point_world(body_positions(a, q), s.point_a) - reference_points_a_[i];
+  Eigen::Vector3d d = a.body->point_world(a.positions(q), s.point_a) - reference_points_a_[i];
   if (s.body_b >= 0) {
     const BodyInstance& b = world_.bodies[s.body_b];
-    d -= b.body->point_world(body_positions(b, q), s.point_b) - reference_points_b_[i];
+    d -= b.body->point_world(b.positions(q), s.point_b) - reference_points_b_[i];
   }
   return d;
 }
@@ -156,7 +152,7 @@ void ForceModel::spring_stiffness(const Vector& q, Matrix& K) const {
 double ForceModel::elastic_energy(const Vector& q) const {
   double energy = 0.0;
   for (const BodyInstance& b : world_.bodies)
-    if (b.body->elastic()) energy += b.body->strain_energy(body_positions(b, q));
+    if (b.body->elastic()) energy += b.body->strain_energy(b.positions(q));
   for (const Spring& s : world_.springs)
     energy += 0.5 * s.stiffness * (projector(s.direction) * spring_displacement(s, q)).squaredNorm();
   return energy;

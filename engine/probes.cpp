@@ -2,12 +2,6 @@
 
 namespace csim {
 
-namespace {
-ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
-  return q.segment(b.position_offset, b.body->position_size());
-}
-}  // namespace
-
 ProbeEvaluator::ProbeEvaluator(const World& world, const RunSettings& run) : world_(world), run_(run) {
   for (const ProbeDefinition& p : run.probes) {
     Eigen::Vector3d reference = Eigen::Vector3d::Zero();
@@ -30,7 +24,7 @@ double ProbeEvaluator::evaluate(const ProbeDefinition& p, const State& state) co
     case Kind::displacement:
     case Kind::position: {
       const BodyInstance& b = world_.bodies[p.body];
-      Eigen::Vector3d x = b.body->point_world(positions_of(b, state.q), p.point);
+      Eigen::Vector3d x = b.body->point_world(b.positions(state.q), p.point);
       if (p.kind == Kind::displacement) x -= reference_points_[&p - run_.probes.data()];
       return p.direction.dot(x);
     }

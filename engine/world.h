@@ -31,6 +31,9 @@ struct BodyInstance {
   int position_offset = 0;
   int velocity_offset = 0;
   std::vector<ShapeInstance> shapes;
+
+  // This body's slice of the World's positions q.
+  ConstVectorRef positions(const Vector& q) const { return q.segment(position_offset, body->position_size()); }
 };
 
 // A linear spring between material points of two bodies (or a body and the ground when body_b < 0).

@@ -7,12 +7,6 @@
 
 namespace csim {
 
-namespace {
-ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
-  return q.segment(b.position_offset, b.body->position_size());
-}
-}  // namespace
-
 EventContactModel::EventContactModel(const World& world, const Vector& q0, const Matrix& projected_inverse_mass,
                                      double sample_step)
     : world_(world), P_(projected_inverse_mass), d_(world.dimension == 2 ? 2 : 3), sample_step_(sample_step) {
@@ -42,7 +36,7 @@ EventContactModel::EventContactModel(const World& world, const Vector& q0, const
       p.point.t1 = -p.point.t1;  // keeps (n, t1, t2) right-handed
     }
     const Eigen::Vector3d& on_moving = moving_is_b ? c.point.point_b : c.point.point_a;
-    p.local = body.body->pose(positions_of(body, q0)).inverse() * on_moving;
+    p.local = body.body->pose(body.positions(q0)).inverse() * on_moving;
     points_.push_back(p);
   }
   if (points_.empty())
@@ -56,7 +50,7 @@ void EventContactModel::rows_at(const Vector& q) {
   normal_rows_.setZero(np, n);
   tangent_rows_.setZero(np * (d_ - 1), n);
   for (int i = 0; i < np; ++i) {
-    const PointJacobian J = b.body->point_jacobian(positions_of(b, q), points_[i].local);
+    const PointJacobian J = b.body->point_jacobian(b.positions(q), points_[i].local);
     const ContactPoint& c = points_[i].point;
     J.scatter(normal_rows_.row(i), b.velocity_offset, c.normal.transpose(), 1.0);
     J.scatter(tangent_rows_.row((d_ - 1) * i), b.velocity_offset, c.t1.transpose(), 1.0);

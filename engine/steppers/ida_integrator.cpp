@@ -22,10 +22,6 @@ namespace {
 
 constexpr int kDenseLimit = 100;  // unknowns up to which the dense solver is chosen automatically
 
-ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
-  return q.segment(b.position_offset, b.body->position_size());
-}
-
 int residual_callback(realtype t, N_Vector y, N_Vector yp, N_Vector r, void* user) {
   return static_cast<IdaIntegrator*>(user)->residual(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp),
                                                      N_VGetArrayPointer(r));
@@ -139,7 +135,7 @@ int IdaIntegrator::residual(double t, const double* y, const double* y_rate, dou
   q_rate_.resize(nq_);
   for (const BodyInstance& b : world_.bodies) {
     if (b.body->fixed()) continue;
-    b.body->position_rate(positions_of(b, q_), v_.segment(b.velocity_offset, b.body->velocity_size()),
+    b.body->position_rate(b.positions(q_), v_.segment(b.velocity_offset, b.body->velocity_size()),
                           q_rate_.segment(b.position_offset, b.body->position_size()));
   }
   out.head(nq_) = rate.head(nq_) - q_rate_;

@@ -15,10 +15,6 @@ constexpr double kActivationGamma = 0.5;  // γ of the predicted-gap activation 
 using Clock = std::chrono::steady_clock;
 constexpr int kTimerSampling = 16;
 
-ConstVectorRef positions_of(const BodyInstance& b, const Vector& q) {
-  return q.segment(b.position_offset, b.body->position_size());
-}
-
 }  // namespace
 
 MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameters)
@@ -235,7 +231,7 @@ void MoreauJean::update(State& state) {
   q_next_.resize(state.q.size());
   for (const BodyInstance& b : world_.bodies) {
     if (b.body->fixed()) continue;
-    b.body->integrate_position(positions_of(b, state.q),
+    b.body->integrate_position(b.positions(state.q),
                                v_theta_.segment(b.velocity_offset, b.body->velocity_size()), h,
                                q_next_.segment(b.position_offset, b.body->position_size()));
   }
