@@ -5,6 +5,7 @@
 //   `axis` in 3D), initial_displacement (m), velocity (m/s), angular_velocity (rad/s; 3D: body frame)
 //   shapes: NAME: {type: box, size: [...]} | {type: sphere, radius} | {type: halfspace, normal, offset},
 //           each with an optional position and angle in the body frame.
+#include "engine/bodies/fe_body.h"
 #include "engine/bodies/fixed_body.h"
 #include "engine/bodies/point_mass.h"
 #include "engine/bodies/rigid_body_2d.h"
@@ -163,6 +164,23 @@ void read_bodies(const SceneNode& root, World& world) {
   }
   if (world.bodies.empty()) root.fail_at("bodies", "a scene needs at least one body");
   world.finalize_layout();
+}
+
+int contact_law_named(const SceneNode& node, const std::string& key, const World& world) {
+  const std::string name = node.string(key);
+  for (std::size_t i = 0; i < world.contact_laws.size(); ++i)
+    if (world.contact_laws[i].name == name) return static_cast<int>(i);
+  node.fail_at(key, "no contact law named '" + name + "'");
+}
+
+Eigen::Vector3d node_point(const SceneNode& node, const BodyInstance& body) {
+  const auto* fe = dynamic_cast<const FeBody*>(body.body.get());
+  if (!fe) node.fail_at("node", "node sets belong to elastic bodies");
+  const std::string set = node.string("node");
+  const auto it = fe->mesh().node_sets.find(set);
+  if (it == fe->mesh().node_sets.end() || it->second.size() != 1)
+    node.fail_at("node", "the mesh of '" + body.name + "' has no one-node set '" + set + "'");
+  return fe->mesh().nodes[it->second.front()];
 }
 
 int body_named(const SceneNode& node, const std::string& key, const World& world) {

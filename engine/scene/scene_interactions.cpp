@@ -11,17 +11,6 @@ Eigen::Vector3d point(const SceneNode& node, const std::string& key, int dimensi
   return node.has(key) ? node.vector(key, dimension, dimension) : Eigen::Vector3d::Zero();
 }
 
-// The reference coordinates of the node of a one-node set (key `node`) of an elastic body.
-Eigen::Vector3d node_point(const SceneNode& node, const BodyInstance& body) {
-  const auto* fe = dynamic_cast<const FeBody*>(body.body.get());
-  if (!fe) node.fail_at("node", "node sets belong to elastic bodies");
-  const std::string set = node.string("node");
-  const auto it = fe->mesh().node_sets.find(set);
-  if (it == fe->mesh().node_sets.end() || it->second.size() != 1)
-    node.fail_at("node", "the mesh of '" + body.name + "' has no one-node set '" + set + "'");
-  return fe->mesh().nodes[it->second.front()];
-}
-
 }  // namespace
 
 // A spring: {body, point | node, other (default: the ground), other_point, stiffness, direction}.

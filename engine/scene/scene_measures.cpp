@@ -1,5 +1,4 @@
 // probes (named time series) and checks (a probe against a reference, with a tolerance).
-#include "engine/bodies/fe_body.h"
 #include "engine/scene/scene_parts.h"
 
 namespace csim::scene_parts {
@@ -33,15 +32,7 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     p.kind = kind == "position" ? ProbeDefinition::Kind::position : ProbeDefinition::Kind::displacement;
     p.body = body_named(spec, "body", world);
     if (spec.has("point")) p.point = spec.vector("point", d, d);
-    if (spec.has("node")) {  // a one-node set of an elastic body's mesh
-      const auto* fe = dynamic_cast<const FeBody*>(world.bodies[p.body].body.get());
-      if (!fe) spec.fail_at("node", "node sets belong to elastic bodies");
-      const std::string set = spec.string("node");
-      const auto it = fe->mesh().node_sets.find(set);
-      if (it == fe->mesh().node_sets.end() || it->second.size() != 1)
-        spec.fail_at("node", "the mesh has no one-node set '" + set + "'");
-      p.point = fe->mesh().nodes[it->second.front()];
-    }
+    if (spec.has("node")) p.point = node_point(spec, world.bodies[p.body]);
     p.direction = component_direction(spec, d);
   } else if (kind == "velocity") {
     spec.allow_only({"body", "component"});
@@ -65,20 +56,14 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
   } else if (kind == "contact_count") {
     spec.allow_only({"contact", "status"});
     p.kind = ProbeDefinition::Kind::contact_count;
-    const std::string law = spec.string("contact");
-    for (std::size_t i = 0; i < world.contact_laws.size(); ++i)
-      if (world.contact_laws[i].name == law) p.contact_law = static_cast<int>(i);
-    if (p.contact_law < 0) spec.fail_at("contact", "no contact law named '" + law + "'");
+    p.contact_law = contact_law_named(spec, "contact", world);
     p.force_component = spec.string("status", "closed");
     if (p.force_component != "closed" && p.force_component != "stick" && p.force_component != "slip")
       spec.fail_at("status", "expected closed, stick or slip");
   } else if (kind == "contact_force") {
     spec.allow_only({"contact", "component", "direction"});
     p.kind = ProbeDefinition::Kind::contact_force;
-    const std::string law = spec.string("contact");
-    for (std::size_t i = 0; i < world.contact_laws.size(); ++i)
-      if (world.contact_laws[i].name == law) p.contact_law = static_cast<int>(i);
-    if (p.contact_law < 0) spec.fail_at("contact", "no contact law named '" + law + "'");
+    p.contact_law = contact_law_named(spec, "contact", world);
     if (spec.has("direction")) {
       if (spec.has("component")) spec.fail("give either component or direction");
       p.direction = component_direction(spec, d);

@@ -19,4 +19,10 @@ void read_checks(const SceneNode& root, RunSettings& run);
 // A body named by the value of `key`, or an error naming the key.
 int body_named(const SceneNode& node, const std::string& key, const World& world);
 
+// The contact law named by the value of `key`, or an error naming the key.
+int contact_law_named(const SceneNode& node, const std::string& key, const World& world);
+
+// The reference coordinates of the node of the one-node set named by key `node`, on an elastic body.
+Eigen::Vector3d node_point(const SceneNode& node, const BodyInstance& body);
+
 }  // namespace csim::scene_parts

@@ -190,7 +190,9 @@ TEST(IdaEvents, StickJustBelowTheThresholdDoesNotMove) {
   const RunReport report = run_scene(*scene, {});
   EXPECT_TRUE(report.all_passed());
   for (const CheckResult& c : report.checks)
-    if (c.probe == "slide") EXPECT_LE(std::abs(c.value), 1e-12) << c.name;
+    if (c.probe == "slide") {
+      EXPECT_LE(std::abs(c.value), 1e-12) << c.name;
+    }
 }
 
 TEST(IdaEvents, ContactThatIsOpenAtTheStartIsRefusedClearly) {
