@@ -1,0 +1,267 @@
+// The laws of hyperelastic.h. Each tangent is assembled from a few fourth-order building blocks
+// (below) obtained by differentiating P term by term with
+//   ∂J/∂F = J H,  ∂H_iJ/∂F_kL = −H_iL H_kJ,  H = F⁻ᵀ,
+//   ∂I1/∂F = 2F,  ∂I2/∂F = 2(I1 F − bF),  I2 = ½(I1² − tr C²)
+// (Holzapfel 2000, ch. 2 and 6; Bonet & Wood 2008, ch. 6).
+#include "fem/hyperelastic.h"
+
+#include "fem/material.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace csim {
+namespace {
+
+using Vector9 = Eigen::Matrix<double, 9, 1>;
+
+// X flattened row by row, the order of A's rows and columns.
+Vector9 flatten(const Eigen::Matrix3d& X) {
+  Vector9 v;
+  for (int i = 0; i < 3; ++i)
+    for (int J = 0; J < 3; ++J) v(3 * i + J) = X(i, J);
+  return v;
+}
+
+// A_iJkL += c (X_iJ Y_kL + Y_iJ X_kL): the symmetric dyad.
+void add_symmetric_dyad(MaterialTangent& A, double c, const Eigen::Matrix3d& X,
+                        const Eigen::Matrix3d& Y) {
+  const Vector9 x = flatten(X), y = flatten(Y);
+  A.noalias() += c * (x * y.transpose() + y * x.transpose());
+}
+
+// A_iJkL += c X_iJ X_kL.
+void add_dyad(MaterialTangent& A, double c, const Eigen::Matrix3d& X) {
+  const Vector9 x = flatten(X);
+  A.noalias() += c * (x * x.transpose());
+}
+
+// A_iJkL += c X_iL X_kJ (from the derivative of an inverse or of a product FᵀF).
+void add_cross(MaterialTangent& A, double c, const Eigen::Matrix3d& X) {
+  for (int i = 0; i < 3; ++i)
+    for (int J = 0; J < 3; ++J)
+      for (int k = 0; k < 3; ++k)
+        for (int L = 0; L < 3; ++L) A(3 * i + J, 3 * k + L) += c * X(i, L) * X(k, J);
+}
+
+// A_iJkL += c (δik S_JL + T_ik δJL), S and T symmetric; S = T = I gives 2c δik δJL.
+void add_kronecker(MaterialTangent& A, double c, const Eigen::Matrix3d& S,
+                   const Eigen::Matrix3d& T) {
+  for (int i = 0; i < 3; ++i)
+    for (int J = 0; J < 3; ++J)
+      for (int L = 0; L < 3; ++L) {
+        A(3 * i + J, 3 * i + L) += c * S(J, L);
+        A(3 * J + i, 3 * L + i) += c * T(J, L);
+      }
+}
+
+double checked_determinant(const Eigen::Matrix3d& F) {
+  const double J = F.determinant();
+  if (!(J > 0.0) || !std::isfinite(J)) {
+    std::ostringstream message;
+    message << "hyperelastic material: det F = " << J << " ≤ 0 or not finite (inverted)";
+    throw FemError(message.str());
+  }
+  return J;
+}
+
+// S = λ tr E I + 2μ E, P = FS; A = δik S_JL + λ F_iJ F_kL + μ (F_iL F_kJ + b_ik δJL).
+void saint_venant_kirchhoff_part(const HyperelasticMaterial& m, const Eigen::Matrix3d& F,
+                                 bool with_tangent, HyperelasticResponse& r) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d E = 0.5 * (F.transpose() * F - I);
+  const double trace = E.trace();
+  const Eigen::Matrix3d S = m.lambda * trace * I + 2.0 * m.mu * E;
+  r.energy = 0.5 * m.lambda * trace * trace + m.mu * E.squaredNorm();
+  r.stress = F * S;
+  if (!with_tangent) return;
+  add_kronecker(r.tangent, 1.0, S, m.mu * F * F.transpose());
+  add_dyad(r.tangent, m.lambda, F);
+  add_cross(r.tangent, m.mu, F);
+}
+
+// W_iso = μ/2 (I1 − 3) − μ ln J: P = μ(F − H), A = μ δik δJL + μ H_iL H_kJ.
+void neo_hookean_part(const HyperelasticMaterial& m, const Eigen::Matrix3d& F, double J,
+                      bool with_tangent, HyperelasticResponse& r) {
+  const Eigen::Matrix3d H = F.inverse().transpose();
+  r.energy = 0.5 * m.mu * (F.squaredNorm() - 3.0) - m.mu * std::log(J);
+  r.stress = m.mu * (F - H);
+  if (!with_tangent) return;
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  add_kronecker(r.tangent, 0.5 * m.mu, I, I);
+  add_cross(r.tangent, m.mu, H);
+}
+
+// W_iso = C10 (a I1 − 3) + C01 (c I2 − 3), a = J^(−2/3), c = J^(−4/3). With ∂a = −⅔ a H and
+// ∂c = −(4/3) c H:
+//   ∂(a I1)  = a (2F − ⅔ I1 H)
+//   ∂²(a I1) = a [ (4/9) I1 H⊗H + ⅔ I1 H_iL H_kJ − (4/3)(H⊗F + F⊗H) + 2 δik δJL ]
+//   ∂(c I2)  = c (D − (4/3) I2 H),  D = ∂I2/∂F = 2(I1 F − bF)
+//   ∂²(c I2) = c [ (16/9) I2 H⊗H + (4/3) I2 H_iL H_kJ − (4/3)(H⊗D + D⊗H)
+//                  + 4 F⊗F + 2 I1 δik δJL − 2 δik C_JL − 2 F_iL F_kJ − 2 b_ik δJL ]
+void mooney_rivlin_part(const HyperelasticMaterial& m, const Eigen::Matrix3d& F, double J,
+                        bool with_tangent, HyperelasticResponse& r) {
+  const Eigen::Matrix3d H = F.inverse().transpose();
+  const Eigen::Matrix3d C = F.transpose() * F, b = F * F.transpose();
+  const double I1 = C.trace();
+  const double I2 = 0.5 * (I1 * I1 - C.squaredNorm());
+  const double a = std::pow(J, -2.0 / 3.0), c = a * a;
+  const Eigen::Matrix3d D = 2.0 * (I1 * F - b * F);
+  r.energy = m.c10 * (a * I1 - 3.0) + m.c01 * (c * I2 - 3.0);
+  r.stress = m.c10 * a * (2.0 * F - (2.0 / 3.0) * I1 * H) + m.c01 * c * (D - (4.0 / 3.0) * I2 * H);
+  if (!with_tangent) return;
+  const double first = m.c10 * a, second = m.c01 * c;
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  add_dyad(r.tangent, first * (4.0 / 9.0) * I1 + second * (16.0 / 9.0) * I2, H);
+  add_cross(r.tangent, first * (2.0 / 3.0) * I1 + second * (4.0 / 3.0) * I2, H);
+  add_symmetric_dyad(r.tangent, -first * (4.0 / 3.0), H, F);
+  add_kronecker(r.tangent, first + second * I1, I, I);
+  add_symmetric_dyad(r.tangent, -second * (4.0 / 3.0), H, D);
+  add_dyad(r.tangent, 4.0 * second, F);
+  add_kronecker(r.tangent, -2.0 * second, C, b);
+  add_cross(r.tangent, -2.0 * second, F);
+}
+
+}  // namespace
+
+const char* to_string(HyperelasticLaw law) {
+  switch (law) {
+    case HyperelasticLaw::saint_venant_kirchhoff: return "saint_venant_kirchhoff";
+    case HyperelasticLaw::neo_hookean: return "neo_hookean";
+    case HyperelasticLaw::mooney_rivlin: return "mooney_rivlin";
+  }
+  return "unknown";
+}
+
+namespace {
+
+HyperelasticMaterial from_young_poisson(HyperelasticLaw law, double young, double poisson,
+                                        double density) {
+  const ElasticMaterial elastic{young, poisson, density};
+  check_material(elastic);
+  HyperelasticMaterial material;
+  material.law = law;
+  material.lambda = lame_lambda(elastic);
+  material.mu = shear_modulus(elastic);
+  material.density = density;
+  return material;
+}
+
+}  // namespace
+
+HyperelasticMaterial saint_venant_kirchhoff(double young, double poisson, double density) {
+  return from_young_poisson(HyperelasticLaw::saint_venant_kirchhoff, young, poisson, density);
+}
+
+HyperelasticMaterial neo_hookean(double young, double poisson, double density) {
+  return from_young_poisson(HyperelasticLaw::neo_hookean, young, poisson, density);
+}
+
+HyperelasticMaterial mooney_rivlin(double c10, double c01, double bulk, double density) {
+  HyperelasticMaterial material;
+  material.law = HyperelasticLaw::mooney_rivlin;
+  material.c10 = c10;
+  material.c01 = c01;
+  material.bulk = bulk;
+  material.density = density;
+  check_hyperelastic(material);
+  return material;
+}
+
+void check_hyperelastic(const HyperelasticMaterial& material) {
+  auto fail = [](const char* key, double value, const char* rule) {
+    std::ostringstream message;
+    message << "hyperelastic material: " << key << " = " << value << ": " << rule;
+    throw FemError(message.str());
+  };
+  auto finite = [&](const char* key, double value) {
+    if (!std::isfinite(value)) fail(key, value, "must be finite");
+  };
+  switch (material.law) {
+    case HyperelasticLaw::saint_venant_kirchhoff:
+    case HyperelasticLaw::neo_hookean:
+      finite("mu", material.mu);
+      finite("lambda", material.lambda);
+      if (!(material.mu > 0.0)) fail("mu", material.mu, "shear modulus μ must be > 0 Pa (E > 0)");
+      if (!(material.lambda > -2.0 / 3.0 * material.mu))
+        fail("lambda", material.lambda,
+             "λ must be > −2μ/3, a positive bulk modulus (−1 < ν < 0.5)");
+      break;
+    case HyperelasticLaw::mooney_rivlin:
+      finite("c10", material.c10);
+      finite("c01", material.c01);
+      finite("bulk", material.bulk);
+      if (!(material.c10 + material.c01 > 0.0))
+        fail("c10", material.c10, "C10 + C01 must be > 0 Pa (positive initial shear modulus)");
+      if (!(material.bulk > 0.0)) fail("bulk", material.bulk, "bulk modulus K must be > 0 Pa");
+      break;
+    default: throw FemError("hyperelastic material: unknown law");
+  }
+  finite("density", material.density);
+  if (!(material.density >= 0.0)) fail("density", material.density, "density ρ must be ≥ 0 kg/m³");
+}
+
+InitialModuli initial_moduli(const HyperelasticMaterial& material) {
+  if (material.law == HyperelasticLaw::mooney_rivlin) {
+    const double mu = 2.0 * (material.c10 + material.c01);
+    return {material.bulk - 2.0 / 3.0 * mu, mu};
+  }
+  return {material.lambda, material.mu};
+}
+
+HyperelasticResponse isochoric_response(const HyperelasticMaterial& material,
+                                        const Eigen::Matrix3d& F, bool with_tangent) {
+  const double J = checked_determinant(F);
+  HyperelasticResponse response;
+  switch (material.law) {
+    case HyperelasticLaw::saint_venant_kirchhoff:
+      saint_venant_kirchhoff_part(material, F, with_tangent, response);
+      break;
+    case HyperelasticLaw::neo_hookean:
+      neo_hookean_part(material, F, J, with_tangent, response);
+      break;
+    case HyperelasticLaw::mooney_rivlin:
+      mooney_rivlin_part(material, F, J, with_tangent, response);
+      break;
+  }
+  return response;
+}
+
+VolumetricResponse volumetric_response(const HyperelasticMaterial& material, double J) {
+  if (!(J > 0.0) || !std::isfinite(J)) {
+    std::ostringstream message;
+    message << "hyperelastic material: J = " << J << " ≤ 0 or not finite (inverted)";
+    throw FemError(message.str());
+  }
+  switch (material.law) {
+    case HyperelasticLaw::saint_venant_kirchhoff: return {};
+    case HyperelasticLaw::neo_hookean: {
+      const double log_J = std::log(J);
+      return {0.5 * material.lambda * log_J * log_J, material.lambda * log_J / J,
+              material.lambda * (1.0 - log_J) / (J * J)};
+    }
+    case HyperelasticLaw::mooney_rivlin:
+      return {0.5 * material.bulk * (J - 1.0) * (J - 1.0), material.bulk * (J - 1.0),
+              material.bulk};
+  }
+  return {};
+}
+
+// W = W_iso + U(J): P_vol = U' J H, A_vol = (U'' J² + U' J) H⊗H − U' J H_iL H_kJ.
+HyperelasticResponse hyperelastic_response(const HyperelasticMaterial& material,
+                                           const Eigen::Matrix3d& F, bool with_tangent) {
+  HyperelasticResponse response = isochoric_response(material, F, with_tangent);
+  if (material.law == HyperelasticLaw::saint_venant_kirchhoff) return response;
+  const double J = F.determinant();
+  const VolumetricResponse volumetric = volumetric_response(material, J);
+  const Eigen::Matrix3d H = F.inverse().transpose();
+  response.energy += volumetric.energy;
+  response.stress += volumetric.mean_stress * J * H;
+  if (with_tangent) {
+    add_dyad(response.tangent, volumetric.stiffness * J * J + volumetric.mean_stress * J, H);
+    add_cross(response.tangent, -volumetric.mean_stress * J, H);
+  }
+  return response;
+}
+
+}  // namespace csim
