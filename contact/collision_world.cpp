@@ -83,6 +83,13 @@ struct CollisionWorld::Impl {
     std::vector<fcl::Vector3d> vertices;         // BVH vertices (2D: each node at z = ±½)
     std::vector<fcl::Triangle> triangles;
     std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
+    std::vector<std::pair<int, SurfaceFeatures>> features_of_body;  // bodies not listed: nodes
+
+    SurfaceFeatures features(int body) const {
+      for (const auto& [b, f] : features_of_body)
+        if (b == body) return f;
+      return SurfaceFeatures::nodes;
+    }
   };
 
   struct Object {
@@ -227,9 +234,15 @@ void CollisionWorld::find_contacts(std::vector<ContactPoint>& out) const {
 void CollisionWorld::Impl::surface_contacts(const Object& surface, const Object& shape, bool surface_is_a,
                                            std::vector<ContactPoint>& out) const {
   const std::size_t begin = out.size();
-  for (int node : surface.surface->geometry.contact_nodes)
-    node_shape_contact(surface.surface->positions[node], node, shape.instance.shape, shape.instance.pose, margin,
-                       surface_is_a, planar, out);
+  const Surface& s = *surface.surface;
+  const SurfaceFeatures features = s.features(shape.body);
+  if (features != SurfaceFeatures::nodes)
+    shape_face_contacts(s.positions, s.geometry, shape.instance.shape, shape.instance.pose, margin, surface_is_a,
+                        planar, out);
+  if (features != SurfaceFeatures::faces)
+    for (int node : s.geometry.contact_nodes)
+      node_shape_contact(s.positions[node], node, shape.instance.shape, shape.instance.pose, margin, surface_is_a,
+                         planar, out);
   for (std::size_t i = begin; i < out.size(); ++i) {
     out[i].key.object_a = surface_is_a ? surface.instance.id : shape.instance.id;
     out[i].key.object_b = surface_is_a ? shape.instance.id : surface.instance.id;
@@ -267,6 +280,14 @@ int CollisionWorld::add_deformable_surface(int body, const std::vector<Eigen::Ve
   impl_->manager->registerObject(object.fcl_object.get());
   impl_->moving_in_tree.push_back(id);
   return id;
+}
+
+void CollisionWorld::set_surface_features(int surface_object, int body, SurfaceFeatures features) {
+  Impl::Object& o = impl_->objects.at(surface_object);
+  if (!o.surface) throw std::invalid_argument("set_surface_features: object is not a deformable surface");
+  auto& list = o.surface->features_of_body;
+  std::erase_if(list, [body](const auto& item) { return item.first == body; });
+  list.emplace_back(body, features);
 }
 
 void CollisionWorld::set_node_positions(int object, const std::vector<Eigen::Vector3d>& node_positions) {

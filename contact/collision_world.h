@@ -47,6 +47,10 @@ class CollisionWorld {
   int add_deformable_surface(int body, const std::vector<Eigen::Vector3d>& node_positions,
                              const DeformableSurfaceGeometry& geometry);
 
+  // Which features of the deformable surface `surface_object` touch the shapes of `body`
+  // (deformable_surface.h); nodes unless set.
+  void set_surface_features(int surface_object, int body, SurfaceFeatures features);
+
   // World pose of the object's shape frame. Call for the moving objects, then update().
   void set_pose(int object, const Eigen::Isometry3d& pose);
   // Current node positions of a deformable surface (all its nodes, as given to add_…); then update().

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <array>
 #include <compare>
 #include <cstdint>
 
@@ -17,7 +18,8 @@ namespace csim {
 
 // Identity of a contact across steps (warm start, output, sorting): the two objects and the feature
 // that touches (the box vertex index for box–halfspace, whichever of the two is A; 0 for pairs with
-// one contact point). object_a < object_b.
+// one contact point; on a deformable surface, the node index ≥ 0 for its node features and −1 − k
+// for feature k of the rigid shape landing on its faces). object_a < object_b.
 struct ContactKey {
   int object_a = -1;
   int object_b = -1;
@@ -25,8 +27,18 @@ struct ContactKey {
   auto operator<=>(const ContactKey&) const = default;
 };
 
+// The deformable side's point of a contact, as a combination of the surface's nodes:
+// x = Σ weight[k] · x(nodes[k]), weights ≥ 0 summing to 1 (a node feature: one node of weight 1;
+// a point on a boundary segment or triangle: its linear interpolation weights).
+struct SurfacePoint {
+  int count = 0;  // 0 when neither object is a deformable surface
+  std::array<int, 3> nodes{};
+  std::array<double, 3> weights{};
+};
+
 struct ContactPoint {
   ContactKey key;
+  SurfacePoint surface;
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();

@@ -1,8 +1,14 @@
 // Contact of a deformable surface (the boundary of a finite-element body) with rigid shapes.
 //
-// The features are the surface's nodes (node-to-surface contact against rigid shapes; feature = node
-// index): their gaps, normals and closest points are closed forms of ours (point–halfspace,
-// point–sphere, point–box), exact where FCL would only give a penetration depth between whole shapes.
+// Two kinds of features, chosen per pair of bodies (SurfaceFeatures):
+// - node features, the surface's nodes against the rigid shape (node-to-surface contact; feature =
+//   node index): gaps, normals and closest points are closed forms of ours (point–halfspace,
+//   point–sphere, point–box), exact where FCL would only give a penetration depth between whole shapes;
+// - face features, the rigid shape's own features against the surface's faces (a sphere's nearest
+//   point, a box's vertices; feature = −1 − k): the closest point of the deformed faces (segments in
+//   plane scenes, triangles in space, so quad8 edges and hexa8 faces are taken piecewise flat) and its
+//   interpolation weights on the face's nodes, which give the contact's Jacobian on the nodes.
+// `both` is the symmetric (two-pass) treatment: a box edge and a surface corner can both be caught.
 // FCL does the broad phase: the surface's triangles form a BVHModel<OBBRSS> refitted at every update
 // (beginUpdateModel / updateSubModel / endUpdateModel, then computeLocalAABB and the object's AABB,
 // then the manager's update: without all of these the broad phase silently misses contacts).
@@ -19,6 +25,8 @@
 
 namespace csim {
 
+enum class SurfaceFeatures { nodes, faces, both };
+
 struct DeformableSurfaceGeometry {
   // Boundary segments (2D: node pairs) or triangles (3D: node triples), outward order.
   std::vector<std::array<int, 3>> triangles;   // 3D
@@ -31,5 +39,15 @@ struct DeformableSurfaceGeometry {
 // The surface side's point is the node itself, the shape side's the closest point on its surface.
 void node_shape_contact(const Eigen::Vector3d& x, int node, const Shape& shape, const Eigen::Isometry3d& pose,
                         double margin, bool surface_is_a, bool planar, std::vector<ContactPoint>& out);
+
+// The contacts of a rigid shape's features with the surface's faces (gap ≤ margin), oriented like
+// node_shape_contact. A sphere gives at most one (its point nearest the surface, feature −1), a box
+// one per vertex k (feature −1 − k; the 4 in-plane corners in plane scenes, 8 vertices in space);
+// halfspaces have no such features and give none. Each point is set against the closest face: outside
+// the body the gap is the distance and the normal joins the two points (the face normal when they
+// coincide); inside, the gap is minus the distance and the normal is the face's.
+void shape_face_contacts(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,
+                         const Shape& shape, const Eigen::Isometry3d& pose, double margin, bool surface_is_a,
+                         bool planar, std::vector<ContactPoint>& out);
 
 }  // namespace csim

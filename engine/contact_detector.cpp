@@ -6,16 +6,15 @@
 
 namespace csim {
 
-void contact_rows(const World& world, const Vector& q, int body_a, const Eigen::Vector3d& local_a, int body_b,
-                  const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, SparseRow* rows) {
+void contact_rows(const World& world, int body_a, const PointJacobian& point_a, int body_b,
+                  const PointJacobian& point_b, const ContactPoint& c, int dimension, SparseRow* rows) {
   const Eigen::Vector3d* axes[3] = {&c.normal, &c.t1, &c.t2};
   for (int k = 0; k < dimension; ++k) rows[k].clear();
   const int ids[2] = {body_a, body_b};
-  const Eigen::Vector3d* locals[2] = {&local_a, &local_b};
+  const PointJacobian* jacobians[2] = {&point_a, &point_b};
   for (int side = 0; side < 2; ++side) {
     const BodyInstance& b = world.bodies[ids[side]];
-    if (b.body->fixed()) continue;
-    const PointJacobian J = b.body->point_jacobian(b.positions(q), *locals[side]);
+    const PointJacobian& J = *jacobians[side];
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int k = 0; k < dimension; ++k)
       for (int j = 0; j < J.count; ++j)
@@ -57,6 +56,10 @@ ContactDetector::ContactDetector(const World& world)
       }
       geometry.contact_nodes = nodes_of(faces);
       const int object = collision_->add_deformable_surface(i, fe->mesh().nodes, geometry);
+      for (const ContactLaw& law : world.contact_laws) {
+        if (law.body_a == i) collision_->set_surface_features(object, law.body_b, law.features);
+        if (law.body_b == i) collision_->set_surface_features(object, law.body_a, law.features);
+      }
       object_body_.resize(object + 1);
       object_shape_.resize(object + 1);
       object_body_[object] = i;
@@ -76,11 +79,13 @@ ContactDetector::ContactDetector(const World& world)
 
 ContactDetector::~ContactDetector() = default;
 
-Eigen::Vector3d ContactDetector::material_point(const Vector& q, int object, const ContactPoint& c,
-                                               const Eigen::Vector3d& world_point) const {
+PointJacobian ContactDetector::side_jacobian(const Vector& q, int object, const ContactPoint& c,
+                                             const Eigen::Vector3d& world_point) const {
   const BodyInstance& b = world_.bodies[object_body_[object]];
-  if (object_shape_[object] < 0) return static_cast<const FeBody&>(*b.body).mesh().nodes[c.key.feature];
-  return b.body->pose(b.positions(q)).inverse() * world_point;
+  if (b.body->fixed()) return {};
+  if (object_shape_[object] < 0) return static_cast<const FeBody&>(*b.body).surface_point_jacobian(c.surface);
+  const auto qb = b.positions(q);
+  return b.body->point_jacobian(qb, b.body->pose(qb).inverse() * world_point);
 }
 
 double ContactDetector::travel_bound(const Vector& v, double h) const {
@@ -134,8 +139,8 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     const ContactLaw& law = world_.contact_laws[law_index];
     if (!law.isotropic()) complete_frame(point, world_.dimension == 2, law.friction_direction);
     const int i = static_cast<int>(contacts.size());
-    contact_rows(world_, q, body_a, material_point(q, point.key.object_a, point, point.point_a), body_b,
-                 material_point(q, point.key.object_b, point, point.point_b), point, d, &rows[d * i]);
+    contact_rows(world_, body_a, side_jacobian(q, point.key.object_a, point, point.point_a), body_b,
+                 side_jacobian(q, point.key.object_b, point, point.point_b), point, d, &rows[d * i]);
     ActiveContact& c = contacts.emplace_back();
     c.point = point;
     c.law = law_index;

@@ -27,9 +27,9 @@ class ContactDetector {
   // point with its frame), `rows` their H rows: contact i owns rows [dimension·i, dimension·(i+1)).
   void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, std::vector<SparseRow>& rows);
 
-  // The material point of a contact on one side: a node's reference coordinates on an elastic body
-  // (feature = node), the world point taken to the body frame otherwise.
-  Eigen::Vector3d material_point(const Vector& q, int object, const ContactPoint& c, const Eigen::Vector3d& world_point) const;
+  // The Jacobian of a contact's point on one side: on an elastic body its surface point (nodes and
+  // weights), otherwise the body's material point under the world point.
+  PointJacobian side_jacobian(const Vector& q, int object, const ContactPoint& c, const Eigen::Vector3d& world_point) const;
 
   // The bound on how far any material point moves in time h at velocities v (m), for margins.
   double travel_bound(const Vector& v, double h) const;
@@ -45,10 +45,9 @@ class ContactDetector {
   std::vector<ContactPoint> points_;
 };
 
-// Rows of one contact point between bodies A and B at positions q, into rows (dimension × n); local_a
-// and local_b are the touching material points in their bodies' frames (a node's reference
-// coordinates on an elastic body).
-void contact_rows(const World& world, const Vector& q, int body_a, const Eigen::Vector3d& local_a, int body_b,
-                  const Eigen::Vector3d& local_b, const ContactPoint& c, int dimension, SparseRow* rows);
+// Rows of one contact point between bodies A and B into rows (dimension × n), from the Jacobians of
+// the touching points of A and B (empty for a fixed body).
+void contact_rows(const World& world, int body_a, const PointJacobian& point_a, int body_b,
+                  const PointJacobian& point_b, const ContactPoint& c, int dimension, SparseRow* rows);
 
 }  // namespace csim

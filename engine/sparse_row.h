@@ -1,5 +1,6 @@
-// One row of the contact Jacobian H: u_row = Σ_k value[k] · v[index[k]], over at most twelve velocity
-// components (a contact joins two bodies, each moving the point through at most six). Stored this way
+// One row of the contact Jacobian H: u_row = Σ_k value[k] · v[index[k]], over at most fifteen velocity
+// components (a contact joins two bodies: a rigid body moves its point through at most six, an
+// elastic body's face point through the nine of a boundary triangle's nodes). Stored this way
 // a contact costs a handful of numbers whatever the size of the bodies, which keeps a step linear in
 // the number of unknowns for finite-element bodies.
 #pragma once
@@ -12,8 +13,8 @@ namespace csim {
 
 struct SparseRow {
   int count = 0;
-  std::array<int, 12> index{};
-  std::array<double, 12> value{};
+  std::array<int, 15> index{};
+  std::array<double, 15> value{};
 
   void clear() { count = 0; }
   void add(int i, double x) {

@@ -5,6 +5,7 @@
 // `position_offset` / `velocity_offset` locate a body's slice in q and v.
 #pragma once
 
+#include "contact/deformable_surface.h"
 #include "contact/shape.h"
 #include "engine/bodies/body.h"
 #include "engine/time_function.h"
@@ -81,6 +82,8 @@ struct ContactLaw {
   Eigen::Vector2d mu = Eigen::Vector2d::Zero();
   Eigen::Vector3d friction_direction = Eigen::Vector3d::Zero();
   double restitution = 0.0;
+  // When one body is elastic: which of its features touch (deformable_surface.h).
+  SurfaceFeatures features = SurfaceFeatures::nodes;
   bool isotropic() const { return mu(0) == mu(1); }
 };
 

@@ -103,6 +103,18 @@ PointJacobian FeBody::point_jacobian(const ConstVectorRef&, const Eigen::Vector3
   return J;
 }
 
+PointJacobian FeBody::surface_point_jacobian(const SurfacePoint& point) const {
+  PointJacobian J;
+  for (int k = 0; k < point.count; ++k) {
+    if (point.weights[k] == 0.0) continue;  // a face point on a corner: the other nodes do not move it
+    for (int c = 0; c < dofs_per_node(); ++c) {
+      const int i = free_index(point.nodes[k], c);
+      if (i >= 0) J.add(i, point.weights[k] * Eigen::Vector3d::Unit(c));
+    }
+  }
+  return J;
+}
+
 void FeBody::add_weight(const ConstVectorRef&, const Eigen::Vector3d& g, VectorRef f) const {
   Eigen::VectorXd uniform(free_count_);
   for (int node = 0; node < static_cast<int>(mesh_.nodes.size()); ++node)

@@ -6,6 +6,7 @@
 // its reference coordinates (springs and loads attach to nodes; contacts use the boundary nodes).
 #pragma once
 
+#include "contact/contact_point.h"
 #include "engine/bodies/body.h"
 #include "fem/material.h"
 #include "fem/mesh.h"
@@ -33,6 +34,9 @@ class FeBody final : public Body {
   Eigen::Isometry3d pose(const ConstVectorRef&) const override { return Eigen::Isometry3d::Identity(); }
   Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
+  // The Jacobian of a point of the boundary given by its nodes and weights (a contact's surface point):
+  // Σ weight · (the node's unit columns); fixed components are left out.
+  PointJacobian surface_point_jacobian(const SurfacePoint& point) const;
   void add_weight(const ConstVectorRef& q, const Eigen::Vector3d& g, VectorRef f) const override;
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                           VectorRef q_next) const override;

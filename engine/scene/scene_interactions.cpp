@@ -101,11 +101,14 @@ void read_constraints(const SceneNode& root, World& world) {
   }
 }
 
-// A contact law: {between: [A, B], mu: μ | [μ1, μ2], friction_direction, restitution}.
+// A contact law: {between: [A, B], mu: μ | [μ1, μ2], friction_direction, restitution, features}.
+// features (with an elastic body): nodes (its boundary nodes on the other body's shapes, node-to-
+// surface), faces (the other body's sphere or box vertices on its boundary faces, so that a rigid body
+// can land on it), or both.
 void read_contacts(const SceneNode& root, World& world) {
   if (!root.has("contacts")) return;
   for (const auto& [name, node] : root.child("contacts").entries()) {
-    node.allow_only({"between", "mu", "friction_direction", "restitution"});
+    node.allow_only({"between", "mu", "friction_direction", "restitution", "features"});
     ContactLaw law;
     law.name = name;
     const auto pair = node.child("between").items();
@@ -140,6 +143,13 @@ void read_contacts(const SceneNode& root, World& world) {
     if (world.bodies[law.body_a].body->elastic() && world.bodies[law.body_b].body->elastic())
       node.fail_at("between", "contact between two elastic bodies is not supported yet (node-to-surface "
                               "contact works against rigid shapes)");
+    const bool has_elastic = world.bodies[law.body_a].body->elastic() || world.bodies[law.body_b].body->elastic();
+    const std::string features = node.string("features", "nodes");
+    if (features == "faces") law.features = SurfaceFeatures::faces;
+    else if (features == "both") law.features = SurfaceFeatures::both;
+    else if (features != "nodes") node.fail_at("features", "expected nodes, faces or both, got '" + features + "'");
+    if (!has_elastic && features != "nodes")
+      node.fail_at("features", "only meaningful when one of the bodies is elastic");
     world.contact_laws.push_back(law);
   }
 }
