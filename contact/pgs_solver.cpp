@@ -1,5 +1,7 @@
 #include "contact/pgs_solver.h"
 
+#include "contact/alart_curnier.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -326,7 +328,8 @@ bool correct_statuses(const FrictionContactProblem& problem, const Eigen::Vector
 constexpr int kActiveSetPasses = 8;
 
 template <int D>
-bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual, bool closed_stick = false) {
+bool active_set_polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual,
+                       bool closed_stick) {
   std::vector<PolishStatus<D>> statuses(problem.contacts);
   for (int c = 0; c < problem.contacts; ++c) {
     const Vector<D> rc = r.template segment<D>(static_cast<Eigen::Index>(D) * c);
@@ -346,6 +349,31 @@ bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& r
       improved = true;
     }
     if (!correct_statuses<D>(problem, candidate, statuses)) break;
+  }
+  return improved;
+}
+
+// Newton steps per polish; each costs a dense LU of the problem's size.
+constexpr int kNewtonIterations = 30;
+
+// The polish: the active-set iteration from the iterate's statuses, then from "every closed contact in
+// stick" (the usual state of a pressed interface, which a slowly converging iterate misclassifies at
+// the cone's edge), then the semismooth Newton method (alart_curnier.h), which also finds slip
+// directions in 3D. Each result is kept only if its full residual is smaller.
+template <int D>
+bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual, double tolerance) {
+  bool improved = active_set_polish<D>(problem, r, residual, false);
+  if (residual > tolerance) improved = active_set_polish<D>(problem, r, residual, true) || improved;
+  for (const double rho_scale : {1.0, 1e3}) {
+    if (residual <= tolerance) break;
+    Eigen::VectorXd candidate = r;
+    if (!alart_curnier_newton(problem, candidate, kNewtonIterations, 1e-3 * tolerance, nullptr, rho_scale)) break;
+    const double candidate_residual = relative_residual(problem, candidate);
+    if (candidate_residual < residual) {
+      r = candidate;
+      residual = candidate_residual;
+      improved = true;
+    }
   }
   return improved;
 }
@@ -374,11 +402,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish)) {
       statistics.residual = relative_residual(problem, r);
       residual_is_current = true;
-      // The statuses of the iterate, then every closed contact in stick (the usual state of a pressed
-      // interface, which a slowly converging iterate misclassifies at the cone's edge).
-      if (polish<D>(problem, r, statistics.residual)) statistics.polished = true;
-      if (statistics.residual > parameters.tolerance && polish<D>(problem, r, statistics.residual, true))
-        statistics.polished = true;
+      if (polish<D>(problem, r, statistics.residual, parameters.tolerance)) statistics.polished = true;
       if (statistics.residual <= parameters.tolerance) {
         statistics.converged = true;
         break;
@@ -402,9 +426,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
   if (parameters.polish && !statistics.converged) {
-    if (polish<D>(problem, r, statistics.residual)) statistics.polished = true;
-    if (statistics.residual > parameters.tolerance && polish<D>(problem, r, statistics.residual, true))
-      statistics.polished = true;
+    if (polish<D>(problem, r, statistics.residual, parameters.tolerance)) statistics.polished = true;
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
 

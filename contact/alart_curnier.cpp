@@ -1,0 +1,131 @@
+#include "contact/alart_curnier.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace csim {
+
+namespace {
+
+// F(r) and, when J is given, an element of its generalized Jacobian (see the header).
+void evaluate(const FrictionContactProblem& problem, const Eigen::VectorXd& rho, const Eigen::VectorXd& r,
+              Eigen::VectorXd& F, Eigen::MatrixXd* J) {
+  const int d = problem.dimension, t = d - 1;
+  const Eigen::Index m = problem.size();
+  const Eigen::VectorXd u = problem.W * r + problem.q;
+  F.resize(m);
+  if (J) J->setZero(m, m);
+  for (int c = 0; c < problem.contacts; ++c) {
+    const Eigen::Index n = static_cast<Eigen::Index>(d) * c;
+    const double p = rho(c), mu = problem.mu[c](0);
+    // Normal part.
+    const double a_n = r(n) - p * u(n);
+    const bool pressed = a_n > 0.0;
+    if (pressed) {
+      F(n) = p * u(n);
+      if (J) J->row(n) = p * problem.W.row(n);
+    } else {
+      F(n) = r(n);
+      if (J) (*J)(n, n) = 1.0;
+    }
+    // Tangential part: τ = r_t − ρ u_t projected on the disk of radius R = μ max(0, a_n).
+    const double R = pressed ? mu * a_n : 0.0;
+    Eigen::VectorXd tau(t);
+    for (int k = 0; k < t; ++k) tau(k) = r(n + 1 + k) - p * u(n + 1 + k);
+    const double norm = tau.norm();
+    if (!(R > 0.0)) {  // open or frictionless: r_t = 0
+      for (int k = 0; k < t; ++k) {
+        F(n + 1 + k) = r(n + 1 + k);
+        if (J) (*J)(n + 1 + k, n + 1 + k) = 1.0;
+      }
+    } else if (norm <= R) {  // stick: u_t = 0
+      for (int k = 0; k < t; ++k) {
+        F(n + 1 + k) = p * u(n + 1 + k);
+        if (J) J->row(n + 1 + k) = p * problem.W.row(n + 1 + k);
+      }
+    } else {  // slip: r_t = R τ / |τ|
+      const Eigen::VectorXd direction = tau / norm;
+      for (int k = 0; k < t; ++k) F(n + 1 + k) = r(n + 1 + k) - R * direction(k);
+      if (J) {
+        // ∂τ_k/∂r = e_{t,k} − ρ W_{t,k}; ∂R/∂r = μ (e_n − ρ W_n); ∂(τ/|τ|) = (I − τ̂τ̂ᵀ) ∂τ / |τ|.
+        Eigen::MatrixXd dtau(t, m);
+        for (int k = 0; k < t; ++k) {
+          dtau.row(k) = -p * problem.W.row(n + 1 + k);
+          dtau(k, n + 1 + k) += 1.0;
+        }
+        Eigen::RowVectorXd dR = -mu * p * problem.W.row(n);
+        dR(n) += mu;
+        const Eigen::MatrixXd projector =
+            Eigen::MatrixXd::Identity(t, t) - direction * direction.transpose();
+        const Eigen::MatrixXd ddirection = projector * dtau / norm;
+        for (int k = 0; k < t; ++k) {
+          J->row(n + 1 + k) = -direction(k) * dR - R * ddirection.row(k);
+          (*J)(n + 1 + k, n + 1 + k) += 1.0;
+        }
+      }
+    }
+  }
+  const Eigen::Index first = static_cast<Eigen::Index>(d) * problem.contacts;
+  for (Eigen::Index e = first; e < m; ++e) {
+    const double p = rho(problem.contacts + (e - first));
+    F(e) = p * u(e);
+    if (J) J->row(e) = p * problem.W.row(e);
+  }
+}
+
+}  // namespace
+
+bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd& r, int max_iterations,
+                          double tolerance, NewtonStatistics* statistics, double rho_scale) {
+  for (int c = 0; c < problem.contacts; ++c)
+    if (problem.dimension == 3 && problem.mu[c](0) != problem.mu[c](1)) return false;
+  const int d = problem.dimension;
+  const Eigen::Index m = problem.size();
+  if (m == 0 || r.size() != m) return false;
+  // ρ per contact (1 / mean diagonal of W_cc) and per equality row (1 / W_ee).
+  Eigen::VectorXd rho(problem.contacts + problem.equalities);
+  for (int c = 0; c < problem.contacts; ++c)
+    rho(c) = rho_scale * d / std::max(problem.W.diagonal().segment(static_cast<Eigen::Index>(d) * c, d).sum(), 1e-300);
+  for (int e = 0; e < problem.equalities; ++e) {
+    const Eigen::Index row = static_cast<Eigen::Index>(d) * problem.contacts + e;
+    rho(problem.contacts + e) = rho_scale / std::max(problem.W(row, row), 1e-300);
+  }
+  Eigen::VectorXd rho_q = problem.q;
+  for (int c = 0; c < problem.contacts; ++c) rho_q.segment(static_cast<Eigen::Index>(d) * c, d) *= rho(c);
+  for (int e = 0; e < problem.equalities; ++e) rho_q(static_cast<Eigen::Index>(d) * problem.contacts + e) *= rho(problem.contacts + e);
+
+  Eigen::VectorXd F, F_trial, step, trial;
+  Eigen::MatrixXd J;
+  evaluate(problem, rho, r, F, &J);
+  double merit = F.squaredNorm();
+  int iteration = 0;
+  for (; iteration < max_iterations; ++iteration) {
+    const double scale = std::max(rho_q.norm(), r.norm());
+    if (std::sqrt(merit) <= tolerance * scale) break;
+    step = J.fullPivLu().solve(-F);
+    if (!step.allFinite()) break;
+    // Backtracking (Armijo on ½‖F‖², with the Newton direction's model decrease ‖F‖²).
+    double alpha = 1.0;
+    bool accepted = false;
+    for (int halving = 0; halving < 30; ++halving, alpha *= 0.5) {
+      trial = r + alpha * step;
+      evaluate(problem, rho, trial, F_trial, nullptr);
+      const double trial_merit = F_trial.squaredNorm();
+      if (trial_merit <= (1.0 - 1e-4 * alpha) * merit) {
+        r = trial;
+        merit = trial_merit;
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) break;
+    evaluate(problem, rho, r, F, &J);
+  }
+  if (statistics) {
+    statistics->iterations = iteration;
+    statistics->merit = std::sqrt(merit);
+  }
+  return true;
+}
+
+}  // namespace csim
