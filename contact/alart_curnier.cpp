@@ -102,7 +102,8 @@ bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd
   for (; iteration < max_iterations; ++iteration) {
     const double scale = std::max(rho_q.norm(), r.norm());
     if (std::sqrt(merit) <= tolerance * scale) break;
-    step = J.fullPivLu().solve(-F);
+    step = J.partialPivLu().solve(-F);
+    if (!step.allFinite() || (J * step + F).norm() > 1e-8 * F.norm()) step = J.fullPivLu().solve(-F);
     if (!step.allFinite()) break;
     // Backtracking (Armijo on ½‖F‖², with the Newton direction's model decrease ‖F‖²).
     double alpha = 1.0;
