@@ -141,15 +141,11 @@ std::vector<Stress> element_stresses(const FeModel& model, const Eigen::VectorXd
   const Mesh& mesh = model.mesh;
   check_material(model.material);
   check_size("the displacement", displacement.size(), mesh.dof_count());
-  const int d = mesh.dofs_per_node();
   std::vector<Stress> stresses;
   stresses.reserve(mesh.elements.size());
   for (int e = 0; e < static_cast<int>(mesh.elements.size()); ++e) {
     const ElementGeometry geometry = element_geometry(mesh, e);
-    const int n = static_cast<int>(geometry.coordinates.rows());
-    ElementVector u(n * d);
-    for (int a = 0; a < n; ++a)
-      u.segment(d * a, d) = displacement.segment(d * mesh.elements[e][a], d);
+    const ElementVector u = element_values(mesh, e, displacement);
     stresses.push_back(element_centroid_stress(geometry, model.material, u));
   }
   return stresses;

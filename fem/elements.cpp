@@ -507,4 +507,12 @@ ElementVector face_pressure_forces(ElementType type, const NodeCoordinates& face
   return forces;
 }
 
+ElementVector element_values(const Mesh& mesh, int element, const Eigen::VectorXd& values) {
+  const int d = mesh.dofs_per_node();
+  const std::vector<int>& nodes = mesh.elements[element];
+  ElementVector u(static_cast<Eigen::Index>(nodes.size()) * d);
+  for (std::size_t a = 0; a < nodes.size(); ++a) u.segment(d * a, d) = values.segment(d * nodes[a], d);
+  return u;
+}
+
 }  // namespace csim

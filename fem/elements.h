@@ -80,6 +80,10 @@ struct ElementGeometry {
 // its node count is not that of the mesh's type, or a node index is out of range.
 ElementGeometry element_geometry(const Mesh& mesh, int element);
 
+// The nodal values (node-major, d per node, as a mesh-wide dof vector: displacements, velocities) of
+// element e's nodes, in the element's node order.
+ElementVector element_values(const Mesh& mesh, int element, const Eigen::VectorXd& values);
+
 // det J at each point of gauss_rule(type), in its order (m² in 2D, m³ in 3D); throws FemError (see
 // above) at the first non-positive (or non-finite) value.
 std::vector<double> jacobian_determinants(const ElementGeometry& element);

@@ -378,13 +378,9 @@ std::vector<Stress> cauchy_stresses(const FiniteStrainModel& model,
   check_size(-1, "the displacement", displacement.size(), mesh.dof_count());
   std::vector<Stress> stresses;
   stresses.reserve(mesh.elements.size());
-  const int d = mesh.dofs_per_node();
   for (int e = 0; e < static_cast<int>(mesh.elements.size()); ++e) {
     const ElementGeometry geometry = element_geometry(mesh, e);
-    const int n = static_cast<int>(geometry.coordinates.rows());
-    ElementVector u(n * d);
-    for (int a = 0; a < n; ++a)
-      u.segment(d * a, d) = displacement.segment(d * mesh.elements[e][a], d);
+    const ElementVector u = element_values(mesh, e, displacement);
     stresses.push_back(
         finite_strain_centroid_stress(geometry, model.material, model.formulation, u));
   }
