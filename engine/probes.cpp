@@ -38,6 +38,7 @@ double ProbeEvaluator::evaluate(const ProbeDefinition& p, const State& state) co
       if (p.energy_term == "work") return e.work_of_loads;
       if (p.energy_term == "contact_dissipation") return e.contact_dissipation;
       if (p.energy_term == "numerical_dissipation") return e.numerical_dissipation;
+      if (p.energy_term == "damping_dissipation") return e.damping_dissipation;
       return e.residual();
     }
     case Kind::contact_force:

@@ -45,10 +45,11 @@ struct EnergyBalance {
   double work_of_loads = 0.0;                     // loads, gravity and inertial forces
   double contact_dissipation = 0.0;               // −Σ rᵀ H v_θ (contacts and constraints)
   double numerical_dissipation = 0.0;
+  double damping_dissipation = 0.0;               // h Σ v_θᵀ C v_θ (Rayleigh damping)
   double max_abs_residual = 0.0;                  // worst |balance| over the run
   double residual() const {
     return kinetic + elastic - initial_kinetic - initial_elastic - work_of_loads + contact_dissipation +
-           numerical_dissipation;
+           numerical_dissipation + damping_dissipation;
   }
 };
 

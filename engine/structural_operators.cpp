@@ -10,11 +10,15 @@ StructuralOperators::StructuralOperators(const World& world, const ForceModel& f
   sparse_ = n > kDenseLimit;
   has_stiffness_ = forces.has_springs() || forces.has_elastic_bodies();
   constant_ = forces.constant_stiffness();
-  Triplets mass, stiffness;
+  Triplets mass, stiffness, damping;
   for (const BodyInstance& b : world.bodies) {
     b.body->add_mass(b.velocity_offset, mass);
     b.body->add_stiffness(b.velocity_offset, stiffness);
+    b.body->add_damping(b.velocity_offset, damping);
   }
+  has_damping_ = !damping.empty();
+  sparse_damping_.resize(n, n);
+  sparse_damping_.setFromTriplets(damping.begin(), damping.end());
   sparse_mass_.resize(n, n);
   sparse_mass_.setFromTriplets(mass.begin(), mass.end());
   body_stiffness_.resize(n, n);
@@ -22,6 +26,7 @@ StructuralOperators::StructuralOperators(const World& world, const ForceModel& f
   if (!sparse_) {
     dense_mass_ = Matrix(sparse_mass_);
     dense_stiffness_ = Matrix(body_stiffness_);
+    dense_damping_ = Matrix(sparse_damping_);
   }
 }
 
@@ -38,7 +43,7 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       spring_matrix.setFromTriplets(springs.begin(), springs.end());
       sparse_stiffness_ += spring_matrix;
     }
-    const SparseMatrix W = sparse_mass_ + scale * sparse_stiffness_;
+    const SparseMatrix W = sparse_mass_ + (h * theta) * sparse_damping_ + scale * sparse_stiffness_;
     // The symbolic analysis depends only on the pattern, which K's refresh keeps.
     if (!factored_) sparse_factor_.analyzePattern(W);
     sparse_factor_.factorize(W);
@@ -47,7 +52,7 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       forces_.spring_stiffness(q, dense_stiffness_);
       if (body_stiffness_.nonZeros() > 0) dense_stiffness_ += body_stiffness_;
     }
-    dense_factor_.compute(dense_mass_ + scale * dense_stiffness_);
+    dense_factor_.compute(dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_);
   }
   factored_ = true;
   ++factorizations_;
@@ -69,6 +74,11 @@ void StructuralOperators::solve_in_place(Matrix& X) const {
 void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = sparse_mass_ * v;
   else out.noalias() = dense_mass_ * v;
+}
+
+void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {
+  if (sparse_) out.noalias() = sparse_damping_ * v;
+  else out.noalias() = dense_damping_ * v;
 }
 
 void StructuralOperators::apply_stiffness(const Vector& v, Vector& out) const {

@@ -1,6 +1,7 @@
 // The linear operators of the structure, for the time-steppers: the mass M (kg, kg·m²), the tangent
-// stiffness K (N/m) of the springs and of the elastic bodies, and the factored iteration matrix
-//   W = M + h²θ² K
+// stiffness K (N/m) of the springs and of the elastic bodies, their viscous damping C (N·s/m: Rayleigh
+// damping of elastic bodies), and the factored iteration matrix
+//   W = M + hθ C + h²θ² K
 // of the θ-method. Small systems (up to kDenseLimit unknowns, all lumped scenes) are dense, because a
 // lumped step must cost about a microsecond; larger ones (finite elements) are sparse and factored
 // with CHOLMOD's simplicial LDLᵀ (Debian's SuiteSparse, through Eigen's wrapper), once while K and h
@@ -22,6 +23,7 @@ class StructuralOperators {
   // Refreshes K at q and refactors W when needed (always the first time).
   void update(const Vector& q, double h, double theta);
   bool has_stiffness() const { return has_stiffness_; }
+  bool has_damping() const { return has_damping_; }
   bool sparse() const { return sparse_; }
   double factorization_seconds() const { return factorization_seconds_; }  // s, total
   long factorizations() const { return factorizations_; }  // how many times W was factored
@@ -30,17 +32,18 @@ class StructuralOperators {
   void solve_in_place(Matrix& X) const;   // X ← W⁻¹ X
   void apply_mass(const Vector& v, Vector& out) const;       // out = M v
   void apply_stiffness(const Vector& v, Vector& out) const;  // out = K v
+  void apply_damping(const Vector& v, Vector& out) const;    // out = C v
 
  private:
   const World& world_;
   const ForceModel& forces_;
-  bool sparse_, has_stiffness_, constant_;
+  bool sparse_, has_stiffness_, has_damping_, constant_;
   bool factored_ = false;
   double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;
   long factorizations_ = 0;
-  Matrix dense_mass_, dense_stiffness_;
+  Matrix dense_mass_, dense_stiffness_, dense_damping_;
   Eigen::LDLT<Matrix> dense_factor_;
-  SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_;
+  SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_, sparse_damping_;
   // CHOLMOD's simplicial LDLᵀ with its AMD ordering: one solve with W of sdnv104-quad4 takes 4.4 to
   // 4.8 ms at 51 842 unknowns against 7.2 to 7.5 for Eigen's SimplicialLDLT (same fill: its loops are
   // tighter), 0.9 against 1.3 ms at 13 122. Its supernodal LLᵀ solves one right-hand side more slowly

@@ -62,6 +62,9 @@ class Body {
   // Elastic bodies (finite elements): constant stiffness (N/m) as triplets, the internal force
   // f_int = −K u at positions q (N), and the strain energy ½ uᵀKu (J). Rigid bodies have none.
   virtual void add_stiffness(int offset, Triplets& stiffness) const {}
+  // Viscous damping C (N·s/m) as triplets, the damping force being −C v: Rayleigh damping of elastic
+  // bodies. Other bodies have none.
+  virtual void add_damping(int offset, Triplets& damping) const {}
   virtual void add_internal_force(const ConstVectorRef& q, VectorRef f) const {}
   virtual double strain_energy(const ConstVectorRef& q) const { return 0.0; }
   virtual bool elastic() const { return false; }

@@ -31,8 +31,8 @@ void append_shifted(const SparseMatrix& matrix, int offset, Triplets& out) {
 }  // namespace
 
 FeBody::FeBody(Mesh mesh, const ElasticMaterial& material, double thickness, bool lumped_mass,
-               const std::vector<std::pair<int, int>>& fixed)
-    : mesh_(std::move(mesh)), material_(material), thickness_(thickness) {
+               const std::vector<std::pair<int, int>>& fixed, double alpha, double beta)
+    : mesh_(std::move(mesh)), material_(material), thickness_(thickness), alpha_(alpha), beta_(beta) {
   check_material(material_);
   check_mesh(mesh_);
   const int d = mesh_.dofs_per_node();
@@ -64,6 +64,11 @@ FeBody::FeBody(Mesh mesh, const ElasticMaterial& material, double thickness, boo
 void FeBody::add_mass(int offset, Triplets& mass) const { append_shifted(mass_, offset, mass); }
 
 void FeBody::add_stiffness(int offset, Triplets& stiffness) const { append_shifted(stiffness_, offset, stiffness); }
+
+void FeBody::add_damping(int offset, Triplets& damping) const {
+  if (alpha_ > 0.0) append_shifted(alpha_ * mass_, offset, damping);
+  if (beta_ > 0.0) append_shifted(beta_ * stiffness_, offset, damping);
+}
 
 void FeBody::add_internal_force(const ConstVectorRef& q, VectorRef f) const { f -= stiffness_ * q; }
 

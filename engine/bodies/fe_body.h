@@ -19,8 +19,10 @@ namespace csim {
 class FeBody final : public Body {
  public:
   // fixed: (node, component) pairs held at zero displacement. thickness in m (plane meshes).
+  // Rayleigh damping C = alpha M + beta K, alpha in 1/s and beta in s, both ≥ 0 (the damping ratio of
+  // a mode of angular frequency ω is alpha / (2ω) + beta ω / 2).
   FeBody(Mesh mesh, const ElasticMaterial& material, double thickness, bool lumped_mass,
-         const std::vector<std::pair<int, int>>& fixed);
+         const std::vector<std::pair<int, int>>& fixed, double alpha = 0.0, double beta = 0.0);
 
   int position_size() const override { return free_count_; }
   int velocity_size() const override { return free_count_; }
@@ -28,6 +30,7 @@ class FeBody final : public Body {
   bool elastic() const override { return true; }
   void add_mass(int offset, Triplets& mass) const override;
   void add_stiffness(int offset, Triplets& stiffness) const override;
+  void add_damping(int offset, Triplets& damping) const override;
   void add_internal_force(const ConstVectorRef& q, VectorRef f) const override;
   double strain_energy(const ConstVectorRef& q) const override;
 
@@ -64,6 +67,7 @@ class FeBody final : public Body {
   std::vector<int> free_of_dof_;   // mesh dof → free index or −1
   SparseMatrix mass_, stiffness_;  // restricted to the free dofs
   double total_mass_ = 0.0;
+  double alpha_ = 0.0, beta_ = 0.0;  // Rayleigh coefficients, 1/s and s
   double size_ = 1.0;              // m, the mesh's bounding-box diagonal
   struct CoordinatesHash {
     std::size_t operator()(const Eigen::Vector3d& x) const {

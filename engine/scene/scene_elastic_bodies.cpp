@@ -73,7 +73,7 @@ Mesh read_mesh(const SceneNode& node, int dimension) {
 }  // namespace
 
 void read_elastic_body(const std::string& name, const SceneNode& node, World& world) {
-  node.allow_only({"type", "mesh", "material", "thickness", "mass", "fixed", "velocity"});
+  node.allow_only({"type", "mesh", "material", "thickness", "mass", "fixed", "velocity", "damping"});
   Mesh mesh = read_mesh(node.child("mesh"), world.dimension);
   if (mesh.dimension() != world.dimension)
     node.fail_at("mesh", "a " + std::string(to_string(mesh.element_type)) + " mesh in a " +
@@ -87,6 +87,15 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
   const double thickness = node.has("thickness") ? node.positive("thickness") : 1.0;
   const std::string mass = node.string("mass", "consistent");
   if (mass != "consistent" && mass != "lumped") node.fail_at("mass", "expected consistent or lumped");
+
+  // Rayleigh damping {alpha: 1/s, beta: s}: C = alpha M + beta K.
+  double alpha = 0.0, beta = 0.0;
+  if (node.has("damping")) {
+    const SceneNode damping = node.child("damping");
+    damping.allow_only({"alpha", "beta"});
+    alpha = damping.non_negative("alpha", 0.0);
+    beta = damping.non_negative("beta", 0.0);
+  }
 
   std::vector<std::pair<int, int>> fixed;
   if (node.has("fixed")) {
@@ -107,7 +116,7 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
   BodyInstance b;
   b.name = name;
   try {
-    b.body = std::make_unique<FeBody>(std::move(mesh), material, thickness, mass == "lumped", fixed);
+    b.body = std::make_unique<FeBody>(std::move(mesh), material, thickness, mass == "lumped", fixed, alpha, beta);
   } catch (const FemError& e) {
     node.fail(e.what());
   }

@@ -73,6 +73,10 @@ void MoreauJean::compute_free_velocity(const State& state) {
     operators_.apply_stiffness(state.v, work_);
     f_total_ -= (theta * h) * work_;
   }
+  if (operators_.has_damping()) {  // −C v_θ = −C v_k − θ C (v_{k+1} − v_k), the latter in W
+    operators_.apply_damping(state.v, work_);
+    f_total_ -= work_;
+  }
   v_free_ = h * f_total_;
   operators_.solve_in_place(v_free_);
   v_free_ += state.v;
@@ -253,6 +257,10 @@ void MoreauJean::account_energy(State& state) {
     numerical += h * h * v_theta_.dot(work_);
   }
   e.numerical_dissipation += (theta - 0.5) * numerical;
+  if (operators_.has_damping()) {
+    operators_.apply_damping(v_theta_, work_);
+    e.damping_dissipation += h * v_theta_.dot(work_);
+  }
   operators_.apply_mass(v_next_, work_);
   e.kinetic = 0.5 * v_next_.dot(work_);
   e.elastic = forces_.elastic_energy(q_next_);
