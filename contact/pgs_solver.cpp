@@ -30,11 +30,10 @@ constexpr double kBoundaryTolerance = 1e-9;
 
 // Sweeps between two attempts at the active-set polish (see polish()).
 constexpr int kPolishInterval = 200;
-// ... and once early, after max(20, m) sweeps for a problem of m rows: when a few sweeps have sorted
-// out the statuses, the direct solve finishes a problem that Gauss–Seidel would take hundreds of sweeps
-// over (an ill-conditioned Delassus). A sweep costs about m² and the polish's LU m³/3, so on large
-// problems the sweeps are kept up longer (on sdnv104-quad4 with 81 contacts, polishing after 20 sweeps
-// cost 10.3 ms per step, after 200 sweeps 7.8).
+// ... and once early, after 20 sweeps: when a few sweeps have sorted out the statuses, the direct
+// solve finishes a problem that Gauss–Seidel would take hundreds of sweeps over (an ill-conditioned
+// Delassus). A sweep costs about m² for m rows and the polish's LU m³/3 (sdnv104-quad4 with 81
+// contacts, where every solve needs the polish: 7.6 ms per step).
 constexpr int kFirstPolish = 20;
 
 void check_problem(const FrictionContactProblem& problem) {
@@ -409,7 +408,6 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
   }
 
   const double norm_q = problem.q.norm();
-  const int first_polish = kFirstPolish;
   bool residual_is_current = false;
   for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
     const SweepResult swept =
@@ -417,7 +415,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     statistics.iterations = iteration;
     residual_is_current = false;
     // A stalled iteration: try the active-set polish every kPolishInterval sweeps.
-    if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == first_polish)) {
+    if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish)) {
       statistics.residual = relative_residual(problem, r);
       residual_is_current = true;
       if (polish<D>(problem, r, statistics.residual, parameters.tolerance)) statistics.polished = true;
