@@ -3,10 +3,13 @@
 // matrix has a fixed size, and the shape functions at the Gauss points are computed once per type.
 #include "fem/elements.h"
 
+#include "fem/element_dispatch.h"
+
 #include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace csim {
 namespace {
@@ -85,15 +88,9 @@ struct Hexa8 {
   }
 };
 
-// Calls f(Quad4{}), f(Quad8{}) or f(Hexa8{}).
 template <class Function>
 decltype(auto) dispatch(ElementType type, Function&& f) {
-  switch (type) {
-    case ElementType::quad4: return f(Quad4{});
-    case ElementType::quad8: return f(Quad8{});
-    case ElementType::hexa8: return f(Hexa8{});
-  }
-  throw FemError("unknown element type");
+  return dispatch_element<Quad4, Quad8, Hexa8>(type, std::forward<Function>(f));
 }
 
 // The shape functions at the points of the full rule, computed once per element type.

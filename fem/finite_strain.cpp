@@ -6,10 +6,13 @@
 // one Bᵀ A B per point.
 #include "fem/finite_strain.h"
 
+#include "fem/element_dispatch.h"
+
 #include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace csim {
 namespace {
@@ -35,12 +38,7 @@ using Hexa8 = Kind<ElementType::hexa8, 8, 3, 8>;
 
 template <class Function>
 decltype(auto) dispatch(ElementType type, Function&& f) {
-  switch (type) {
-    case ElementType::quad4: return f(Quad4{});
-    case ElementType::quad8: return f(Quad8{});
-    case ElementType::hexa8: return f(Hexa8{});
-  }
-  throw FemError("unknown element type");
+  return dispatch_element<Quad4, Quad8, Hexa8>(type, std::forward<Function>(f));
 }
 
 // ∂N/∂ξ at the Gauss points of gauss_rule and at the centroid, once per element type.
