@@ -246,47 +246,46 @@ template <int D>
 bool solve_statuses(const FrictionContactProblem& problem, const std::vector<PolishStatus<D>>& statuses,
                     Eigen::VectorXd& candidate) {
   const Eigen::Index m = problem.size();
-  std::vector<Eigen::Index> equations;               // rows of u set to zero
-  std::vector<std::pair<Eigen::Index, Eigen::VectorXd>> unknowns;  // (first row, its column of S)
+  // An unknown is a column of S: its entries start at row `first` and span at most D rows (a slip
+  // contact's normal with its tangential ratio), the others are a single 1.
+  struct Unknown {
+    Eigen::Index first;
+    Vector<D> column;
+  };
+  const Vector<D> unit = Vector<D>::Unit(0);
+  std::vector<Eigen::Index> equations;  // rows of u set to zero
+  std::vector<Unknown> unknowns;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index row = static_cast<Eigen::Index>(D) * c;
     const PolishStatus<D>& status = statuses[c];
     if (status.status == ContactStatus::open) continue;
-    Eigen::VectorXd normal = Eigen::VectorXd::Zero(m);
     equations.push_back(row);
     if (status.status == ContactStatus::slip) {
-      normal.template segment<D>(row) = status.slip_ratio;
-      unknowns.emplace_back(row, normal);
+      unknowns.push_back({row, status.slip_ratio});
       continue;
     }
-    normal(row) = 1.0;
-    unknowns.emplace_back(row, normal);
+    unknowns.push_back({row, unit});
     for (int k = 1; k < D; ++k) {
       if (!(problem.mu[c](k - 1) > 0.0)) continue;
-      Eigen::VectorXd tangential = Eigen::VectorXd::Zero(m);
-      tangential(row + k) = 1.0;
-      unknowns.emplace_back(row + k, tangential);
+      unknowns.push_back({row + k, unit});
       equations.push_back(row + k);
     }
   }
   for (int e = 0; e < problem.equalities; ++e) {
     const Eigen::Index row = static_cast<Eigen::Index>(D) * problem.contacts + e;
-    Eigen::VectorXd column = Eigen::VectorXd::Zero(m);
-    column(row) = 1.0;
-    unknowns.emplace_back(row, column);
+    unknowns.push_back({row, unit});
     equations.push_back(row);
   }
   const Eigen::Index k = static_cast<Eigen::Index>(unknowns.size());
   if (k == 0) return false;
-  // A = (W S) restricted to the equations' rows; each column of S has at most D entries, from its row.
+  // A = (W S) restricted to the equations' rows.
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(k, k);
   Eigen::VectorXd b(k);
   for (Eigen::Index j = 0; j < k; ++j) {
-    const auto& [first, column] = unknowns[j];
-    const Eigen::Index span = std::min<Eigen::Index>(D, m - first);
-    for (Eigen::Index l = first; l < first + span; ++l) {
-      if (column(l) == 0.0) continue;
-      for (Eigen::Index i = 0; i < k; ++i) A(i, j) += problem.W(equations[i], l) * column(l);
+    const Unknown& u = unknowns[j];
+    for (Eigen::Index l = 0; l < std::min<Eigen::Index>(D, m - u.first); ++l) {
+      if (u.column(l) == 0.0) continue;
+      for (Eigen::Index i = 0; i < k; ++i) A(i, j) += problem.W(equations[i], u.first + l) * u.column(l);
     }
   }
   for (Eigen::Index i = 0; i < k; ++i) b(i) = -problem.q(equations[i]);
@@ -304,9 +303,9 @@ bool solve_statuses(const FrictionContactProblem& problem, const std::vector<Pol
   if (!z.allFinite()) return false;
   candidate.setZero(m);
   for (Eigen::Index j = 0; j < k; ++j) {
-    const auto& [first, column] = unknowns[j];
-    const Eigen::Index span = std::min<Eigen::Index>(D, m - first);
-    candidate.segment(first, span) += z(j) * column.segment(first, span);
+    const Unknown& u = unknowns[j];
+    const Eigen::Index span = std::min<Eigen::Index>(D, m - u.first);
+    candidate.segment(u.first, span) += z(j) * u.column.head(span);
   }
   return true;
 }
