@@ -98,14 +98,13 @@ Eigen::Vector3d FeBody::point_world(const ConstVectorRef& q, const Eigen::Vector
 }
 
 PointJacobian FeBody::point_jacobian(const ConstVectorRef&, const Eigen::Vector3d& local) const {
-  PointJacobian J;
   const int node = node_at(local);
-  if (node < 0) return J;
-  for (int c = 0; c < dofs_per_node(); ++c) {
-    const int i = free_index(node, c);
-    if (i >= 0) J.add(i, Eigen::Vector3d::Unit(c));
-  }
-  return J;
+  if (node < 0) return {};
+  SurfacePoint at_node;
+  at_node.count = 1;
+  at_node.nodes[0] = node;
+  at_node.weights[0] = 1.0;
+  return surface_point_jacobian(at_node);
 }
 
 PointJacobian FeBody::surface_point_jacobian(const SurfacePoint& point) const {

@@ -46,8 +46,8 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
   } else if (kind == "energy") {
     p.kind = ProbeDefinition::Kind::energy;
     p.energy_term = spec.as_string();
-    const char* terms[] = {"kinetic", "elastic", "mechanical", "work", "contact_dissipation", "numerical_dissipation", "damping_dissipation",
-                           "balance"};
+    const char* terms[] = {"kinetic",   "elastic", "mechanical", "work", "contact_dissipation", "numerical_dissipation",
+                           "damping_dissipation", "balance"};
     bool known = false;
     for (const char* t : terms) known = known || p.energy_term == t;
     if (!known)
