@@ -231,10 +231,10 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
                 c.not_converged, c.solves, c.first_not_converged_time);
   const csim::EnergyBalance& e = report.state.energy;
   std::printf("  energy: kinetic %.6g J, elastic %.6g J, work of loads %.6g J, contact dissipation %.6g J, "
-              "numerical dissipation %.3g J, %sbalance residual %.2e J\n",
-              e.kinetic, e.elastic, e.work_of_loads, e.contact_dissipation, e.numerical_dissipation,
-              e.damping_dissipation != 0.0 ? ("damping dissipation " + std::to_string(e.damping_dissipation) + " J, ").c_str() : "",
-              e.residual());
+              "numerical dissipation %.3g J, ",
+              e.kinetic, e.elastic, e.work_of_loads, e.contact_dissipation, e.numerical_dissipation);
+  if (e.damping_dissipation != 0.0) std::printf("damping dissipation %.6g J, ", e.damping_dissipation);
+  std::printf("balance residual %.2e J\n", e.residual());
 }
 
 void print_compare_header() {
