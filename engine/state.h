@@ -33,6 +33,8 @@ struct SolverCounters {
   long rejected_local_solutions = 0;
   long contact_points = 0;        // active contacts, summed over steps
   int max_contact_points = 0;
+  long newton_iterations = 0;     // quasi-static: Newton iterations, summed over steps
+  int max_newton_iterations = 0;  // the most in one step
 };
 
 // Energy bookkeeping (J), accumulated from t = 0. The discrete balance of the θ-method,
@@ -80,6 +82,7 @@ struct State {
   Vector q, v;
   std::vector<EventSample> events;      // events inside the last step, in time order
   std::vector<ActiveContact> contacts;  // sorted by key
+  Vector reactions;                     // generalized force of each prescribed component (N, N·m), else 0
   SolverCounters counters;
   EnergyBalance energy;
   IdaStatistics ida;

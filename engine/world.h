@@ -73,6 +73,28 @@ struct LinearConstraint {
   double value = 0.0;
 };
 
+// A velocity component of a lumped body whose displacement is prescribed: q_i(t) = q_ref,i + value(t)
+// (m, or rad for a plane rotation), a table interpolated linearly. A ground moved along a path, a hub
+// held at its centre, an imposed spin. Honoured by the quasi-static stepper, which also reports the
+// reaction (the generalized force the prescription exerts, N or N·m).
+struct PrescribedComponent {
+  int body = -1;
+  int component = -1;  // index in the body's velocity components
+  TimeFunction value;  // m or rad (its table's second column is the value, not a multiplier)
+};
+
+// Nodes of an elastic body tied to a rigid body in the plane: each node moves with the rigid body,
+//   x_a = x_B + R(φ_B − φ_B,ref) (X_a − x_B,ref),
+// exactly, whatever the rotation (a wheel's rim on its hub). X_a: the node's reference position,
+// x_B, φ_B: the rigid body's centre and angle. The tied components leave the unknowns of the
+// quasi-static stepper (reduced_coordinates.h).
+struct RigidTie {
+  std::string name;
+  int elastic_body = -1;
+  std::vector<int> nodes;  // mesh nodes
+  int rigid_body = -1;     // a RigidBody2d
+};
+
 // Contact law between the shapes of two bodies: Coulomb friction (isotropic when mu(0) == mu(1);
 // orthotropic with μ1 along friction_direction projected on the tangent plane, μ2 across it) and the
 // Newton impact law with restitution e ∈ [0, 1].
@@ -84,7 +106,14 @@ struct ContactLaw {
   double restitution = 0.0;
   // When one body is elastic: which of its features touch (deformable_surface.h).
   SurfaceFeatures features = SurfaceFeatures::nodes;
+  // μ ramped in linearly from 0 at mu_ramp_start to its value at mu_ramp_end (s); none when equal.
+  double mu_ramp_start = 0.0, mu_ramp_end = 0.0;
   bool isotropic() const { return mu(0) == mu(1); }
+  Eigen::Vector2d mu_at(double t) const {
+    if (mu_ramp_end <= mu_ramp_start || t >= mu_ramp_end) return mu;
+    if (t <= mu_ramp_start) return Eigen::Vector2d::Zero();
+    return mu * ((t - mu_ramp_start) / (mu_ramp_end - mu_ramp_start));
+  }
 };
 
 struct World {
@@ -94,6 +123,8 @@ struct World {
   std::vector<Spring> springs;
   std::vector<Load> loads;
   std::vector<LinearConstraint> constraints;
+  std::vector<PrescribedComponent> prescribed;
+  std::vector<RigidTie> ties;
   std::vector<ContactLaw> contact_laws;
   int position_size = 0;
   int velocity_size = 0;

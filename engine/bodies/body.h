@@ -68,6 +68,12 @@ class Body {
   virtual void add_internal_force(const ConstVectorRef& q, VectorRef f) const {}
   virtual double strain_energy(const ConstVectorRef& q) const { return 0.0; }
   virtual bool elastic() const { return false; }
+  // Bodies whose internal force is nonlinear in q (finite-strain elements): the tangent stiffness
+  // K_T(q) = −∂f_int/∂q (N/m) as triplets; linear bodies give their constant K.
+  virtual bool nonlinear() const { return false; }
+  virtual void add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets& stiffness) const {
+    add_stiffness(offset, stiffness);
+  }
   virtual double mass() const = 0;  // kg (0 for a fixed body)
 
   // World pose of the body frame for positions q (this body's slice).

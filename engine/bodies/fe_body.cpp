@@ -34,6 +34,32 @@ FeBody::FeBody(Mesh mesh, const ElasticMaterial& material, double thickness, boo
                const std::vector<std::pair<int, int>>& fixed, double alpha, double beta)
     : mesh_(std::move(mesh)), material_(material), thickness_(thickness), alpha_(alpha), beta_(beta) {
   check_material(material_);
+  build(lumped_mass, fixed);
+}
+
+namespace {
+
+// E and ν of the linearization at F = I (Lamé λ, μ of hyperelastic.h).
+ElasticMaterial linearized(const HyperelasticMaterial& material) {
+  check_hyperelastic(material);
+  const InitialModuli moduli = initial_moduli(material);
+  ElasticMaterial linear;
+  linear.young = moduli.mu * (3.0 * moduli.lambda + 2.0 * moduli.mu) / (moduli.lambda + moduli.mu);
+  linear.poisson = moduli.lambda / (2.0 * (moduli.lambda + moduli.mu));
+  linear.density = material.density;
+  return linear;
+}
+
+}  // namespace
+
+FeBody::FeBody(Mesh mesh, const FiniteStrainLaw& law, double thickness, bool lumped_mass,
+               const std::vector<std::pair<int, int>>& fixed, double alpha, double beta)
+    : mesh_(std::move(mesh)), material_(linearized(law.material)), finite_strain_(law), thickness_(thickness),
+      alpha_(alpha), beta_(beta) {
+  build(lumped_mass, fixed);
+}
+
+void FeBody::build(bool lumped_mass, const std::vector<std::pair<int, int>>& fixed) {
   check_mesh(mesh_);
   const int d = mesh_.dofs_per_node();
   std::vector<bool> held(mesh_.dof_count(), false);
@@ -70,9 +96,34 @@ void FeBody::add_damping(int offset, Triplets& damping) const {
   if (beta_ > 0.0) append_shifted(beta_ * stiffness_, offset, damping);
 }
 
-void FeBody::add_internal_force(const ConstVectorRef& q, VectorRef f) const { f -= stiffness_ * q; }
+void FeBody::add_internal_force(const ConstVectorRef& q, VectorRef f) const {
+  if (!finite_strain_) {
+    f -= stiffness_ * q;
+    return;
+  }
+  Eigen::VectorXd force;
+  internal_force(finite_strain_model(), full_displacement(q), force);
+  f -= restrict(force);
+}
 
-double FeBody::strain_energy(const ConstVectorRef& q) const { return 0.5 * q.dot(stiffness_ * q); }
+double FeBody::strain_energy(const ConstVectorRef& q) const {
+  if (!finite_strain_) return 0.5 * q.dot(stiffness_ * q);
+  return csim::strain_energy(finite_strain_model(), full_displacement(q));
+}
+
+void FeBody::add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets& stiffness) const {
+  if (!finite_strain_) {
+    add_stiffness(offset, stiffness);
+    return;
+  }
+  Triplets element;
+  tangent_triplets(finite_strain_model(), full_displacement(q), element);
+  stiffness.reserve(stiffness.size() + element.size());
+  for (const auto& entry : element) {
+    const int i = free_of_dof_[entry.row()], j = free_of_dof_[entry.col()];
+    if (i >= 0 && j >= 0) stiffness.emplace_back(offset + i, offset + j, entry.value());
+  }
+}
 
 // Exact reference coordinates (contacts pass a node's own) are found at once; a point typed by a user
 // (a spring's or a probe's) within 1e-9 of the mesh size by a search.

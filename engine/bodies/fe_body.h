@@ -1,20 +1,31 @@
-// An elastic body discretized by finite elements (fem/): linear elasticity, small strain.
+// An elastic body discretized by finite elements (fem/): linear elasticity (small strain), or a
+// hyperelastic law in total-Lagrangian finite strain (fem/finite_strain.h), then a nonlinear body.
 //   q = displacements of the free dofs (m), v = their velocities (m/s); the fixed dofs are left out of
 //   the World's coordinates altogether, so that nothing else needs to know about them.
-//   M and K are constant, assembled once by fem/ and restricted to the free dofs.
+//   M is constant, assembled once by fem/ and restricted to the free dofs; so is K for linear
+//   elasticity. A finite-strain body's internal force and tangent are assembled at each q; its
+//   add_stiffness (Rayleigh damping, linear steppers) gives the tangent at u = 0.
 // The mesh is in world coordinates (its pose is the identity). A material point is a node, named by
 // its reference coordinates (springs and loads attach to nodes; contacts use the boundary nodes).
 #pragma once
 
 #include "contact/contact_point.h"
 #include "engine/bodies/body.h"
+#include "fem/finite_strain.h"
 #include "fem/material.h"
 #include "fem/mesh.h"
 
 #include <Eigen/SparseCore>
+#include <optional>
 #include <unordered_map>
 
 namespace csim {
+
+// The finite-strain law of a nonlinear body.
+struct FiniteStrainLaw {
+  HyperelasticMaterial material;
+  FiniteStrainFormulation formulation = FiniteStrainFormulation::standard;
+};
 
 class FeBody final : public Body {
  public:
@@ -22,6 +33,9 @@ class FeBody final : public Body {
   // Rayleigh damping C = alpha M + beta K, alpha in 1/s and beta in s, both ≥ 0 (the damping ratio of
   // a mode of angular frequency ω is alpha / (2ω) + beta ω / 2).
   FeBody(Mesh mesh, const ElasticMaterial& material, double thickness, bool lumped_mass,
+         const std::vector<std::pair<int, int>>& fixed, double alpha = 0.0, double beta = 0.0);
+  // A finite-strain body: mass from law.material.density, the linearized law for add_stiffness.
+  FeBody(Mesh mesh, const FiniteStrainLaw& law, double thickness, bool lumped_mass,
          const std::vector<std::pair<int, int>>& fixed, double alpha = 0.0, double beta = 0.0);
 
   int position_size() const override { return free_count_; }
@@ -33,6 +47,9 @@ class FeBody final : public Body {
   void add_damping(int offset, Triplets& damping) const override;
   void add_internal_force(const ConstVectorRef& q, VectorRef f) const override;
   double strain_energy(const ConstVectorRef& q) const override;
+  bool nonlinear() const override { return finite_strain_.has_value(); }
+  void add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets& stiffness) const override;
+  const std::optional<FiniteStrainLaw>& finite_strain() const { return finite_strain_; }
 
   Eigen::Isometry3d pose(const ConstVectorRef&) const override { return Eigen::Isometry3d::Identity(); }
   Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
@@ -60,8 +77,14 @@ class FeBody final : public Body {
   Eigen::VectorXd restrict(const Eigen::VectorXd& full) const;
 
  private:
+  void build(bool lumped_mass, const std::vector<std::pair<int, int>>& fixed);
+  FiniteStrainModel finite_strain_model() const {
+    return {mesh_, finite_strain_->material, thickness_, finite_strain_->formulation};
+  }
+
   Mesh mesh_;
-  ElasticMaterial material_;
+  ElasticMaterial material_;  // a finite-strain body: the linearized law (initial moduli)
+  std::optional<FiniteStrainLaw> finite_strain_;
   double thickness_;
   int free_count_ = 0;
   std::vector<int> free_of_dof_;   // mesh dof → free index or −1

@@ -64,6 +64,13 @@ struct IdaIntegrator::Sundials {
 
 IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters)
     : world_(world), parameters_(parameters), forces_(world) {
+  for (const BodyInstance& b : world.bodies)
+    if (b.body->nonlinear()) throw RunError(0.0, "ida: body '" + b.name + "' is hyperelastic (not taken by ida yet)");
+  if (!world.prescribed.empty() || !world.ties.empty())
+    throw RunError(0.0, "ida: prescribed components and ties are only taken by the quasi-static stepper so far");
+  for (const ContactLaw& law : world.contact_laws)
+    if (law.mu_ramp_end > law.mu_ramp_start)
+      throw RunError(0.0, "ida: contact law '" + law.name + "' has a mu_ramp (not taken by ida)");
   nq_ = world.position_size;
   nv_ = world.velocity_size;
   M_.setZero(nv_, nv_);

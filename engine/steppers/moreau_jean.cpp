@@ -26,6 +26,12 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
       detector_(world),
       contact_dimension_(detector_.dimension()) {
   const int n = world.velocity_size;
+  for (const BodyInstance& b : world.bodies)
+    if (b.body->nonlinear())
+      throw RunError(0.0, "moreau-jean: body '" + b.name + "' is hyperelastic; its Newton iterations are only in the "
+                          "quasi-static stepper so far (integrator.type: quasi-static)");
+  if (!world.prescribed.empty() || !world.ties.empty())
+    throw RunError(0.0, "moreau-jean: prescribed components and ties are only taken by the quasi-static stepper so far");
 
   // Linear constraints: rows of C, and the position index of each term when it has one.
   const int ne = static_cast<int>(world.constraints.size());
@@ -171,7 +177,7 @@ void MoreauJean::assemble(const State& state) {
   rows_.resize(d * nc);
   for (int i = 0; i < nc; ++i) {
     for (int k = 0; k < d; ++k) rows_[d * i + k] = candidate_rows_[d * active_rows_[i] + k];
-    problem_.mu[i] = world_.contact_laws[active_[i].law].mu;
+    problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(state.t + h);
   }
   gather_columns();
 

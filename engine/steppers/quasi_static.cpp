@@ -1,85 +1,185 @@
 #include "engine/steppers/quasi_static.h"
 
 #include "engine/steppers/contact_solve.h"
+#include "fem/mesh.h"
 
+#include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace csim {
 
+namespace {
+
+constexpr double kHubProximal = 1e-6;  // ε / max diag(K_z) on hub unknowns (see the header)
+
+ReducedCoordinates reduce(const World& world) {
+  try {
+    return ReducedCoordinates(world);
+  } catch (const std::invalid_argument& e) {
+    throw RunError(0.0, std::string("quasi-static: ") + e.what());
+  }
+}
+
+}  // namespace
+
 QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parameters)
-    : world_(world), parameters_(parameters), forces_(world), detector_(world), pgs_(parameters.solver),
-      d_(detector_.dimension()) {
+    : world_(world), parameters_(parameters), forces_(world), detector_(world), reduced_(reduce(world)),
+      pgs_(parameters.solver), d_(detector_.dimension()) {
   if (!world.constraints.empty())
     throw RunError(0.0, "the quasi-static stepper does not take linear constraints yet");
-  for (const BodyInstance& b : world.bodies)
-    if (!b.body->fixed() && !b.body->elastic() && !forces_.has_springs())
+  bool nonlinear = false;
+  for (const BodyInstance& b : world.bodies) {
+    nonlinear = nonlinear || b.body->nonlinear();
+    if (b.body->fixed() || b.body->elastic() || forces_.has_springs()) continue;
+    bool held = false;  // every unknown of a lumped body needs stiffness: a tie, or a prescription
+    for (const RigidTie& tie : world.ties) held = held || &world.bodies[tie.rigid_body] == &b;
+    bool driven = true;
+    for (int c = 0; c < b.body->velocity_size(); ++c) driven = driven && reduced_.unknown(b.velocity_offset + c) < 0;
+    if (!held && !driven)
       throw RunError(0.0, "quasi-static: body '" + b.name + "' is held by no stiffness (its K would be singular)");
-  const int n = world.velocity_size;
-  Triplets stiffness;
-  for (const BodyInstance& b : world.bodies) b.body->add_stiffness(b.velocity_offset, stiffness);
-  forces_.add_spring_stiffness(Vector::Zero(world.position_size), stiffness);
-  stiffness_.resize(n, n);
-  stiffness_.setFromTriplets(stiffness.begin(), stiffness.end());
-  stiffness_factor_.compute(stiffness_);
-  if (stiffness_factor_.info() != Eigen::Success || (stiffness_factor_.vectorD().array() <= 0.0).any())
-    throw RunError(0.0, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held "
-                        "by springs or fixed degrees of freedom)");
-  double radius = 0.0;
+  }
+  linear_ = !nonlinear && world.ties.empty() && forces_.constant_stiffness();
+  length_ = 0.0;
   for (const BodyInstance& b : world.bodies)
-    if (!b.body->fixed()) radius = std::max(radius, b.body->bounding_radius);
-  contact_distance_ = parameters.contact_distance > 0.0 ? parameters.contact_distance : 0.1 * radius;
+    if (!b.body->fixed() && std::isfinite(b.body->bounding_radius)) length_ = std::max(length_, b.body->bounding_radius);
+  if (!(length_ > 0.0)) length_ = 1.0;
+  contact_distance_ = parameters.contact_distance > 0.0 ? parameters.contact_distance : 0.1 * length_;
 }
 
 void QuasiStatic::initialize(State& state) {
   state.energy.elastic = state.energy.initial_elastic = forces_.elastic_energy(state.q);
+  state.reactions.setZero(world_.velocity_size);
+}
+
+// f(q, t): loads, springs and the bodies' internal forces (N, N·m), in q's components.
+double QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) const {
+  forces_.external(q, t, f);
+  forces_.add_spring_forces(q, f);
+  forces_.add_body_internal_forces(q, f);
+  return f.lpNorm<Eigen::Infinity>();
+}
+
+void QuasiStatic::assemble_stiffness(const Vector& q) {
+  if (linear_ && factored_) return;
+  const int n = world_.velocity_size;
+  triplets_.clear();
+  for (const BodyInstance& b : world_.bodies) b.body->add_tangent_stiffness(b.positions(q), b.velocity_offset, triplets_);
+  forces_.add_spring_stiffness(q, triplets_);
+  K_.resize(n, n);
+  K_.setFromTriplets(triplets_.begin(), triplets_.end());
+  reduced_.tangent(q, T_);
+  reduced_.reduce_stiffness(K_, T_, q, f_, K_z_);
+  if (!reduced_.hub_unknowns().empty()) {
+    const double epsilon = kHubProximal * K_z_.diagonal().cwiseAbs().maxCoeff();
+    for (int i : reduced_.hub_unknowns()) K_z_.coeffRef(i, i) += epsilon;
+  }
+  factor_.compute(K_z_);
+  if (factor_.info() != Eigen::Success || (factor_.vectorD().array() <= 0.0).any())
+    throw RunError(0.0, "quasi-static: the stiffness is singular or not positive (a free body or a rigid-body mode "
+                        "is not held by springs, ties or fixed degrees of freedom, or the material lost stability)");
+  factored_ = true;
+}
+
+void QuasiStatic::assemble_contacts(const State& state, double t_next) {
+  detector_.detect(q_, contact_distance_, candidates_, rows_);
+  const int nc = static_cast<int>(candidates_.size());
+  active_ = candidates_;
+  const int m = d_ * nc, nz = reduced_.size();
+  H_.setZero(m, nz);
+  problem_.dimension = d_;
+  problem_.contacts = nc;
+  problem_.equalities = 0;
+  problem_.mu.resize(nc);
+  // H_z = H T, row by row through the rows of T.
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> T_rows = T_;
+  for (int a = 0; a < m; ++a) {
+    const SparseRow& row = rows_[a];
+    for (int k = 0; k < row.count; ++k)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(T_rows, row.index[k]); it; ++it)
+        H_(a, it.col()) += row.value[k] * it.value();
+  }
+  for (int i = 0; i < nc; ++i) problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t_next);
+  problem_.W.resize(m, m);
+  problem_.q.resize(m);
+  if (m == 0) return;
+  X_ = factor_.solve(Matrix(H_.transpose()));
+  problem_.W.noalias() = H_ * X_;
+  problem_.q.noalias() = H_ * factor_.solve(f_z_);
+  for (int i = 0; i < nc; ++i) {
+    problem_.q(d_ * i) += active_[i].point.gap;
+    for (int k = 1; k < d_; ++k) {  // the slip since the step start: the rows over q, before T
+      const SparseRow& row = rows_[d_ * i + k];
+      for (int e = 0; e < row.count; ++e) problem_.q(d_ * i + k) += row.value[e] * (q_(row.index[e]) - state.q(row.index[e]));
+    }
+  }
+}
+
+double QuasiStatic::iterate(const State& state, double t_next) {
+  generalized_force(q_, t_next, f_);
+  assemble_stiffness(q_);
+  f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
+  assemble_contacts(state, t_next);
+  warm_start(previous_, active_, d_, problem_.size(), r_);
+  solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+  dz_ = factor_.solve(f_z_);
+  if (problem_.size() > 0) dz_.noalias() += X_ * r_;
+  // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
+  Vector& reactions = reactions_;
+  reactions = f_;
+  for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), reactions);
+  for (int i = 0; i < reactions.size(); ++i) reactions(i) = reduced_.prescribed(i) ? -reactions(i) : 0.0;
+  z_ += dz_;
+  reduced_.expand(z_, t_next, q_);
+  if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
+  previous_ = active_;  // forces, for the next iteration's warm start
+  return dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
 }
 
 void QuasiStatic::step(State& state) {
   const double h = parameters_.step;
   const double t_next = static_cast<double>(state.counters.steps + 1) * h;
-  forces_.external(state.q, t_next, f_);
-  u_free_ = stiffness_factor_.solve(f_);
+  counters_ = &state.counters;
+  reduced_.gather(state.q, z_);
+  reduced_.expand(z_, t_next, q_);
+  // The warm start: the last step's forces (its impulses are forces × h).
+  previous_ = state.contacts;
+  for (ActiveContact& c : previous_) c.impulse /= h;
 
-  detector_.detect(state.q, contact_distance_, candidates_, rows_);
-  const int nc = static_cast<int>(candidates_.size());
-  active_ = candidates_;
-  const int m = d_ * nc;
-  H_.setZero(m, world_.velocity_size);
-  problem_.dimension = d_;
-  problem_.contacts = nc;
-  problem_.equalities = 0;
-  problem_.mu.resize(nc);
-  for (int i = 0; i < nc; ++i) {
-    for (int k = 0; k < d_; ++k) {
-      const SparseRow& row = rows_[d_ * i + k];
-      for (int j = 0; j < row.count; ++j) H_(d_ * i + k, row.index[j]) += row.value[j];
+  int iterations = 0;
+  double increment = 0.0;
+  for (;;) {
+    try {
+      increment = iterate(state, t_next);
+    } catch (const FemError& e) {
+      throw RunError(t_next, std::string("quasi-static Newton iteration ") + std::to_string(iterations + 1) +
+                                 ": " + e.what());
     }
-    problem_.mu[i] = world_.contact_laws[active_[i].law].mu;
+    ++iterations;
+    if (linear_ || increment <= parameters_.newton_tolerance * length_) break;
+    if (iterations >= parameters_.newton_max_iterations) {
+      std::ostringstream message;
+      message << "quasi-static: Newton did not converge at t = " << t_next << " s: |dz| = " << increment
+              << " after " << iterations << " iterations (tolerance " << parameters_.newton_tolerance * length_
+              << "; integrator.newton_max_iterations, or a smaller time.step)";
+      throw RunError(t_next, message.str());
+    }
   }
-  if (m > 0) {
-    X_ = stiffness_factor_.solve(Matrix(H_.transpose()));
-    problem_.W.noalias() = H_ * X_;
-    problem_.q.noalias() = H_ * (u_free_ - state.q);
-    for (int i = 0; i < nc; ++i) problem_.q(d_ * i) += active_[i].point.gap;
-  }
-  // The warm start and the stored impulses are forces × h (see the header).
-  warm_start(state.contacts, active_, d_, m, r_);
-  r_ /= h;
-  solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, state.counters);
-  u_next_ = u_free_;
-  if (m > 0) u_next_.noalias() += X_ * r_;
-  if (!u_next_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
-  for (ActiveContact& c : active_) c.impulse *= h;
+  SolverCounters& c = state.counters;
+  c.newton_iterations += iterations;
+  c.max_newton_iterations = std::max(c.max_newton_iterations, iterations);
+  for (ActiveContact& contact : active_) contact.impulse *= h;
 
-  state.v = (u_next_ - state.q) / h;
-  state.q.swap(u_next_);
-  ++state.counters.steps;
+  state.v = (q_ - state.q) / h;
+  state.q = q_;
+  state.reactions = reactions_;
+  ++c.steps;
   state.t = t_next;
   state.contacts.clear();
-  for (const ActiveContact& c : active_)
-    if (c.impulse(0) > 0.0) state.contacts.push_back(c);  // open candidates are not contacts
-  state.counters.contact_points += static_cast<long>(state.contacts.size());
-  state.counters.max_contact_points = std::max(state.counters.max_contact_points, static_cast<int>(state.contacts.size()));
+  for (const ActiveContact& contact : active_)
+    if (contact.impulse(0) > 0.0) state.contacts.push_back(contact);  // open candidates are not contacts
+  c.contact_points += static_cast<long>(state.contacts.size());
+  c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
   state.energy.elastic = forces_.elastic_energy(state.q);
 }
 

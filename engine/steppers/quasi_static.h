@@ -1,24 +1,41 @@
 // The quasi-static stepper: incremental loading without inertia, with the same frictional contact
-// solve as Moreau–Jean, on the stiffness instead of the iteration matrix.
+// solve as Moreau–Jean, on the tangent stiffness instead of the iteration matrix.
 //
-// A load step from t_k to t_{k+1} (a pseudo-time: the loads' multipliers λ(t) give the loading path):
-//   free solution   K u_free = f(t_{k+1})            (linear elastic bodies and springs: K constant,
-//                                                     factored once; total, not incremental, form)
-//   detect          contacts whose gap is ≤ integrator.contact_distance (the closure a load step may
-//                   bring), at u_k, with their frames and rows H;
-//   contact problem u = W r + q with W = H K⁻¹ Hᵀ, q = H (u_free − u_k) + (g_k on the normal rows):
-//                   the normal "velocity" is the gap at the end of the step, g_k + H_n Δu, so that
-//                   Signorini holds at the position level; the tangential one is the slip increment,
-//                   and Coulomb's law acts on it (r: forces, N);
-//   update          u_{k+1} = u_free + K⁻¹ Hᵀ r.
-// Applied in sequence (normal load first, then tangential, SPEC.md §4.3), the increments follow the
-// loading path that the friction law depends on. State velocities hold Δu / h, impulses r·h (so that
-// contact-force probes read r). Every free body must be held by stiffness (K nonsingular).
+// A load step from t_k to t_{k+1} (a pseudo-time: the loads' multipliers λ(t), the prescribed
+// displacements and the friction ramp give the loading path). The unknowns are z, the coordinates
+// that are neither prescribed nor tied (reduced_coordinates.h: q = Φ(z, t)). Starting from
+// z_k with the prescribed components at t_{k+1}, Newton's method solves the equilibrium
+//   Tᵀ (f(q) + Hᵀ r) = 0,   f = loads − internal forces (N),  r the contact forces (N),
+// each iteration j being a linearized frictional contact problem at q_j:
+//   stiffness  K_z = Tᵀ K_T(q_j) T + ties' geometric term (+ ε on hub unknowns, see below);
+//   detect     contacts whose gap is ≤ integrator.contact_distance at q_j, their frames and rows H
+//              (H_z = H T);
+//   problem    u = W r + b,  W = H_z K_z⁻¹ H_zᵀ,  b = H_z K_z⁻¹ Tᵀ f + c:
+//              on the normal row c = g_j, so that u_n = g_j + H_n Δq is the gap at the end of the
+//              iteration (Signorini at the position level); on the tangential rows c = H_t (q_j − q_k),
+//              so that u_t is the slip over the whole step, on which Coulomb's law acts (Δq: the
+//              increment of the iteration; the ground's own motion is in q through its prescribed
+//              coordinates);
+//   update     Δz = K_z⁻¹ Tᵀ(f + Hᵀ r),  z_{j+1} = z_j + Δz,  q_{j+1} = Φ(z_{j+1}, t_{k+1});
+// until |Δz|∞ ≤ newton_tolerance · L (L: the largest body's bounding radius, m; angles count as
+// lengths on a unit arm). A World of linear bodies without ties takes one iteration, its contact
+// geometry linearized at q_k (small displacements), as the stepper always did; the others stop the run
+// (exit 2) when Newton has not converged in newton_max_iterations.
+//
+// Hub unknowns: a rigid body that carries tied nodes and is free to turn has no stiffness of its own,
+// and the ring on it has a rigid rotation held only by friction. K_z gets ε = 1e-6 · max diag(K_z)
+// on those unknowns as a proximal term of the iteration (a spring from the last iterate, not from a
+// fixed point): it vanishes at convergence (Δz = 0), so the converged state is unbiased, and it keeps
+// K_z invertible when friction is off (the frictionless press of a wheel).
+//
+// Outputs: state velocities hold Δq / h, impulses r·h (so that contact-force probes read r);
+// state.reactions the generalized force each prescription exerts (N, N·m); Newton's counters.
 #pragma once
 
 #include "contact/pgs_solver.h"
 #include "engine/contact_detector.h"
 #include "engine/forces.h"
+#include "engine/reduced_coordinates.h"
 #include "engine/steppers/moreau_jean.h"
 #include "engine/steppers/stepper.h"
 
@@ -31,6 +48,8 @@ struct QuasiStaticParameters {
   double contact_distance = 0.0;  // m; 0 = 10 % of the largest body's bounding radius
   PgsParameters solver;
   double failure_residual = 1e-6;
+  double newton_tolerance = 1e-10;  // on |Δz|∞ / L
+  int newton_max_iterations = 30;
 };
 
 class QuasiStatic final : public Stepper {
@@ -42,18 +61,29 @@ class QuasiStatic final : public Stepper {
   double time_step() const override { return parameters_.step; }
 
  private:
+  // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
+  double iterate(const State& state, double t_next);
+  void assemble_stiffness(const Vector& q);
+  void assemble_contacts(const State& state, double t_next);
+  double generalized_force(const Vector& q, double t, Vector& f) const;
+
   const World& world_;
   QuasiStaticParameters parameters_;
   ForceModel forces_;
   ContactDetector detector_;
+  ReducedCoordinates reduced_;
   PgsSolver pgs_;
-  Eigen::SimplicialLDLT<SparseMatrix> stiffness_factor_;
-  SparseMatrix stiffness_;
-  double contact_distance_;
+  bool linear_;                 // constant K, no ties: one iteration, one factorization
+  bool factored_ = false;
+  Eigen::SimplicialLDLT<SparseMatrix> factor_;
+  SparseMatrix K_, T_, K_z_;
+  Triplets triplets_;
+  double contact_distance_, length_;
   int d_;
 
-  Vector f_, u_free_, u_next_, r_;
-  std::vector<ActiveContact> candidates_, active_;
+  Vector z_, q_, f_, f_z_, dz_, r_, reactions_;
+  SolverCounters* counters_ = nullptr;
+  std::vector<ActiveContact> candidates_, active_, previous_;
   std::vector<SparseRow> rows_;
   Matrix H_, X_;
   FrictionContactProblem problem_;
