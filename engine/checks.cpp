@@ -87,7 +87,7 @@ void ExtremumTracker::finish() {
 
 CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& scope)
     : run_(run), scope_(scope), trackers_(run.probes.size()), windows_(run.probes.size()),
-      at_values_(run.checks.size()) {}
+      at_values_(run.checks.size()), mean_sums_(run.checks.size(), {0.0, 0.0}) {}
 
 void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact) {
   for (std::size_t p = 0; p < values.size(); ++p) {
@@ -106,8 +106,18 @@ void CheckEvaluator::add_sample(double t, const std::vector<double>& values, boo
     const Window& w = windows_[check.probe];
     at_values_[c] = quadratic_at(w.t + (3 - w.count), w.value + (3 - w.count), w.count, check.time);
   }
+  for (std::size_t c = 0; c < run_.checks.size(); ++c) {
+    const CheckDefinition& check = run_.checks[c];
+    if (check.mode != CheckDefinition::Mode::mean || initial_values_.empty()) continue;
+    if (t <= check.time || t >= check.time_end) continue;
+    const double s = std::sin(M_PI * (t - check.time) / (check.time_end - check.time));
+    const double weight = s * s * (t - last_time_);
+    mean_sums_[c].first += weight * values[check.probe];
+    mean_sums_[c].second += weight;
+  }
   if (initial_values_.empty()) initial_values_ = values;
   last_values_ = values;
+  last_time_ = t;
 }
 
 std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
@@ -136,6 +146,12 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
         found = at_values_[c].has_value();
         r.time = check.time;
         if (found) r.value = *at_values_[c];
+        break;
+      case Mode::mean:
+        r.time = check.time_end;
+        found = mean_sums_[c].second > 0.0;
+        if (found) r.value = mean_sums_[c].first / mean_sums_[c].second;
+        else r.note = "no sample inside the mean's window";
         break;
       case Mode::final_value:
         r.time = end_time;

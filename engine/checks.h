@@ -2,6 +2,10 @@
 // (turning points, refined by the parabola through the three samples around them) and the values at
 // requested times (quadratic interpolation through the three samples around the time), so checks use
 // the full time resolution whatever the output rate.
+// A mean over a window [t1, t2] is weighted by the Hann window w = sin²(π (t − t1)/(t2 − t1)) (times
+// each sample's interval), so that a periodic ripple (a wheel's elements passing the contact) that
+// does not fit a whole number of times in the window leaves an error of order (period/window)³
+// instead of period/window.
 #pragma once
 
 #include "engine/scene/scene.h"
@@ -60,6 +64,8 @@ class CheckEvaluator {
   std::vector<ExtremumTracker> trackers_;               // one per probe
   std::vector<Window> windows_;                         // last three samples per probe
   std::vector<std::optional<double>> at_values_;        // per check (Mode::at)
+  std::vector<std::pair<double, double>> mean_sums_;    // per check (Mode::mean): Σ w·value, Σ w
+  double last_time_ = 0.0;
   std::vector<double> last_values_;
   std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`
 };

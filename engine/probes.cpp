@@ -19,6 +19,10 @@ void ProbeEvaluator::evaluate(const State& state, std::vector<double>& values) c
 }
 
 double ProbeEvaluator::evaluate(const ProbeDefinition& p, const State& state) const {
+  return p.scale * unscaled(p, state);
+}
+
+double ProbeEvaluator::unscaled(const ProbeDefinition& p, const State& state) const {
   using Kind = ProbeDefinition::Kind;
   switch (p.kind) {
     case Kind::displacement:
@@ -30,6 +34,8 @@ double ProbeEvaluator::evaluate(const ProbeDefinition& p, const State& state) co
     }
     case Kind::velocity:
       return state.v(p.velocity_index);
+    case Kind::reaction:
+      return state.reactions.size() > 0 ? state.reactions(p.velocity_index) : 0.0;
     case Kind::energy: {
       const EnergyBalance& e = state.energy;
       if (p.energy_term == "kinetic") return e.kinetic;

@@ -6,7 +6,11 @@
 //                 (compressive positive), tangential (2D: along e_z × n with n pointing into that
 //                 body; 3D: magnitude), or a world component;
 //   contact_count the number of a law's points that carry a normal force (closed), or of those in stick
-//                 or in slip.
+//                 or in slip;
+//   reaction      the generalized force a prescribed component's motion takes (N or N·m: a hub's
+//                 torque), quasi-static stepper.
+// Every probe but energy may carry a scale: its value is multiplied by it (a normalization such as
+// a spin in units of v/R).
 #pragma once
 
 #include "engine/scene/scene.h"
@@ -23,6 +27,7 @@ class ProbeEvaluator {
 
  private:
   double evaluate(const ProbeDefinition& probe, const State& state) const;
+  double unscaled(const ProbeDefinition& probe, const State& state) const;
   double contact_force(const ProbeDefinition& probe, const State& state) const;
 
   const World& world_;

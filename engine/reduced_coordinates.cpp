@@ -3,6 +3,7 @@
 #include "engine/bodies/fe_body.h"
 #include "engine/bodies/rigid_body_2d.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -17,23 +18,28 @@ Eigen::Matrix2d rotation(double angle) {
   return R;
 }
 
+const Eigen::Matrix2d kJ = (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished();  // e_z × in the plane
+
 }  // namespace
 
-ReducedCoordinates::ReducedCoordinates(const World& world) : world_(world) {
+ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&world) {
   const int n = world.position_size;
   if (world.position_size != world.velocity_size)
     throw std::invalid_argument("the quasi-static stepper takes no 3D rigid body (their rotations are quaternions)");
   unknown_of_.assign(n, -1);
   prescription_of_.assign(n, -1);
-  tied_of_.assign(n, -1);
+  floating_of_.assign(n, -1);
   for (std::size_t p = 0; p < world.prescribed.size(); ++p) {
     const PrescribedComponent& c = world.prescribed[p];
+    if (!c.active(t)) continue;
     const int i = world.bodies[c.body].position_offset + c.component;
     if (prescription_of_[i] >= 0)
       throw std::invalid_argument("component " + std::to_string(c.component) + " of body '" +
                                   world.bodies[c.body].name + "' is prescribed twice");
     prescription_of_[i] = static_cast<int>(p);
   }
+  // The unknowns in q's order, a floating node's two at its first component.
+  std::vector<bool> tied_node;
   for (std::size_t k = 0; k < world.ties.size(); ++k) {
     const RigidTie& tie = world.ties[k];
     const BodyInstance& ring = world.bodies[tie.elastic_body];
@@ -41,23 +47,39 @@ ReducedCoordinates::ReducedCoordinates(const World& world) : world_(world) {
     const auto* fe = dynamic_cast<const FeBody*>(ring.body.get());
     if (!fe || !dynamic_cast<const RigidBody2d*>(hub.body.get()))
       throw std::invalid_argument("tie '" + tie.name + "' must join an elastic body to a plane rigid body");
-    const Eigen::Vector2d centre = hub.reference_position.head<2>();
-    for (int node : tie.nodes)
+    const int nodes = static_cast<int>(fe->mesh().nodes.size());
+    if (fe->velocity_size() != 2 * nodes)
+      throw std::invalid_argument("tie '" + tie.name + "': a tied body may have no fixed nodes (it rides on its hub)");
+    if (floating_of_[ring.position_offset] >= 0)
+      throw std::invalid_argument("body '" + ring.name + "' has two ties");
+    tied_node.assign(nodes, false);
+    for (int node : tie.nodes) tied_node[node] = true;
+    for (int node = 0; node < nodes; ++node) {
+      Floating f;
+      f.tie = static_cast<int>(k);
+      f.rigid_offset = hub.position_offset;
+      f.centre_ref = hub.reference_position.head<2>();
+      f.angle_ref = hub.reference_position(2);
+      f.arm = fe->mesh().nodes[node].head<2>() - f.centre_ref;
       for (int c = 0; c < 2; ++c) {
-        const int local = fe->free_index(node, c);
-        if (local < 0)
-          throw std::invalid_argument("tie '" + tie.name + "': node " + std::to_string(node) + " is fixed");
-        const int i = ring.position_offset + local;
-        if (tied_of_[i] >= 0 || prescription_of_[i] >= 0)
-          throw std::invalid_argument("tie '" + tie.name + "': node " + std::to_string(node) +
-                                      " is tied twice or prescribed");
-        tied_of_[i] = static_cast<int>(tied_.size());
-        tied_.push_back({static_cast<int>(k), c, fe->mesh().nodes[node].head<2>() - centre, hub.position_offset});
+        f.dof[c] = ring.position_offset + fe->free_index(node, c);
+        f.unknown[c] = tied_node[node] ? -1 : -2;  // numbered below
+        floating_of_[f.dof[c]] = static_cast<int>(floating_.size());
       }
+      floating_.push_back(f);
+    }
   }
-  for (int i = 0; i < n; ++i)
-    if (prescription_of_[i] < 0 && tied_of_[i] < 0) unknown_of_[i] = unknown_count_++;
-  identity_ = unknown_count_ == n;
+  for (int i = 0; i < n; ++i) {
+    if (prescription_of_[i] >= 0) continue;
+    if (floating_of_[i] < 0) {
+      unknown_of_[i] = unknown_count_++;
+      continue;
+    }
+    Floating& f = floating_[floating_of_[i]];
+    const int c = i == f.dof[0] ? 0 : 1;
+    if (f.unknown[c] == -2) f.unknown[c] = unknown_count_++;
+  }
+  identity_ = unknown_count_ == n && floating_.empty();
   for (const RigidTie& tie : world.ties) {
     const int offset = world.bodies[tie.rigid_body].position_offset;
     for (int c = 0; c < 3; ++c)
@@ -67,10 +89,25 @@ ReducedCoordinates::ReducedCoordinates(const World& world) : world_(world) {
   }
 }
 
+Eigen::Matrix2d ReducedCoordinates::frame(const Floating& node, const Vector& q) const {
+  return rotation(q(node.rigid_offset + 2) - node.angle_ref);
+}
+
+// w = Rᵀ (x − x_B) − a, with x = X + u = x_B,ref + a + u.
+Eigen::Vector2d ReducedCoordinates::displacement_in_frame(const Floating& node, const Vector& q) const {
+  const Eigen::Vector2d x = node.centre_ref + node.arm + Eigen::Vector2d(q(node.dof[0]), q(node.dof[1]));
+  return frame(node, q).transpose() * (x - q.segment<2>(node.rigid_offset)) - node.arm;
+}
+
 void ReducedCoordinates::gather(const Vector& q, Vector& z) const {
   z.resize(unknown_count_);
   for (int i = 0; i < static_cast<int>(unknown_of_.size()); ++i)
     if (unknown_of_[i] >= 0) z(unknown_of_[i]) = q(i);
+  for (const Floating& f : floating_) {
+    const Eigen::Vector2d w = displacement_in_frame(f, q);
+    for (int c = 0; c < 2; ++c)
+      if (f.unknown[c] >= 0) z(f.unknown[c]) = w(c);
+  }
 }
 
 void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
@@ -80,37 +117,37 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
     if (unknown_of_[i] >= 0) {
       q(i) = z(unknown_of_[i]);
     } else if (prescription_of_[i] >= 0) {
-      const PrescribedComponent& c = world_.prescribed[prescription_of_[i]];
-      const BodyInstance& b = world_.bodies[c.body];
-      q(i) = b.reference_position(c.component) + c.value(t);
+      const PrescribedComponent& c = world_->prescribed[prescription_of_[i]];
+      q(i) = world_->bodies[c.body].reference_position(c.component) + c.value(t);
     }
   }
-  // The tied nodes last: their rigid body's coordinates are set by now.
-  for (int i = 0; i < n; ++i) {
-    if (tied_of_[i] < 0) continue;
-    const Tied& tied = tied_[tied_of_[i]];
-    const BodyInstance& hub = world_.bodies[world_.ties[tied.tie].rigid_body];
-    const Eigen::Vector2d translation = q.segment<2>(tied.rigid_offset) - hub.reference_position.head<2>();
-    const double angle = q(tied.rigid_offset + 2) - hub.reference_position(2);
-    q(i) = translation(tied.component) + (rotation(angle) * tied.arm - tied.arm)(tied.component);
+  // The floating nodes last: their rigid body's coordinates are set by now.
+  for (const Floating& f : floating_) {
+    Eigen::Vector2d w = Eigen::Vector2d::Zero();
+    for (int c = 0; c < 2; ++c)
+      if (f.unknown[c] >= 0) w(c) = z(f.unknown[c]);
+    const Eigen::Vector2d u = q.segment<2>(f.rigid_offset) + frame(f, q) * (f.arm + w) - f.centre_ref - f.arm;
+    q(f.dof[0]) = u(0);
+    q(f.dof[1]) = u(1);
   }
 }
 
 void ReducedCoordinates::tangent(const Vector& q, SparseMatrix& T) const {
   const int n = static_cast<int>(unknown_of_.size());
   Triplets entries;
-  entries.reserve(n + 2 * tied_.size());
-  for (int i = 0; i < n; ++i) {
+  entries.reserve(n + 5 * floating_.size());
+  for (int i = 0; i < n; ++i)
     if (unknown_of_[i] >= 0) entries.emplace_back(i, unknown_of_[i], 1.0);
-    if (tied_of_[i] < 0) continue;
-    const Tied& tied = tied_[tied_of_[i]];
-    const BodyInstance& hub = world_.bodies[world_.ties[tied.tie].rigid_body];
-    const int x = unknown_of_[tied.rigid_offset + tied.component], phi = unknown_of_[tied.rigid_offset + 2];
-    if (x >= 0) entries.emplace_back(i, x, 1.0);
-    if (phi >= 0) {
-      // ∂(R a)/∂φ = e_z × R a
-      const Eigen::Vector2d Ra = rotation(q(tied.rigid_offset + 2) - hub.reference_position(2)) * tied.arm;
-      entries.emplace_back(i, phi, tied.component == 0 ? -Ra.y() : Ra.x());
+  for (const Floating& f : floating_) {
+    const Eigen::Matrix2d R = frame(f, q);
+    const Eigen::Vector2d turn = kJ * R * (f.arm + displacement_in_frame(f, q));  // ∂x/∂φ
+    const int phi = unknown_of_[f.rigid_offset + 2];
+    for (int c = 0; c < 2; ++c) {
+      const int centre = unknown_of_[f.rigid_offset + c];
+      if (centre >= 0) entries.emplace_back(f.dof[c], centre, 1.0);
+      if (phi >= 0) entries.emplace_back(f.dof[c], phi, turn(c));
+      for (int k = 0; k < 2; ++k)
+        if (f.unknown[k] >= 0) entries.emplace_back(f.dof[c], f.unknown[k], R(c, k));
     }
   }
   T.resize(n, unknown_count_);
@@ -124,16 +161,22 @@ void ReducedCoordinates::reduce_stiffness(const SparseMatrix& K, const SparseMat
     return;
   }
   K_z = SparseMatrix(T.transpose() * K * T);
-  // −Σ f_i ∂²u_i/∂φ² = Σ f_i (R a)_i on the hub's angle.
+  // −Σ f·∂²x: on (φ, φ) f·R(a + w); on (φ, w_k) and (w_k, φ) −f·(J R e_k).
   Triplets geometric;
-  for (int i = 0; i < static_cast<int>(tied_of_.size()); ++i) {
-    if (tied_of_[i] < 0) continue;
-    const Tied& tied = tied_[tied_of_[i]];
-    const int phi = unknown_of_[tied.rigid_offset + 2];
+  for (const Floating& node : floating_) {
+    const int phi = unknown_of_[node.rigid_offset + 2];
     if (phi < 0) continue;
-    const BodyInstance& hub = world_.bodies[world_.ties[tied.tie].rigid_body];
-    const Eigen::Vector2d Ra = rotation(q(tied.rigid_offset + 2) - hub.reference_position(2)) * tied.arm;
-    geometric.emplace_back(phi, phi, f(i) * Ra(tied.component));
+    const Eigen::Matrix2d R = frame(node, q);
+    const Eigen::Vector2d force(f(node.dof[0]), f(node.dof[1]));
+    const Eigen::Vector2d w = displacement_in_frame(node, q);
+    geometric.emplace_back(phi, phi, force.dot(R * (node.arm + w)));
+    const Eigen::Matrix2d JR = kJ * R;
+    for (int k = 0; k < 2; ++k) {
+      if (node.unknown[k] < 0) continue;
+      const double value = -force.dot(JR.col(k));
+      geometric.emplace_back(phi, node.unknown[k], value);
+      geometric.emplace_back(node.unknown[k], phi, value);
+    }
   }
   if (!geometric.empty()) {
     SparseMatrix G(unknown_count_, unknown_count_);

@@ -182,6 +182,14 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
         .value("penalty_stiffness", run.ida.penalty_stiffness).value("epsilon", run.ida.epsilon)
         .end_object();
   }
+  if (run.integrator == "quasi-static")
+    json.begin_object("newton")
+        .value("tolerance", run.quasi_static.newton_tolerance)
+        .value("iterations", c.newton_iterations)
+        .value("mean_per_step", c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0)
+        .value("max_per_step", c.max_newton_iterations)
+        .value("regularized_iterations", c.newton_regularized)
+        .end_object();
   json.begin_object("contacts")
       .value("max_active", c.max_contact_points)
       .value("mean_active", c.steps > 0 ? double(c.contact_points) / c.steps : 0.0)

@@ -35,6 +35,7 @@ struct SolverCounters {
   int max_contact_points = 0;
   long newton_iterations = 0;     // quasi-static: Newton iterations, summed over steps
   int max_newton_iterations = 0;  // the most in one step
+  long newton_regularized = 0;    // iterations whose tangent needed a proximal term to be positive definite
 };
 
 // Energy bookkeeping (J), accumulated from t = 0. The discrete balance of the θ-method,

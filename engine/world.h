@@ -11,6 +11,7 @@
 #include "engine/time_function.h"
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -75,12 +76,15 @@ struct LinearConstraint {
 
 // A velocity component of a lumped body whose displacement is prescribed: q_i(t) = q_ref,i + value(t)
 // (m, or rad for a plane rotation), a table interpolated linearly. A ground moved along a path, a hub
-// held at its centre, an imposed spin. Honoured by the quasi-static stepper, which also reports the
-// reaction (the generalized force the prescription exerts, N or N·m).
+// held at its centre, an imposed spin; a spin held during a press, then released (until). Honoured by
+// the quasi-static stepper, which also reports the reaction (the generalized force the prescription
+// exerts, N or N·m).
 struct PrescribedComponent {
   int body = -1;
   int component = -1;  // index in the body's velocity components
   TimeFunction value;  // m or rad (its table's second column is the value, not a multiplier)
+  double until = std::numeric_limits<double>::infinity();  // s: then the component is released (free)
+  bool active(double t) const { return t <= until; }
 };
 
 // Nodes of an elastic body tied to a rigid body in the plane: each node moves with the rigid body,

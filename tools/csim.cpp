@@ -229,7 +229,14 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
   if (c.not_converged > 0)
     std::printf("  warning: the contact solver stayed above its tolerance in %ld of %ld solves (first at t = %g s)\n",
                 c.not_converged, c.solves, c.first_not_converged_time);
+  if (scene.run.integrator == "quasi-static")
+    std::printf("  Newton: %ld iterations, %.2f a step on average, %d at most, %ld regularized\n", c.newton_iterations,
+                c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0, c.max_newton_iterations, c.newton_regularized);
   const csim::EnergyBalance& e = report.state.energy;
+  if (scene.run.integrator == "quasi-static") {  // no inertia: the balance of work is not tracked
+    std::printf("  energy: elastic %.6g J (the quasi-static stepper keeps no balance of work)\n", e.elastic);
+    return;
+  }
   std::printf("  energy: kinetic %.6g J, elastic %.6g J, work of loads %.6g J, contact dissipation %.6g J, "
               "numerical dissipation %.3g J, ",
               e.kinetic, e.elastic, e.work_of_loads, e.contact_dissipation, e.numerical_dissipation);

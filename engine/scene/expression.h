@@ -49,6 +49,7 @@ using ExpressionFunction = std::function<double(std::span<const double>)>;
 // What the names of an expression mean during evaluation.
 struct ExpressionScope {
   std::map<std::string, double> variables;
+  std::map<std::string, std::string> texts;  // text parameters (a choice among names), read as '=name'
   std::map<std::string, ExpressionFunction> functions;  // e.g. "shoe.extremum"
 };
 

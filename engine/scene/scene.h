@@ -16,7 +16,7 @@ namespace csim {
 
 // A named time series sampled every step.
 struct ProbeDefinition {
-  enum class Kind { displacement, position, velocity, energy, contact_force, contact_count };
+  enum class Kind { displacement, position, velocity, energy, contact_force, contact_count, reaction };
   std::string name;
   Kind kind = Kind::displacement;
   int body = -1;
@@ -26,15 +26,17 @@ struct ProbeDefinition {
   std::string energy_term;                              // kinetic, elastic, work, contact_dissipation, numerical_dissipation, balance
   int contact_law = -1;                                 // contact_force probes: force on the law's first body
   std::string force_component;                          // normal, tangential, x, y, z; contact_count: closed, stick, slip
+  double scale = 1.0;                                   // the value is multiplied by it (a normalization)
 };
 
 // What a check compares with its reference.
 struct CheckDefinition {
-  enum class Mode { at, extremum, maximum, minimum, extremum_time, final_value };
+  enum class Mode { at, extremum, maximum, minimum, extremum_time, final_value, mean };
   std::string name;
   int probe = -1;
   Mode mode = Mode::final_value;
-  double time = 0.0;         // Mode::at (s)
+  double time = 0.0;         // Mode::at (s); Mode::mean: the window's start (s)
+  double time_end = 0.0;     // Mode::mean: the window's end (s)
   int index = 0;             // extremum index, from 1
   std::string reference;     // expression text ('=' stripped) or a number; may use t (the check's time)
                              // and initial (the probe's value at t = 0)

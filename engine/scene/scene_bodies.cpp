@@ -4,7 +4,11 @@
 //   single box or sphere shape), position (reference configuration, m), angle (deg, about z, or about
 //   `axis` in 3D), initial_displacement (m), velocity (m/s), angular_velocity (rad/s; 3D: body frame)
 //   shapes: NAME: {type: box, size: [...]} | {type: sphere, radius} | {type: halfspace, normal, offset},
-//           each with an optional position and angle in the body frame.
+//           each with an optional position and angle in the body frame;
+//   prescribed: {COMPONENT: value | [[t, value], ...]}: the component's displacement from the
+//           reference position (m, or rad for rz) as a constant or a table interpolated linearly in
+//           time (quasi-static stepper; a ground moved along a path, a hub held at its centre), or
+//           {value: ..., until: T (s)}: prescribed until T, then free (a hub's spin held during a press).
 #include "engine/bodies/fe_body.h"
 #include "engine/bodies/fixed_body.h"
 #include "engine/bodies/point_mass.h"
@@ -88,7 +92,7 @@ Eigen::Vector3d default_inertia(const SceneNode& node, double mass, const std::v
 
 void read_body(const std::string& name, const SceneNode& node, World& world) {
   node.allow_only({"type", "mass", "inertia", "position", "angle", "axis", "initial_displacement", "velocity",
-                   "angular_velocity", "shapes"});
+                   "angular_velocity", "shapes", "prescribed"});
   const int d = world.dimension;
   BodyInstance b;
   b.name = name;
@@ -151,6 +155,33 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
       else b.initial_velocity.tail<3>() = node.vector("angular_velocity", 3, 3);
     }
   }
+  if (node.has("prescribed")) {
+    if (type == "fixed") node.fail_at("prescribed", "a fixed body does not move");
+    for (const auto& [component, value] : node.child("prescribed").entries()) {
+      PrescribedComponent p;
+      p.body = static_cast<int>(world.bodies.size());
+      p.component = b.body->velocity_index(component);
+      if (p.component < 0 || (d == 3 && type == "rigid" && p.component >= 3))
+        value.fail("body '" + name + "' has no prescribable component '" + component + "'");
+      SceneNode values = value;
+      if (value.is_map()) {  // {value: V | [[t, V], ...], until: T}
+        value.allow_only({"value", "until"});
+        p.until = value.number("until");
+        values = value.child("value");
+      }
+      if (values.is_sequence()) {
+        for (const SceneNode& row : values.items()) {
+          const Eigen::Vector3d entry = row.as_vector(2, 2);
+          if (!p.value.table.empty() && entry(0) <= p.value.table.back().first) row.fail("table times must increase");
+          p.value.table.emplace_back(entry(0), entry(1));
+        }
+        if (p.value.table.empty()) values.fail("the table must not be empty");
+      } else {
+        p.value.table.emplace_back(0.0, values.as_number());
+      }
+      world.prescribed.push_back(p);
+    }
+  }
   world.bodies.push_back(std::move(b));
 }
 
@@ -164,6 +195,7 @@ void read_bodies(const SceneNode& root, World& world) {
   }
   if (world.bodies.empty()) root.fail_at("bodies", "a scene needs at least one body");
   world.finalize_layout();
+  read_ties(root, world);
 }
 
 int contact_law_named(const SceneNode& node, const std::string& key, const World& world) {

@@ -4,9 +4,17 @@
 //       | {generator: annulus, inner_radius, outer_radius, divisions: [n_around, n_radial], element}
 //       | {file: NAME.msh}  (Gmsh MSH 4.1 ASCII, beside the scene file)
 //     with an optional position (m) and angle (deg) for the generators;
-//   material: {young (Pa), poisson, density (kg/m³)}; thickness (m, plane strain, default 1);
+//   material: {young (Pa), poisson, density (kg/m³)} (linear elasticity, small strain), or a finite-strain
+//     law (total Lagrangian, fem/finite_strain.h; the body is then nonlinear):
+//       {law: saint-venant-kirchhoff | neo-hookean, young, poisson, density, formulation}
+//       {law: mooney-rivlin, c10, c01 (Pa), bulk (Pa), density, formulation}
+//     formulation: standard | mean-dilatation (default: mean-dilatation for mooney-rivlin, which is
+//     nearly incompressible, standard otherwise); or the name of an entry of the scene's top-level
+//     `materials` map (e.g. material: =material with a text parameter);
+//   thickness (m, plane strain, default 1);
 //   mass: consistent | lumped; fixed: {SET: [x, y(, z)]}: the components held at zero on a node set
-//   (or face set) of the mesh; velocity: a uniform initial velocity (m/s).
+//   (or face set) of the mesh; velocity: a uniform initial velocity (m/s);
+//   tie: {nodes: SET, body: RIGID}: the set's nodes move with a plane rigid body (world.h, RigidTie).
 #include "engine/bodies/fe_body.h"
 #include "engine/scene/scene_parts.h"
 #include "fem/gmsh_reader.h"
@@ -14,6 +22,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 namespace csim::scene_parts {
 
@@ -70,20 +79,91 @@ Mesh read_mesh(const SceneNode& node, int dimension) {
   }
 }
 
+// The body's material node, or the top-level `materials` entry it names.
+SceneNode material_definition(const SceneNode& body) {
+  const SceneNode material = body.child("material");
+  if (!material.is_scalar()) return material;
+  const std::string name = material.as_string();
+  const SceneNode root(body.document().root, "", &body.document(), 1);
+  if (!root.has("materials") || !root.child("materials").has(name))
+    material.fail("no entry '" + name + "' in the scene's top-level materials");
+  return root.child("materials").child(name);
+}
+
+FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string& law) {
+  FiniteStrainLaw result;
+  try {
+    if (law == "saint-venant-kirchhoff" || law == "neo-hookean") {
+      node.allow_only({"law", "young", "poisson", "density", "formulation"});
+      const double young = node.number("young"), poisson = node.number("poisson", 0.0),
+                   density = node.number("density");
+      result.material = law == "neo-hookean" ? neo_hookean(young, poisson, density)
+                                             : saint_venant_kirchhoff(young, poisson, density);
+    } else if (law == "mooney-rivlin") {
+      node.allow_only({"law", "c10", "c01", "bulk", "density", "formulation"});
+      result.material = mooney_rivlin(node.number("c10"), node.number("c01", 0.0), node.number("bulk"),
+                                      node.number("density"));
+      check_hyperelastic(result.material);
+    } else {
+      node.fail_at("law", "unknown material law '" + law +
+                              "' (available: linear, saint-venant-kirchhoff, neo-hookean, mooney-rivlin)");
+    }
+  } catch (const FemError& e) {
+    node.fail(e.what());
+  }
+  const std::string formulation =
+      node.string("formulation", law == "mooney-rivlin" ? "mean-dilatation" : "standard");
+  if (formulation == "mean-dilatation") result.formulation = FiniteStrainFormulation::mean_dilatation;
+  else if (formulation != "standard") node.fail_at("formulation", "expected standard or mean-dilatation");
+  return result;
+}
+
 }  // namespace
 
+// The ties of the elastic bodies, once every body exists (the rigid body may come later in the file).
+void read_ties(const SceneNode& root, World& world) {
+  for (const auto& [name, node] : root.child("bodies").entries()) {
+    if (!node.has("tie")) continue;
+    const SceneNode tie_node = node.child("tie");
+    tie_node.allow_only({"nodes", "body"});
+    RigidTie tie;
+    tie.name = name;
+    tie.elastic_body = world.body_index(name);
+    tie.rigid_body = body_named(tie_node, "body", world);
+    const auto* fe = static_cast<const FeBody*>(world.bodies[tie.elastic_body].body.get());
+    if (world.dimension != 2 || world.bodies[tie.rigid_body].body->position_size() != 3 ||
+        world.bodies[tie.rigid_body].body->elastic())
+      tie_node.fail_at("body", "a tie joins an elastic body to a rigid body of a plane scene");
+    const std::string set = tie_node.string("nodes");
+    const Mesh& mesh = fe->mesh();
+    if (mesh.node_sets.count(set)) tie.nodes = mesh.node_sets.at(set);
+    else if (mesh.face_sets.count(set)) tie.nodes = nodes_of(mesh.face_sets.at(set));
+    else tie_node.fail_at("nodes", "the mesh has no node or face set '" + set + "'");
+    for (int n : tie.nodes)
+      for (int c = 0; c < 2; ++c)
+        if (fe->free_index(n, c) < 0) tie_node.fail_at("nodes", "node " + std::to_string(n) + " is also fixed");
+    world.ties.push_back(tie);
+  }
+}
+
 void read_elastic_body(const std::string& name, const SceneNode& node, World& world) {
-  node.allow_only({"type", "mesh", "material", "thickness", "mass", "fixed", "velocity", "damping"});
+  node.allow_only({"type", "mesh", "material", "thickness", "mass", "fixed", "velocity", "damping", "tie"});
   Mesh mesh = read_mesh(node.child("mesh"), world.dimension);
   if (mesh.dimension() != world.dimension)
     node.fail_at("mesh", "a " + std::string(to_string(mesh.element_type)) + " mesh in a " +
                              std::to_string(world.dimension) + "D scene");
-  const SceneNode material_node = node.child("material");
-  material_node.allow_only({"young", "poisson", "density"});
+  const SceneNode material_node = material_definition(node);
+  const std::string law = material_node.string("law", "linear");
   ElasticMaterial material;
-  material.young = material_node.number("young");
-  material.poisson = material_node.number("poisson", 0.0);
-  material.density = material_node.number("density");
+  std::optional<FiniteStrainLaw> finite_strain;
+  if (law == "linear") {
+    material_node.allow_only({"law", "young", "poisson", "density"});
+    material.young = material_node.number("young");
+    material.poisson = material_node.number("poisson", 0.0);
+    material.density = material_node.number("density");
+  } else {
+    finite_strain = read_finite_strain_law(material_node, law);
+  }
   const double thickness = node.has("thickness") ? node.positive("thickness") : 1.0;
   const std::string mass = node.string("mass", "consistent");
   if (mass != "consistent" && mass != "lumped") node.fail_at("mass", "expected consistent or lumped");
@@ -116,9 +196,12 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
   BodyInstance b;
   b.name = name;
   try {
-    b.body = std::make_unique<FeBody>(std::move(mesh), material, thickness, mass == "lumped", fixed, alpha, beta);
+    if (finite_strain)
+      b.body = std::make_unique<FeBody>(std::move(mesh), *finite_strain, thickness, mass == "lumped", fixed, alpha, beta);
+    else
+      b.body = std::make_unique<FeBody>(std::move(mesh), material, thickness, mass == "lumped", fixed, alpha, beta);
   } catch (const FemError& e) {
-    node.fail(e.what());
+    node.child("material").fail(e.what());
   }
   const FeBody& body = static_cast<const FeBody&>(*b.body);
   const int n = body.velocity_size();

@@ -101,14 +101,15 @@ void read_constraints(const SceneNode& root, World& world) {
   }
 }
 
-// A contact law: {between: [A, B], mu: μ | [μ1, μ2], friction_direction, restitution, features}.
+// A contact law: {between: [A, B], mu: μ | [μ1, μ2], friction_direction, restitution, features,
+// mu_ramp: [start, end] (s; μ grows linearly from 0 over that window)}.
 // features (with an elastic body): nodes (its boundary nodes on the other body's shapes, node-to-
 // surface), faces (the other body's sphere or box vertices on its boundary faces, so that a rigid body
 // can land on it), or both.
 void read_contacts(const SceneNode& root, World& world) {
   if (!root.has("contacts")) return;
   for (const auto& [name, node] : root.child("contacts").entries()) {
-    node.allow_only({"between", "mu", "friction_direction", "restitution", "features"});
+    node.allow_only({"between", "mu", "friction_direction", "restitution", "features", "mu_ramp"});
     ContactLaw law;
     law.name = name;
     const auto pair = node.child("between").items();
@@ -131,6 +132,12 @@ void read_contacts(const SceneNode& root, World& world) {
       law.mu.setConstant(node.number("mu", 0.0));
     }
     if ((law.mu.array() < 0.0).any()) node.fail_at("mu", "the friction coefficient must be >= 0");
+    if (node.has("mu_ramp")) {  // [start, end] (s): mu grows linearly from 0 to its value
+      const Eigen::Vector3d ramp = node.vector("mu_ramp", 2, 2);
+      if (!(ramp(0) >= 0.0 && ramp(1) > ramp(0))) node.fail_at("mu_ramp", "expected [start, end] with 0 <= start < end");
+      law.mu_ramp_start = ramp(0);
+      law.mu_ramp_end = ramp(1);
+    }
     if (node.has("friction_direction"))
       law.friction_direction = node.vector("friction_direction", world.dimension, world.dimension);
     law.restitution = node.number("restitution", 0.0);

@@ -22,7 +22,8 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   // `--set integrator.type=ida --set integrator.rtol=1e-8` works on any scene.
   const SceneNode integrator = root.section("integrator");
   integrator.allow_only({"type", "theta", "rtol", "atol", "penalty_stiffness", "penalty_damping", "epsilon",
-                         "linear_solver", "max_step", "max_steps", "contact_distance"});
+                         "linear_solver", "max_step", "max_steps", "contact_distance", "newton_tolerance",
+                         "newton_max_iterations"});
   run.integrator = integrator.string("type", "moreau-jean");
   if (run.integrator != "moreau-jean" && run.integrator != "ida" && run.integrator != "ida-events" &&
       run.integrator != "quasi-static")
@@ -45,6 +46,12 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   if (ida.linear_solver != "auto" && ida.linear_solver != "dense" && ida.linear_solver != "klu")
     integrator.fail_at("linear_solver", "expected auto, dense or klu");
   run.quasi_static.contact_distance = integrator.non_negative("contact_distance", 0.0);
+  run.quasi_static.newton_tolerance = integrator.number("newton_tolerance", 1e-10);
+  if (!(run.quasi_static.newton_tolerance > 0.0)) integrator.fail_at("newton_tolerance", "must be > 0");
+  const double newton_iterations = integrator.number("newton_max_iterations", 30);
+  if (newton_iterations < 1 || newton_iterations != static_cast<int>(newton_iterations))
+    integrator.fail_at("newton_max_iterations", "must be a whole number >= 1");
+  run.quasi_static.newton_max_iterations = static_cast<int>(newton_iterations);
   ida.max_step = integrator.non_negative("max_step", 0.0);
   const double max_steps = integrator.number("max_steps", 1000000);
   if (max_steps < 1 || max_steps != static_cast<long>(max_steps))
@@ -89,7 +96,7 @@ namespace {
 // Builds the scene from its (overridden) document; reading fills the defaults into the tree.
 void build_scene(Scene* scene) {
   const SceneNode root(scene->document.root, "", &scene->document, 1);
-  root.allow_only({"description", "dimension", "parameters", "references", "gravity", "bodies", "springs",
+  root.allow_only({"description", "dimension", "parameters", "references", "gravity", "materials", "bodies", "springs",
                    "loads", "constraints", "contacts", "time", "integrator", "contact_solver", "probes",
                    "checks", "output"});
   scene->description = root.string("description", "");

@@ -24,18 +24,18 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
   node.expect_map();
   const auto entries = node.entries();
   if (entries.size() != 1)
-    node.fail("a probe has exactly one kind: displacement, position, velocity, energy, contact_force or contact_count");
+    node.fail("a probe has exactly one kind: displacement, position, velocity, energy, contact_force, contact_count or reaction");
   const auto& [kind, spec] = entries.front();
   const int d = world.dimension;
   if (kind == "displacement" || kind == "position") {
-    spec.allow_only({"body", "point", "node", "component", "direction"});
+    spec.allow_only({"body", "point", "node", "component", "direction", "scale"});
     p.kind = kind == "position" ? ProbeDefinition::Kind::position : ProbeDefinition::Kind::displacement;
     p.body = body_named(spec, "body", world);
     if (spec.has("point")) p.point = spec.vector("point", d, d);
     if (spec.has("node")) p.point = node_point(spec, world.bodies[p.body]);
     p.direction = component_direction(spec, d);
   } else if (kind == "velocity") {
-    spec.allow_only({"body", "component"});
+    spec.allow_only({"body", "component", "scale"});
     p.kind = ProbeDefinition::Kind::velocity;
     p.body = body_named(spec, "body", world);
     const BodyInstance& b = world.bodies[p.body];
@@ -61,7 +61,7 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     if (p.force_component != "closed" && p.force_component != "stick" && p.force_component != "slip")
       spec.fail_at("status", "expected closed, stick or slip");
   } else if (kind == "contact_force") {
-    spec.allow_only({"contact", "component", "direction"});
+    spec.allow_only({"contact", "component", "direction", "scale"});
     p.kind = ProbeDefinition::Kind::contact_force;
     p.contact_law = contact_law_named(spec, "contact", world);
     if (spec.has("direction")) {
@@ -75,16 +75,29 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     bool known = false;
     for (const char* c : components) known = known || p.force_component == c;
     if (!known) spec.fail_at("component", "expected normal, tangential, x, y or z (or give a direction)");
+  } else if (kind == "reaction") {
+    spec.allow_only({"body", "component", "scale"});
+    p.kind = ProbeDefinition::Kind::reaction;
+    p.body = body_named(spec, "body", world);
+    const BodyInstance& b = world.bodies[p.body];
+    const std::string component = spec.string("component");
+    const int local = b.body->velocity_index(component);
+    bool prescribed = false;
+    for (const PrescribedComponent& c : world.prescribed) prescribed = prescribed || (c.body == p.body && c.component == local);
+    if (local < 0 || !prescribed)
+      spec.fail_at("component", "body '" + b.name + "' has no prescribed component '" + component + "'");
+    p.velocity_index = b.velocity_offset + local;
   } else {
     spec.fail("unknown probe kind '" + kind +
-              "' (expected displacement, position, velocity, energy, contact_force or contact_count)");
+              "' (expected displacement, position, velocity, energy, contact_force, contact_count or reaction)");
   }
+  if (spec.is_map() && spec.has("scale")) p.scale = spec.number("scale");
   return p;
 }
 
 CheckDefinition read_check(const std::string& name, const SceneNode& node, const RunSettings& run,
                            const ExpressionScope& scope) {
-  node.allow_only({"probe", "at", "extremum", "maximum", "minimum", "extremum_time", "final", "reference",
+  node.allow_only({"probe", "at", "extremum", "maximum", "minimum", "extremum_time", "final", "mean", "reference",
                    "tolerance", "kind", "source", "only_if"});
   CheckDefinition c;
   c.name = name;
@@ -107,7 +120,13 @@ CheckDefinition read_check(const std::string& name, const SceneNode& node, const
   if (node.has("extremum_time")) { ++modes; c.mode = CheckDefinition::Mode::extremum_time; c.index = index_of("extremum_time"); }
   if (node.has("final")) { ++modes; c.mode = CheckDefinition::Mode::final_value;
     if (!node.child("final").as_bool()) node.fail_at("final", "write final: true"); }
-  if (modes != 1) node.fail("give exactly one of: at, extremum, maximum, minimum, extremum_time, final");
+  if (node.has("mean")) { ++modes; c.mode = CheckDefinition::Mode::mean;
+    const Eigen::Vector3d window = node.vector("mean", 2, 2);
+    c.time = window(0);
+    c.time_end = window(1);
+    if (!(0.0 <= c.time && c.time < c.time_end && c.time_end <= run.end_time))
+      node.fail_at("mean", "expected [start, end] with 0 <= start < end <= time.end"); }
+  if (modes != 1) node.fail("give exactly one of: at, extremum, maximum, minimum, extremum_time, final, mean");
 
   // The reference is checked now (names known, syntax) and evaluated after the run, with t bound.
   const SceneNode reference = node.child("reference");

@@ -119,7 +119,12 @@ double SceneNode::as_number() const {
 
 std::string SceneNode::as_string() const {
   if (!node_.IsScalar()) fail("expected a text value");
-  return node_.Scalar();
+  const std::string text = node_.Scalar();
+  if (text.size() > 1 && text[0] == '=') {  // a text parameter; otherwise an expression, kept as written
+    const auto it = document_->scope.texts.find(text.substr(1));
+    if (it != document_->scope.texts.end()) return it->second;
+  }
+  return text;
 }
 
 bool SceneNode::as_bool() const {

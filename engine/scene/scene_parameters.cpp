@@ -1,8 +1,12 @@
-// parameters: the physical inputs of a scene, each a number or an expression of the ones above it;
+// parameters: the physical inputs of a scene, each a number or an expression of the ones above it,
+// or a text (a name such as mooney-rivlin: letters first, then letters, digits, '-' or '_') that a
+// text-valued key reads as '=NAME';
 // references: named analytical solutions built from them, callable in expressions as NAME.QUANTITY(…).
 #include "engine/reference/coulomb_oscillator.h"
 #include "engine/scene/scene_parts.h"
 
+#include <algorithm>
+#include <cctype>
 #include <memory>
 
 namespace csim::scene_parts {
@@ -12,7 +16,13 @@ void read_parameters(const SceneNode& root, SceneDocument& document) {
   for (const auto& [name, node] : root.child("parameters").entries()) {
     if (name == "t" || name == "pi" || name == "e")
       node.fail("'" + name + "' is a reserved name in expressions");
-    document.scope.variables[name] = node.as_number();
+    const std::string text = node.is_scalar() ? node.yaml().Scalar() : std::string();
+    const bool is_text = !text.empty() && std::isalpha(static_cast<unsigned char>(text[0])) &&
+                         std::all_of(text.begin(), text.end(), [](char c) {
+                           return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+                         });
+    if (is_text && text != "inf" && text != "nan") document.scope.texts[name] = text;
+    else document.scope.variables[name] = node.as_number();
   }
 }
 

@@ -9,6 +9,7 @@ void read_parameters(const SceneNode& root, SceneDocument& document);
 void read_references(const SceneNode& root, SceneDocument& document);
 void read_bodies(const SceneNode& root, World& world);
 void read_elastic_body(const std::string& name, const SceneNode& node, World& world);
+void read_ties(const SceneNode& root, World& world);
 void read_springs(const SceneNode& root, World& world);
 void read_loads(const SceneNode& root, World& world);
 void read_constraints(const SceneNode& root, World& world);

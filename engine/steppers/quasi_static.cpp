@@ -4,6 +4,7 @@
 #include "fem/mesh.h"
 
 #include <cmath>
+
 #include <sstream>
 #include <stdexcept>
 
@@ -11,11 +12,12 @@ namespace csim {
 
 namespace {
 
-constexpr double kHubProximal = 1e-6;  // ε / max diag(K_z) on hub unknowns (see the header)
+constexpr double kHubProximal = 1e-4;  // ε / max diag(K_z) on hub unknowns (see the header)
+constexpr double kProximal = 1e-6;     // the first proximal term on all unknowns, / max diag(K_z)
 
-ReducedCoordinates reduce(const World& world) {
+ReducedCoordinates reduce(const World& world, double t) {
   try {
-    return ReducedCoordinates(world);
+    return ReducedCoordinates(world, t);
   } catch (const std::invalid_argument& e) {
     throw RunError(0.0, std::string("quasi-static: ") + e.what());
   }
@@ -24,7 +26,7 @@ ReducedCoordinates reduce(const World& world) {
 }  // namespace
 
 QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parameters)
-    : world_(world), parameters_(parameters), forces_(world), detector_(world), reduced_(reduce(world)),
+    : world_(world), parameters_(parameters), forces_(world), detector_(world), reduced_(reduce(world, 0.0)),
       pgs_(parameters.solver), d_(detector_.dimension()) {
   if (!world.constraints.empty())
     throw RunError(0.0, "the quasi-static stepper does not take linear constraints yet");
@@ -69,15 +71,34 @@ void QuasiStatic::assemble_stiffness(const Vector& q) {
   K_.resize(n, n);
   K_.setFromTriplets(triplets_.begin(), triplets_.end());
   reduced_.tangent(q, T_);
+  // The frame's geometric stiffness with the loads and internal forces only. With the contact forces
+  // too (the exact Hessian at fixed forces) the rigid rotation of a pressed wheel gets −N (R − δ),
+  // which the contact's own curvature (not in H) would balance: K_z turned indefinite and the proximal
+  // term needed to hold it slowed Newton (factor 0.8 a step at the start of the friction ramp).
   reduced_.reduce_stiffness(K_, T_, q, f_, K_z_);
-  if (!reduced_.hub_unknowns().empty()) {
-    const double epsilon = kHubProximal * K_z_.diagonal().cwiseAbs().maxCoeff();
-    for (int i : reduced_.hub_unknowns()) K_z_.coeffRef(i, i) += epsilon;
+  // Proximal terms (see the header): ε on the hub unknowns; then, when K_z is still not positive
+  // definite, a term on every unknown grown tenfold until it is.
+  const double largest = K_z_.diagonal().cwiseAbs().maxCoeff();
+  for (int i : reduced_.hub_unknowns()) K_z_.coeffRef(i, i) += kHubProximal * largest;
+  auto positive_definite = [&] {
+    factor_.compute(K_z_);
+    return factor_.info() == Eigen::Success && (factor_.vectorD().array() > 0.0).all();
+  };
+  if (!positive_definite()) {
+    if (linear_)
+      throw RunError(t_, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held by "
+                         "springs, ties, prescribed components or fixed degrees of freedom)");
+    double added = 0.0;
+    for (double epsilon = kProximal * largest;; epsilon *= 10.0) {
+      for (int i = 0; i < K_z_.rows(); ++i) K_z_.coeffRef(i, i) += epsilon - added;
+      added = epsilon;
+      if (positive_definite()) break;
+      if (epsilon > largest)
+        throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
+                           "material instability)");
+    }
+    ++counters_->newton_regularized;
   }
-  factor_.compute(K_z_);
-  if (factor_.info() != Eigen::Success || (factor_.vectorD().array() <= 0.0).any())
-    throw RunError(0.0, "quasi-static: the stiffness is singular or not positive (a free body or a rigid-body mode "
-                        "is not held by springs, ties or fixed degrees of freedom, or the material lost stability)");
   factored_ = true;
 }
 
@@ -116,6 +137,7 @@ void QuasiStatic::assemble_contacts(const State& state, double t_next) {
 }
 
 double QuasiStatic::iterate(const State& state, double t_next) {
+  t_ = t_next;
   generalized_force(q_, t_next, f_);
   assemble_stiffness(q_);
   f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
@@ -125,10 +147,10 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   dz_ = factor_.solve(f_z_);
   if (problem_.size() > 0) dz_.noalias() += X_ * r_;
   // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
-  Vector& reactions = reactions_;
-  reactions = f_;
-  for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), reactions);
-  for (int i = 0; i < reactions.size(); ++i) reactions(i) = reduced_.prescribed(i) ? -reactions(i) : 0.0;
+  contact_force_.setZero(f_.size());
+  for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), contact_force_);
+  reactions_ = f_ + contact_force_;
+  for (int i = 0; i < reactions_.size(); ++i) reactions_(i) = reduced_.prescribed(i) ? -reactions_(i) : 0.0;
   z_ += dz_;
   reduced_.expand(z_, t_next, q_);
   if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
@@ -140,6 +162,12 @@ void QuasiStatic::step(State& state) {
   const double h = parameters_.step;
   const double t_next = static_cast<double>(state.counters.steps + 1) * h;
   counters_ = &state.counters;
+  bool released = false;
+  for (const PrescribedComponent& p : world_.prescribed) released = released || (p.active(state.t) && !p.active(t_next));
+  if (released) {  // new unknowns: the released components
+    reduced_ = reduce(world_, t_next);
+    factored_ = false;
+  }
   reduced_.gather(state.q, z_);
   reduced_.expand(z_, t_next, q_);
   // The warm start: the last step's forces (its impulses are forces × h).

@@ -22,11 +22,21 @@
 // geometry linearized at q_k (small displacements), as the stepper always did; the others stop the run
 // (exit 2) when Newton has not converged in newton_max_iterations.
 //
-// Hub unknowns: a rigid body that carries tied nodes and is free to turn has no stiffness of its own,
-// and the ring on it has a rigid rotation held only by friction. K_z gets ε = 1e-6 · max diag(K_z)
-// on those unknowns as a proximal term of the iteration (a spring from the last iterate, not from a
-// fixed point): it vanishes at convergence (Δz = 0), so the converged state is unbiased, and it keeps
-// K_z invertible when friction is off (the frictionless press of a wheel).
+// Proximal terms. The Delassus operator needs K_z positive definite, which the equilibrium with its
+// contacts does not guarantee:
+//   a rigid body carrying a tied ring (a hub) free to turn has no stiffness of its own: the ring's
+//   rigid rotation is held only by friction (and by nothing in a frictionless press). K_z gets
+//   ε = 1e-4 · max diag(K_z) on the hub's unknowns;
+//   a stressed body held by contacts can have an indefinite tangent on its own (a compressed block's
+//   sway and tilt: the initial-stress term; the contact's geometric stiffness, which would balance it,
+//   is not in K_z). Then every unknown gets ε, from 1e-6 · max diag(K_z), grown tenfold until K_z is
+//   positive definite (counted in the summary as regularized iterations).
+// Both are proximal terms of the iteration (springs from the last iterate, not from a fixed point):
+// they vanish at convergence (Δz = 0), so the converged state is unbiased; they slow Newton to a
+// linear rate along the modes they hold (measured on the rolling ring: 7 to 12 iterations a step).
+// The hub's term is a fixed fraction: 1e-6 left the contact solves ill-conditioned (PGS stalled at a
+// residual of 1e-2 on the elastic ring), 1e-2 slowed Newton past 30 iterations at the start of the
+// friction ramp.
 //
 // Outputs: state velocities hold Δq / h, impulses r·h (so that contact-force probes read r);
 // state.reactions the generalized force each prescription exerts (N, N·m); Newton's counters.
@@ -79,9 +89,11 @@ class QuasiStatic final : public Stepper {
   SparseMatrix K_, T_, K_z_;
   Triplets triplets_;
   double contact_distance_, length_;
+  double t_ = 0.0;  // the time the current step reaches (s), for messages
   int d_;
 
   Vector z_, q_, f_, f_z_, dz_, r_, reactions_;
+  Vector contact_force_;  // Hᵀ r of the last solve (N), in q's components
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
   std::vector<SparseRow> rows_;
