@@ -33,6 +33,19 @@ ROWS = [
     ("linear-elastic", 0.10, 1.7, 0.02, 0.99156, 0.99542, 0.39),
 ]
 MESHES = [("34 x 5", 34, 5), ("68 x 10", 68, 10)]
+# Sensitivity of one Mooney-Rivlin and one elastic row (34 x 5): pseudo-time step (the quasi-static
+# run has no inertia; the step only resolves the loading path), incompressibility, finite-strain law.
+STUDIES = [
+    (ROWS[5], "step 0.02", ["--set", "parameters.step=0.02"]),
+    (ROWS[5], "step 0.01 (default)", []),
+    (ROWS[5], "step 0.005", ["--set", "parameters.step=0.005"]),
+    (ROWS[5], "K / mu0 = 100", ["--set", "parameters.bulk_ratio=100"]),
+    (ROWS[5], "K / mu0 = 1000 (default)", []),
+    (ROWS[5], "K / mu0 = 10000", ["--set", "parameters.bulk_ratio=10000"]),
+    (ROWS[12], "neo-Hookean (default)", []),
+    (ROWS[12], "St Venant-Kirchhoff", ["--set", "parameters.elastic_law=saint-venant-kirchhoff"]),
+    (ROWS[12], "step 0.005", ["--set", "parameters.step=0.005"]),
+]
 
 
 def run(csim, row, mesh, extra):
@@ -93,6 +106,27 @@ def main():
         cells.append(" / ".join(f"{r['wall']:.1f}" for r in result))
         cells.append(" / ".join(f"{r['newton']} ({r['newton_max']})" if "newton" in r else "–" for r in result))
         lines.append("| " + " | ".join(cells) + " |")
+    lines.append("")
+    lines.append("## Sensitivity (34 × 5)\n")
+    lines.append("| row | setting | spin | change from the default |")
+    lines.append("|---|---|---|---|")
+    base = {}
+    for row, label, extra in STUDIES:
+        r = run(args.csim, row, MESHES[0], extra)
+        key = row[:4]
+        if not extra:
+            base[key] = r.get("spin")
+        print(label, r.get("spin", r.get("error")), file=sys.stderr, flush=True)
+        studies_row = f"{row[0]} δ={row[1]:g} r_i={row[2]:g} μ={row[3]:g}"
+        value = f"{r['spin']:.5f}" if "spin" in r else f"failed: {r['error']}"
+        lines.append(f"| {studies_row} | {label} | {value} | CHANGE:{key}:{r.get('spin', 'nan')} |")
+    for i, line in enumerate(lines):
+        if "CHANGE:" in line:
+            head, tail = line.split("CHANGE:")
+            key_text, value = tail.rsplit(":", 1)
+            reference = [v for k, v in base.items() if str(k) == key_text][0]
+            change = "–" if value.strip(" |") == "nan" else f"{percent(float(value.strip(' |')), reference):+.3f} %"
+            lines[i] = head + change + " |"
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out + ".tmp", "w") as f:
         f.write("\n".join(lines) + "\n")

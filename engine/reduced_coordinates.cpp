@@ -132,6 +132,20 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
   }
 }
 
+void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vector& forces) const {
+  const int n = static_cast<int>(unknown_of_.size());
+  forces.setZero(n);
+  for (int i = 0; i < n; ++i)
+    if (prescription_of_[i] >= 0) forces(i) = f(i);
+  for (const Floating& node : floating_) {
+    const Eigen::Vector2d force(f(node.dof[0]), f(node.dof[1]));
+    for (int c = 0; c < 2; ++c)
+      if (prescription_of_[node.rigid_offset + c] >= 0) forces(node.rigid_offset + c) += force(c);
+    if (prescription_of_[node.rigid_offset + 2] >= 0)
+      forces(node.rigid_offset + 2) += force.dot(kJ * frame(node, q) * (node.arm + displacement_in_frame(node, q)));
+  }
+}
+
 void ReducedCoordinates::tangent(const Vector& q, SparseMatrix& T) const {
   const int n = static_cast<int>(unknown_of_.size());
   Triplets entries;

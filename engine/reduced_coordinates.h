@@ -45,6 +45,10 @@ class ReducedCoordinates {
 
   void gather(const Vector& q, Vector& z) const;              // z ← the unknowns' entries of q
   void expand(const Vector& z, double t, Vector& q) const;    // q ← Φ(z, t)
+  // The generalized force f (N, N·m, in q's components) on each prescribed component, through every
+  // coordinate that moves with it (a hub's spin carries its ring's nodes): ∂Φ/∂p ᵀ f, p the
+  // prescribed coordinate; zero on the other components.
+  void prescribed_forces(const Vector& q, const Vector& f, Vector& forces) const;
   // T at q (the floating bodies' columns depend on q, through their frame's angle).
   void tangent(const Vector& q, SparseMatrix& T) const;
   // K_z = Tᵀ K T − Σ f_i ∂²Φ_i/∂z² (T from tangent(q), f the generalized force at q).

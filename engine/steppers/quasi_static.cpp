@@ -149,8 +149,8 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
   contact_force_.setZero(f_.size());
   for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), contact_force_);
-  reactions_ = f_ + contact_force_;
-  for (int i = 0; i < reactions_.size(); ++i) reactions_(i) = reduced_.prescribed(i) ? -reactions_(i) : 0.0;
+  reduced_.prescribed_forces(q_, f_ + contact_force_, reactions_);
+  reactions_ = -reactions_;
   z_ += dz_;
   reduced_.expand(z_, t_next, q_);
   if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
