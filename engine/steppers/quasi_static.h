@@ -16,7 +16,8 @@
 //              so that u_t is the slip over the whole step, on which Coulomb's law acts (Δq: the
 //              increment of the iteration; the ground's own motion is in q through its prescribed
 //              coordinates);
-//   update     Δz = K_z⁻¹ Tᵀ(f + Hᵀ r),  z_{j+1} = z_j + Δz,  q_{j+1} = Φ(z_{j+1}, t_{k+1});
+//   update     Δz = K_z⁻¹ Tᵀ(f + Hᵀ r),  z_{j+1} = z_j + ω_j Δz,  q_{j+1} = Φ(z_{j+1}, t_{k+1}),
+//              ω_j = 1 unless the iteration oscillates (then a secant under-relaxation, see the code);
 // until |Δz|∞ ≤ newton_tolerance · L (L: the largest body's bounding radius, m; angles count as
 // lengths on a unit arm). A World of linear bodies without ties takes one iteration, its contact
 // geometry linearized at q_k (small displacements), as the stepper always did; the others stop the run
@@ -93,7 +94,10 @@ class QuasiStatic final : public Stepper {
   int d_;
 
   Vector z_, q_, f_, f_z_, dz_, r_, reactions_;
-  Vector contact_force_;  // Hᵀ r of the last solve (N), in q's components
+  Vector contact_force_;
+  Vector previous_dz_;         // the last Newton step, to detect oscillation
+  double relaxation_ = 1.0;    // ω
+  bool relax_ = false;  // Hᵀ r of the last solve (N), in q's components
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
   std::vector<SparseRow> rows_;
