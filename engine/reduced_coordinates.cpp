@@ -56,7 +56,6 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
     for (int node : tie.nodes) tied_node[node] = true;
     for (int node = 0; node < nodes; ++node) {
       Floating f;
-      f.tie = static_cast<int>(k);
       f.rigid_offset = hub.position_offset;
       f.centre_ref = hub.reference_position.head<2>();
       f.angle_ref = hub.reference_position(2);
@@ -93,10 +92,10 @@ Eigen::Matrix2d ReducedCoordinates::frame(const Floating& node, const Vector& q)
   return rotation(q(node.rigid_offset + 2) - node.angle_ref);
 }
 
-// w = Rᵀ (x − x_B) − a, with x = X + u = x_B,ref + a + u.
-Eigen::Vector2d ReducedCoordinates::displacement_in_frame(const Floating& node, const Vector& q) const {
+// x − x_B = R (a + w), with x = X + u = x_B,ref + a + u.
+Eigen::Vector2d ReducedCoordinates::current_arm(const Floating& node, const Vector& q) const {
   const Eigen::Vector2d x = node.centre_ref + node.arm + Eigen::Vector2d(q(node.dof[0]), q(node.dof[1]));
-  return frame(node, q).transpose() * (x - q.segment<2>(node.rigid_offset)) - node.arm;
+  return x - q.segment<2>(node.rigid_offset);
 }
 
 void ReducedCoordinates::gather(const Vector& q, Vector& z) const {
@@ -104,7 +103,7 @@ void ReducedCoordinates::gather(const Vector& q, Vector& z) const {
   for (int i = 0; i < static_cast<int>(unknown_of_.size()); ++i)
     if (unknown_of_[i] >= 0) z(unknown_of_[i]) = q(i);
   for (const Floating& f : floating_) {
-    const Eigen::Vector2d w = displacement_in_frame(f, q);
+    const Eigen::Vector2d w = frame(f, q).transpose() * current_arm(f, q) - f.arm;
     for (int c = 0; c < 2; ++c)
       if (f.unknown[c] >= 0) z(f.unknown[c]) = w(c);
   }
@@ -142,7 +141,7 @@ void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vec
     for (int c = 0; c < 2; ++c)
       if (prescription_of_[node.rigid_offset + c] >= 0) forces(node.rigid_offset + c) += force(c);
     if (prescription_of_[node.rigid_offset + 2] >= 0)
-      forces(node.rigid_offset + 2) += force.dot(kJ * frame(node, q) * (node.arm + displacement_in_frame(node, q)));
+      forces(node.rigid_offset + 2) += force.dot(kJ * current_arm(node, q));
   }
 }
 
@@ -154,7 +153,7 @@ void ReducedCoordinates::tangent(const Vector& q, SparseMatrix& T) const {
     if (unknown_of_[i] >= 0) entries.emplace_back(i, unknown_of_[i], 1.0);
   for (const Floating& f : floating_) {
     const Eigen::Matrix2d R = frame(f, q);
-    const Eigen::Vector2d turn = kJ * R * (f.arm + displacement_in_frame(f, q));  // ∂x/∂φ
+    const Eigen::Vector2d turn = kJ * current_arm(f, q);  // ∂x/∂φ
     const int phi = unknown_of_[f.rigid_offset + 2];
     for (int c = 0; c < 2; ++c) {
       const int centre = unknown_of_[f.rigid_offset + c];
@@ -175,15 +174,14 @@ void ReducedCoordinates::reduce_stiffness(const SparseMatrix& K, const SparseMat
     return;
   }
   K_z = SparseMatrix(T.transpose() * K * T);
-  // −Σ f·∂²x: on (φ, φ) f·R(a + w); on (φ, w_k) and (w_k, φ) −f·(J R e_k).
+  // −Σ f·∂²x: on (φ, φ) f·R(a + w) = f·(x − x_B); on (φ, w_k) and (w_k, φ) −f·(J R e_k).
   Triplets geometric;
   for (const Floating& node : floating_) {
     const int phi = unknown_of_[node.rigid_offset + 2];
     if (phi < 0) continue;
     const Eigen::Matrix2d R = frame(node, q);
     const Eigen::Vector2d force(f(node.dof[0]), f(node.dof[1]));
-    const Eigen::Vector2d w = displacement_in_frame(node, q);
-    geometric.emplace_back(phi, phi, force.dot(R * (node.arm + w)));
+    geometric.emplace_back(phi, phi, force.dot(current_arm(node, q)));
     const Eigen::Matrix2d JR = kJ * R;
     for (int k = 0; k < 2; ++k) {
       if (node.unknown[k] < 0) continue;

@@ -35,7 +35,6 @@ class ReducedCoordinates {
 
   int size() const { return unknown_count_; }
   bool identity() const { return identity_; }  // nothing prescribed or tied: z = q
-  bool has_ties() const { return !world_->ties.empty(); }
   // The unknown of component i of q, or −1 (prescribed or tied).
   int unknown(int i) const { return unknown_of_[i]; }
   bool prescribed(int i) const { return prescription_of_[i] >= 0; }
@@ -58,7 +57,6 @@ class ReducedCoordinates {
  private:
   // A node of a body riding in a rigid body's frame.
   struct Floating {
-    int tie = -1;                 // index in world.ties
     std::array<int, 2> dof{};     // its x, y entries of q
     std::array<int, 2> unknown{}; // its w entries of z, −1 for a tied node
     Eigen::Vector2d arm;          // a = X_a − x_B,ref (m)
@@ -68,7 +66,7 @@ class ReducedCoordinates {
   };
   // The frame's rotation R(φ − φ_ref) at q.
   Eigen::Matrix2d frame(const Floating& node, const Vector& q) const;
-  Eigen::Vector2d displacement_in_frame(const Floating& node, const Vector& q) const;  // w_a (m)
+  Eigen::Vector2d current_arm(const Floating& node, const Vector& q) const;  // x_a − x_B = R (a + w_a), m
   const World* world_;  // a pointer, so that a stepper can rebuild its reduced coordinates
   int unknown_count_ = 0;
   bool identity_ = true;

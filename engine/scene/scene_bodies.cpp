@@ -170,11 +170,7 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
         values = value.child("value");
       }
       if (values.is_sequence()) {
-        for (const SceneNode& row : values.items()) {
-          const Eigen::Vector3d entry = row.as_vector(2, 2);
-          if (!p.value.table.empty() && entry(0) <= p.value.table.back().first) row.fail("table times must increase");
-          p.value.table.emplace_back(entry(0), entry(1));
-        }
+        read_table_rows(values, p.value.table);
         if (p.value.table.empty()) values.fail("the table must not be empty");
       } else {
         p.value.table.emplace_back(0.0, values.as_number());

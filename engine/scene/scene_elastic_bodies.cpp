@@ -118,6 +118,13 @@ FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string&
   return result;
 }
 
+// The nodes of a node set, or of a face set, of the mesh; nullopt when it has neither.
+std::optional<std::vector<int>> nodes_of_set(const Mesh& mesh, const std::string& set) {
+  if (mesh.node_sets.count(set)) return mesh.node_sets.at(set);
+  if (mesh.face_sets.count(set)) return nodes_of(mesh.face_sets.at(set));
+  return std::nullopt;
+}
+
 }  // namespace
 
 // The ties of the elastic bodies, once every body exists (the rigid body may come later in the file).
@@ -135,10 +142,9 @@ void read_ties(const SceneNode& root, World& world) {
         world.bodies[tie.rigid_body].body->elastic())
       tie_node.fail_at("body", "a tie joins an elastic body to a rigid body of a plane scene");
     const std::string set = tie_node.string("nodes");
-    const Mesh& mesh = fe->mesh();
-    if (mesh.node_sets.count(set)) tie.nodes = mesh.node_sets.at(set);
-    else if (mesh.face_sets.count(set)) tie.nodes = nodes_of(mesh.face_sets.at(set));
-    else tie_node.fail_at("nodes", "the mesh has no node or face set '" + set + "'");
+    const auto nodes = nodes_of_set(fe->mesh(), set);
+    if (!nodes) tie_node.fail_at("nodes", "the mesh has no node or face set '" + set + "'");
+    tie.nodes = *nodes;
     for (int n : tie.nodes)
       for (int c = 0; c < 2; ++c)
         if (fe->free_index(n, c) < 0) tie_node.fail_at("nodes", "node " + std::to_string(n) + " is also fixed");
@@ -180,15 +186,13 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
   std::vector<std::pair<int, int>> fixed;
   if (node.has("fixed")) {
     for (const auto& [set, components] : node.child("fixed").entries()) {
-      std::vector<int> nodes;
-      if (mesh.node_sets.count(set)) nodes = mesh.node_sets.at(set);
-      else if (mesh.face_sets.count(set)) nodes = nodes_of(mesh.face_sets.at(set));
-      else components.fail("the mesh has no node or face set '" + set + "'");
+      const auto nodes = nodes_of_set(mesh, set);
+      if (!nodes) components.fail("the mesh has no node or face set '" + set + "'");
       for (const SceneNode& component : components.items()) {
         const std::string axis = component.as_string();
         const int c = axis == "x" ? 0 : axis == "y" ? 1 : axis == "z" && world.dimension == 3 ? 2 : -1;
         if (c < 0) component.fail("expected x, y" + std::string(world.dimension == 3 ? " or z" : ""));
-        for (int n : nodes) fixed.emplace_back(n, c);
+        for (int n : *nodes) fixed.emplace_back(n, c);
       }
     }
   }

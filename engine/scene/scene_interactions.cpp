@@ -67,15 +67,18 @@ void read_loads(const SceneNode& root, World& world) {
     if (node.has("ramp") && node.has("table")) node.fail("give either ramp or table, not both");
     load.multiplier.ramp_time = node.non_negative("ramp", 0.0);
     if (node.has("table")) {
-      for (const SceneNode& row : node.child("table").items()) {
-        const Eigen::Vector3d entry = row.as_vector(2, 2);
-        if (!load.multiplier.table.empty() && entry(0) <= load.multiplier.table.back().first)
-          row.fail("table times must increase");
-        load.multiplier.table.emplace_back(entry(0), entry(1));
-      }
+      read_table_rows(node.child("table"), load.multiplier.table);
       if (load.multiplier.table.empty()) node.fail_at("table", "must not be empty");
     }
     world.loads.push_back(load);
+  }
+}
+
+void read_table_rows(const SceneNode& list, std::vector<std::pair<double, double>>& table) {
+  for (const SceneNode& row : list.items()) {
+    const Eigen::Vector3d entry = row.as_vector(2, 2);
+    if (!table.empty() && entry(0) <= table.back().first) row.fail("table times must increase");
+    table.emplace_back(entry(0), entry(1));
   }
 }
 

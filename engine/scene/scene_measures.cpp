@@ -34,14 +34,19 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     if (spec.has("point")) p.point = spec.vector("point", d, d);
     if (spec.has("node")) p.point = node_point(spec, world.bodies[p.body]);
     p.direction = component_direction(spec, d);
-  } else if (kind == "velocity") {
+  } else if (kind == "velocity" || kind == "reaction") {  // a reaction: of a prescribed component
     spec.allow_only({"body", "component", "scale"});
-    p.kind = ProbeDefinition::Kind::velocity;
+    p.kind = kind == "velocity" ? ProbeDefinition::Kind::velocity : ProbeDefinition::Kind::reaction;
     p.body = body_named(spec, "body", world);
     const BodyInstance& b = world.bodies[p.body];
     const std::string component = spec.string("component");
     const int local = b.body->velocity_index(component);
-    if (local < 0) spec.fail_at("component", "body '" + b.name + "' has no velocity component '" + component + "'");
+    if (kind == "velocity" && local < 0)
+      spec.fail_at("component", "body '" + b.name + "' has no velocity component '" + component + "'");
+    bool prescribed = false;
+    for (const PrescribedComponent& c : world.prescribed) prescribed = prescribed || (c.body == p.body && c.component == local);
+    if (kind == "reaction" && (local < 0 || !prescribed))
+      spec.fail_at("component", "body '" + b.name + "' has no prescribed component '" + component + "'");
     p.velocity_index = b.velocity_offset + local;
   } else if (kind == "energy") {
     p.kind = ProbeDefinition::Kind::energy;
@@ -75,18 +80,6 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     bool known = false;
     for (const char* c : components) known = known || p.force_component == c;
     if (!known) spec.fail_at("component", "expected normal, tangential, x, y or z (or give a direction)");
-  } else if (kind == "reaction") {
-    spec.allow_only({"body", "component", "scale"});
-    p.kind = ProbeDefinition::Kind::reaction;
-    p.body = body_named(spec, "body", world);
-    const BodyInstance& b = world.bodies[p.body];
-    const std::string component = spec.string("component");
-    const int local = b.body->velocity_index(component);
-    bool prescribed = false;
-    for (const PrescribedComponent& c : world.prescribed) prescribed = prescribed || (c.body == p.body && c.component == local);
-    if (local < 0 || !prescribed)
-      spec.fail_at("component", "body '" + b.name + "' has no prescribed component '" + component + "'");
-    p.velocity_index = b.velocity_offset + local;
   } else {
     spec.fail("unknown probe kind '" + kind +
               "' (expected displacement, position, velocity, energy, contact_force, contact_count or reaction)");

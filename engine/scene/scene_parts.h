@@ -23,6 +23,10 @@ int body_named(const SceneNode& node, const std::string& key, const World& world
 // The contact law named by the value of `key`, or an error naming the key.
 int contact_law_named(const SceneNode& node, const std::string& key, const World& world);
 
+// The rows [[t, value], ...] of a table (times increasing, else an error naming the row) appended to
+// `table`; the caller says what an empty table means.
+void read_table_rows(const SceneNode& list, std::vector<std::pair<double, double>>& table);
+
 // The reference coordinates of the node of the one-node set named by key `node`, on an elastic body.
 Eigen::Vector3d node_point(const SceneNode& node, const BodyInstance& body);
 

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <sstream>
 #include <stdexcept>
 
@@ -56,11 +55,10 @@ void QuasiStatic::initialize(State& state) {
 }
 
 // f(q, t): loads, springs and the bodies' internal forces (N, N·m), in q's components.
-double QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) const {
+void QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) const {
   forces_.external(q, t, f);
   forces_.add_spring_forces(q, f);
   forces_.add_body_internal_forces(q, f);
-  return f.lpNorm<Eigen::Infinity>();
 }
 
 void QuasiStatic::assemble_stiffness(const Vector& q) {
@@ -128,12 +126,11 @@ void QuasiStatic::assemble_contacts(const State& state, double t_next) {
   X_ = factor_.solve(Matrix(H_.transpose()));
   problem_.W.noalias() = H_ * X_;
   problem_.q.noalias() = H_ * factor_.solve(f_z_);
+  step_increment_ = q_ - state.q;
   for (int i = 0; i < nc; ++i) {
     problem_.q(d_ * i) += active_[i].point.gap;
-    for (int k = 1; k < d_; ++k) {  // the slip since the step start: the rows over q, before T
-      const SparseRow& row = rows_[d_ * i + k];
-      for (int e = 0; e < row.count; ++e) problem_.q(d_ * i + k) += row.value[e] * (q_(row.index[e]) - state.q(row.index[e]));
-    }
+    // The slip since the step start: the rows over q, before T.
+    for (int k = 1; k < d_; ++k) problem_.q(d_ * i + k) += rows_[d_ * i + k].dot(step_increment_);
   }
 }
 
@@ -156,13 +153,13 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   // stiffness, not in K_z, makes Newton's model too soft along the hub's spin) is under-relaxed by
   // the secant estimate of the right step: with Δz_j ≈ ρ Δz_{j−1}, ρ < −½, the step ω = 1/(1 − ρ) of
   // the scalar model. Measured: the elastic ring r_i = 0.2, δ = 0.1 diverged with ρ = −1.44.
-  relaxation_ = 1.0;
-  if (relax_ && previous_dz_.size() == dz_.size() && previous_dz_.squaredNorm() > 0.0) {
+  double relaxation = 1.0;
+  if (!linear_ && previous_dz_.size() == dz_.size() && previous_dz_.squaredNorm() > 0.0) {
     const double ratio = dz_.dot(previous_dz_) / previous_dz_.squaredNorm();
-    if (ratio < -0.5) relaxation_ = 1.0 / (1.0 - ratio);
+    if (ratio < -0.5) relaxation = 1.0 / (1.0 - ratio);
   }
   previous_dz_ = dz_;
-  z_ += relaxation_ * dz_;
+  z_ += relaxation * dz_;
   reduced_.expand(z_, t_next, q_);
   if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
   previous_ = active_;  // forces, for the next iteration's warm start
@@ -187,9 +184,7 @@ void QuasiStatic::step(State& state) {
 
   int iterations = 0;
   double increment = 0.0;
-  relaxation_ = 1.0;
-  previous_dz_.resize(0);
-  relax_ = !linear_;
+  previous_dz_.resize(0);  // no oscillation to detect at a step's first iteration
   for (;;) {
     try {
       increment = iterate(state, t_next);

@@ -76,7 +76,7 @@ class QuasiStatic final : public Stepper {
   double iterate(const State& state, double t_next);
   void assemble_stiffness(const Vector& q);
   void assemble_contacts(const State& state, double t_next);
-  double generalized_force(const Vector& q, double t, Vector& f) const;
+  void generalized_force(const Vector& q, double t, Vector& f) const;
 
   const World& world_;
   QuasiStaticParameters parameters_;
@@ -96,8 +96,7 @@ class QuasiStatic final : public Stepper {
   Vector z_, q_, f_, f_z_, dz_, r_, reactions_;
   Vector contact_force_;
   Vector previous_dz_;         // the last Newton step, to detect oscillation
-  double relaxation_ = 1.0;    // ω
-  bool relax_ = false;  // Hᵀ r of the last solve (N), in q's components
+  Vector step_increment_;      // q_j − q_k (m, rad): the slip rows' argument  // Hᵀ r of the last solve (N), in q's components
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
   std::vector<SparseRow> rows_;
