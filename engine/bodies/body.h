@@ -74,6 +74,13 @@ class Body {
   virtual void add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets& stiffness) const {
     add_stiffness(offset, stiffness);
   }
+  // Both at once, as a Newton iteration needs them (a finite-strain body then passes over its elements
+  // once).
+  virtual void add_internal_force_and_tangent(const ConstVectorRef& q, VectorRef f, int offset,
+                                              Triplets& stiffness) const {
+    add_internal_force(q, f);
+    add_tangent_stiffness(q, offset, stiffness);
+  }
   virtual double mass() const = 0;  // kg (0 for a fixed body)
 
   // World pose of the body frame for positions q (this body's slice).

@@ -118,6 +118,23 @@ void FeBody::add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets
   }
   Triplets element;
   tangent_triplets(finite_strain_model(), full_displacement(q), element);
+  append_free(element, offset, stiffness);
+}
+
+void FeBody::add_internal_force_and_tangent(const ConstVectorRef& q, VectorRef f, int offset,
+                                            Triplets& stiffness) const {
+  if (!finite_strain_) {
+    Body::add_internal_force_and_tangent(q, f, offset, stiffness);
+    return;
+  }
+  Eigen::VectorXd force;
+  Triplets element;
+  assemble_finite_strain(finite_strain_model(), full_displacement(q), force, element);
+  f -= restrict(force);
+  append_free(element, offset, stiffness);
+}
+
+void FeBody::append_free(const Triplets& element, int offset, Triplets& stiffness) const {
   stiffness.reserve(stiffness.size() + element.size());
   for (const auto& entry : element) {
     const int i = free_of_dof_[entry.row()], j = free_of_dof_[entry.col()];

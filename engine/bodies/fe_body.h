@@ -49,6 +49,8 @@ class FeBody final : public Body {
   double strain_energy(const ConstVectorRef& q) const override;
   bool nonlinear() const override { return finite_strain_.has_value(); }
   void add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets& stiffness) const override;
+  void add_internal_force_and_tangent(const ConstVectorRef& q, VectorRef f, int offset,
+                                      Triplets& stiffness) const override;
   const std::optional<FiniteStrainLaw>& finite_strain() const { return finite_strain_; }
 
   Eigen::Isometry3d pose(const ConstVectorRef&) const override { return Eigen::Isometry3d::Identity(); }
@@ -78,6 +80,8 @@ class FeBody final : public Body {
 
  private:
   void build(bool lumped_mass, const std::vector<std::pair<int, int>>& fixed);
+  // Mesh-dof triplets of a finite-strain tangent restricted to the free dofs, shifted by offset.
+  void append_free(const Triplets& element, int offset, Triplets& stiffness) const;
   FiniteStrainModel finite_strain_model() const {
     return {mesh_, finite_strain_->material, thickness_, finite_strain_->formulation};
   }

@@ -54,18 +54,24 @@ void QuasiStatic::initialize(State& state) {
   state.reactions.setZero(world_.velocity_size);
 }
 
-// f(q, t): loads, springs and the bodies' internal forces (N, N·m), in q's components.
-void QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) const {
+// f(q, t): loads, springs and the bodies' internal forces (N, N·m), in q's components; and, when the
+// tangent is needed, the bodies' tangent stiffness into triplets_ in the same pass over the elements.
+void QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) {
   forces_.external(q, t, f);
   forces_.add_spring_forces(q, f);
-  forces_.add_body_internal_forces(q, f);
+  triplets_.clear();
+  for (const BodyInstance& b : world_.bodies) {
+    if (!b.body->elastic()) continue;
+    VectorRef slice = f.segment(b.velocity_offset, b.body->velocity_size());
+    if (needs_tangent()) b.body->add_internal_force_and_tangent(b.positions(q), slice, b.velocity_offset, triplets_);
+    else b.body->add_internal_force(b.positions(q), slice);
+  }
 }
 
+// K_z from the bodies' tangent (in triplets_, from generalized_force) and the springs', factored.
 void QuasiStatic::assemble_stiffness(const Vector& q) {
-  if (linear_ && factored_) return;
+  if (!needs_tangent()) return;
   const int n = world_.velocity_size;
-  triplets_.clear();
-  for (const BodyInstance& b : world_.bodies) b.body->add_tangent_stiffness(b.positions(q), b.velocity_offset, triplets_);
   forces_.add_spring_stiffness(q, triplets_);
   K_.resize(n, n);
   K_.setFromTriplets(triplets_.begin(), triplets_.end());

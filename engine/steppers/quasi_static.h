@@ -76,7 +76,8 @@ class QuasiStatic final : public Stepper {
   double iterate(const State& state, double t_next);
   void assemble_stiffness(const Vector& q);
   void assemble_contacts(const State& state, double t_next);
-  void generalized_force(const Vector& q, double t, Vector& f) const;
+  void generalized_force(const Vector& q, double t, Vector& f);
+  bool needs_tangent() const { return !(linear_ && factored_); }  // a linear World's is factored once
 
   const World& world_;
   QuasiStaticParameters parameters_;
