@@ -182,7 +182,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
         .value("penalty_stiffness", run.ida.penalty_stiffness).value("epsilon", run.ida.epsilon)
         .end_object();
   }
-  if (run.integrator == "quasi-static")
+  if (run.integrator == "quasi-static" || c.newton_iterations > 0)
     json.begin_object("newton")
         .value("tolerance", run.quasi_static.newton_tolerance)
         .value("iterations", c.newton_iterations)

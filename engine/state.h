@@ -33,7 +33,7 @@ struct SolverCounters {
   long rejected_local_solutions = 0;
   long contact_points = 0;        // active contacts, summed over steps
   int max_contact_points = 0;
-  long newton_iterations = 0;     // quasi-static: Newton iterations, summed over steps
+  long newton_iterations = 0;     // Newton iterations (quasi-static; Moreau–Jean with finite-strain bodies), summed over steps
   int max_newton_iterations = 0;  // the most in one step
   long newton_regularized = 0;    // iterations whose tangent needed a proximal term to be positive definite
 };

@@ -1,5 +1,7 @@
 #include "engine/structural_operators.h"
 
+#include "fem/mesh.h"
+
 #include <chrono>
 
 namespace csim {
@@ -9,13 +11,14 @@ StructuralOperators::StructuralOperators(const World& world, const ForceModel& f
   const int n = world.velocity_size;
   sparse_ = n > kDenseLimit;
   has_stiffness_ = forces.has_springs() || forces.has_elastic_bodies();
-  constant_ = forces.constant_stiffness();
   Triplets mass, stiffness, damping;
   for (const BodyInstance& b : world.bodies) {
+    nonlinear_ = nonlinear_ || b.body->nonlinear();
     b.body->add_mass(b.velocity_offset, mass);
     b.body->add_stiffness(b.velocity_offset, stiffness);
     b.body->add_damping(b.velocity_offset, damping);
   }
+  constant_ = forces.constant_stiffness() && !nonlinear_;
   has_damping_ = !damping.empty();
   sparse_damping_.resize(n, n);
   sparse_damping_.setFromTriplets(damping.begin(), damping.end());
@@ -34,6 +37,13 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
   if (factored_ && constant_ && h == factored_h_ && theta == factored_theta_) return;
   const auto start = std::chrono::steady_clock::now();
   const double scale = h * h * theta * theta;
+  if (nonlinear_) {  // the bodies' tangent at q (a linear body's K is its tangent)
+    Triplets tangent;
+    for (const BodyInstance& b : world_.bodies)
+      if (b.body->elastic()) b.body->add_tangent_stiffness(b.positions(q), b.velocity_offset, tangent);
+    body_stiffness_.setFromTriplets(tangent.begin(), tangent.end());
+    if (!sparse_) dense_stiffness_ = Matrix(body_stiffness_);
+  }
   if (sparse_) {
     sparse_stiffness_ = body_stiffness_;
     if (forces_.has_springs()) {
@@ -45,14 +55,28 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     }
     const SparseMatrix W = sparse_mass_ + (h * theta) * sparse_damping_ + scale * sparse_stiffness_;
     // The symbolic analysis depends only on the pattern, which K's refresh keeps.
-    if (!factored_) sparse_factor_.analyzePattern(W);
-    sparse_factor_.factorize(W);
+    if (nonlinear_) {
+      factor_regularized(W);
+    } else {
+      if (!factored_) sparse_factor_.analyzePattern(W);
+      sparse_factor_.factorize(W);
+    }
   } else {
     if (forces_.has_springs()) {
       forces_.spring_stiffness(q, dense_stiffness_);
       if (body_stiffness_.nonZeros() > 0) dense_stiffness_ += body_stiffness_;
     }
-    dense_factor_.compute(dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_);
+    Matrix W = dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_;
+    dense_factor_.compute(W);
+    if (nonlinear_ && !(dense_factor_.vectorD().array() > 0.0).all()) {
+      const double largest = W.diagonal().cwiseAbs().maxCoeff();
+      for (double epsilon = 1e-6 * largest;; epsilon *= 10.0) {
+        dense_factor_.compute(W + epsilon * Matrix::Identity(W.rows(), W.cols()));
+        if ((dense_factor_.vectorD().array() > 0.0).all()) break;
+        if (epsilon > largest) throw FemError("the iteration matrix stays indefinite (a material instability?)");
+      }
+      ++regularizations_;
+    }
   }
   factored_ = true;
   ++factorizations_;
@@ -61,13 +85,33 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
   factorization_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// W (or W + ε I, see the header) into tangent_factor_.
+void StructuralOperators::factor_regularized(const SparseMatrix& W) {
+  auto positive_definite = [&](const SparseMatrix& A) {
+    if (!factored_) tangent_factor_.analyzePattern(A);
+    tangent_factor_.factorize(A);
+    return tangent_factor_.info() == Eigen::Success && (tangent_factor_.vectorD().array() > 0.0).all();
+  };
+  if (positive_definite(W)) return;
+  const double largest = W.diagonal().cwiseAbs().maxCoeff();
+  SparseMatrix identity(W.rows(), W.cols());
+  identity.setIdentity();
+  for (double epsilon = 1e-6 * largest;; epsilon *= 10.0) {
+    if (positive_definite(W + epsilon * identity)) break;
+    if (epsilon > largest) throw FemError("the iteration matrix stays indefinite (a material instability?)");
+  }
+  ++regularizations_;
+}
+
 void StructuralOperators::solve_in_place(Vector& x) const {
-  if (sparse_) x = sparse_factor_.solve(x);
+  if (sparse_ && nonlinear_) x = tangent_factor_.solve(x);
+  else if (sparse_) x = sparse_factor_.solve(x);
   else dense_factor_.solveInPlace(x);
 }
 
 void StructuralOperators::solve_in_place(Matrix& X) const {
-  if (sparse_) X = sparse_factor_.solve(X);
+  if (sparse_ && nonlinear_) X = tangent_factor_.solve(X);
+  else if (sparse_) X = sparse_factor_.solve(X);
   else dense_factor_.solveInPlace(X);
 }
 

@@ -5,12 +5,19 @@
 // of the θ-method. Small systems (up to kDenseLimit unknowns, all lumped scenes) are dense, because a
 // lumped step must cost about a microsecond; larger ones (finite elements) are sparse and factored
 // with CHOLMOD's simplicial LDLᵀ (Debian's SuiteSparse, through Eigen's wrapper), once while K and h
-// stay the same (linear elastic bodies, springs on translating points), else at every step.
+// stay the same (linear elastic bodies, springs on translating points), else at every step. With a
+// finite-strain (hyperelastic) body, K is its tangent at the q of the last update: Moreau–Jean's Newton
+// iterations refresh it at every iterate. That tangent can be indefinite (a compressed body held only
+// by contacts, whose own stiffness is not in K: its sway and buckling modes), and so can W when the
+// masses are small: W then gets a proximal term ε I, from 1e-6 · max diag W grown tenfold until W is
+// positive definite (Eigen's SimplicialLDLT, whose pivots D are checked). Newton's residual is exact,
+// so the term changes the iterations' path, not the converged step.
 #pragma once
 
 #include "engine/forces.h"
 
 #include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
 
 namespace csim {
 
@@ -22,11 +29,13 @@ class StructuralOperators {
 
   // Refreshes K at q and refactors W when needed (always the first time).
   void update(const Vector& q, double h, double theta);
+  bool nonlinear() const { return nonlinear_; }  // a body's K depends on q (a finite-strain body)
   bool has_stiffness() const { return has_stiffness_; }
   bool has_damping() const { return has_damping_; }
   bool sparse() const { return sparse_; }
   double factorization_seconds() const { return factorization_seconds_; }  // s, total
   long factorizations() const { return factorizations_; }  // how many times W was factored
+  long regularizations() const { return regularizations_; }  // factorizations that needed ε I
 
   void solve_in_place(Vector& x) const;   // x ← W⁻¹ x
   void solve_in_place(Matrix& X) const;   // X ← W⁻¹ X
@@ -37,10 +46,10 @@ class StructuralOperators {
  private:
   const World& world_;
   const ForceModel& forces_;
-  bool sparse_, has_stiffness_, has_damping_, constant_;
+  bool sparse_, has_stiffness_, has_damping_, constant_, nonlinear_ = false;
   bool factored_ = false;
   double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;
-  long factorizations_ = 0;
+  long factorizations_ = 0, regularizations_ = 0;
   Matrix dense_mass_, dense_stiffness_, dense_damping_;
   Eigen::LDLT<Matrix> dense_factor_;
   SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_, sparse_damping_;
@@ -49,6 +58,9 @@ class StructuralOperators {
   // tighter), 0.9 against 1.3 ms at 13 122. Its supernodal LLᵀ solves one right-hand side more slowly
   // (6.1 ms, with the reference BLAS), and METIS orders 2D meshes only 4 % better than its AMD.
   Eigen::CholmodSimplicialLDLT<SparseMatrix> sparse_factor_;
+  Eigen::SimplicialLDLT<SparseMatrix> tangent_factor_;  // nonlinear worlds: its pivots say if W > 0
+
+  void factor_regularized(const SparseMatrix& W);
 };
 
 }  // namespace csim

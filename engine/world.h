@@ -77,8 +77,9 @@ struct LinearConstraint {
 // A velocity component of a lumped body whose displacement is prescribed: q_i(t) = q_ref,i + value(t)
 // (m, or rad for a plane rotation), a table interpolated linearly. A ground moved along a path, a hub
 // held at its centre, an imposed spin; a spin held during a press, then released (until). Honoured by
-// the quasi-static stepper, which also reports the reaction (the generalized force the prescription
-// exerts, N or N·m).
+// the quasi-static stepper (the component leaves the unknowns) and by Moreau–Jean (an equality row
+// holding it in position at each step's end); both report the reaction (the generalized force the
+// prescription exerts, N or N·m; Moreau–Jean's includes the body's inertia).
 struct PrescribedComponent {
   int body = -1;
   int component = -1;  // index in the body's velocity components

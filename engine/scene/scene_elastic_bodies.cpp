@@ -13,7 +13,8 @@
 //     `materials` map (e.g. material: =material with a text parameter);
 //   thickness (m, plane strain, default 1);
 //   mass: consistent | lumped; fixed: {SET: [x, y(, z)]}: the components held at zero on a node set
-//   (or face set) of the mesh; velocity: a uniform initial velocity (m/s);
+//   (or face set) of the mesh; velocity: a uniform initial velocity (m/s); angular_velocity: a rigid
+//   spin added to it (plane scenes: ω rad/s about z, through the origin: v = ω ẑ × x);
 //   tie: {nodes: SET, body: RIGID}: the set's nodes move with a plane rigid body (world.h, RigidTie).
 #include "engine/bodies/fe_body.h"
 #include "engine/scene/scene_parts.h"
@@ -153,7 +154,8 @@ void read_ties(const SceneNode& root, World& world) {
 }
 
 void read_elastic_body(const std::string& name, const SceneNode& node, World& world) {
-  node.allow_only({"type", "mesh", "material", "thickness", "mass", "fixed", "velocity", "damping", "tie"});
+  node.allow_only({"type", "mesh", "material", "thickness", "mass", "fixed", "velocity", "angular_velocity", "damping",
+                   "tie"});
   Mesh mesh = read_mesh(node.child("mesh"), world.dimension);
   if (mesh.dimension() != world.dimension)
     node.fail_at("mesh", "a " + std::string(to_string(mesh.element_type)) + " mesh in a " +
@@ -181,6 +183,9 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
     damping.allow_only({"alpha", "beta"});
     alpha = damping.non_negative("alpha", 0.0);
     beta = damping.non_negative("beta", 0.0);
+    // β K_0 would resist rigid rotations (K_0 is the tangent at the reference configuration).
+    if (beta > 0.0 && finite_strain)
+      damping.fail_at("beta", "stiffness-proportional damping is not defined for a finite-strain law (use alpha)");
   }
 
   std::vector<std::pair<int, int>> fixed;
@@ -212,11 +217,20 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
   b.reference_position.setZero(n);
   b.initial_position.setZero(n);
   b.initial_velocity.setZero(n);
-  if (node.has("velocity")) {
-    const Eigen::Vector3d velocity = node.vector("velocity", world.dimension, world.dimension);
-    for (int i = 0; i < static_cast<int>(body.mesh().nodes.size()); ++i)
+  if (node.has("velocity") || node.has("angular_velocity")) {
+    const Eigen::Vector3d velocity =
+        node.has("velocity") ? node.vector("velocity", world.dimension, world.dimension) : Eigen::Vector3d::Zero();
+    double spin = 0.0;
+    if (node.has("angular_velocity")) {
+      if (world.dimension != 2) node.fail_at("angular_velocity", "only in plane scenes (a rate about z) so far");
+      spin = node.number("angular_velocity");
+    }
+    for (int i = 0; i < static_cast<int>(body.mesh().nodes.size()); ++i) {
+      const Eigen::Vector3d& x = body.mesh().nodes[i];
+      const Eigen::Vector3d v = velocity + spin * Eigen::Vector3d(-x.y(), x.x(), 0.0);
       for (int c = 0; c < body.dofs_per_node(); ++c)
-        if (body.free_index(i, c) >= 0) b.initial_velocity(body.free_index(i, c)) = velocity(c);
+        if (body.free_index(i, c) >= 0) b.initial_velocity(body.free_index(i, c)) = v(c);
+    }
   }
   world.bodies.push_back(std::move(b));
 }

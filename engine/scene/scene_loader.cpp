@@ -52,6 +52,8 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   if (newton_iterations < 1 || newton_iterations != static_cast<int>(newton_iterations))
     integrator.fail_at("newton_max_iterations", "must be a whole number >= 1");
   run.quasi_static.newton_max_iterations = static_cast<int>(newton_iterations);
+  mj.newton_tolerance = run.quasi_static.newton_tolerance;  // Moreau–Jean's Newton (finite-strain bodies)
+  mj.newton_max_iterations = run.quasi_static.newton_max_iterations;
   ida.max_step = integrator.non_negative("max_step", 0.0);
   const double max_steps = integrator.number("max_steps", 1000000);
   if (max_steps < 1 || max_steps != static_cast<long>(max_steps))

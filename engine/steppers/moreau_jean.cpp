@@ -1,6 +1,7 @@
 #include "engine/steppers/moreau_jean.h"
 
 #include "engine/steppers/contact_solve.h"
+#include "fem/mesh.h"
 
 #include <chrono>
 #include <cmath>
@@ -25,46 +26,63 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
       pgs_(parameters.solver),
       detector_(world),
       contact_dimension_(detector_.dimension()) {
-  const int n = world.velocity_size;
+  length_ = 0.0;
   for (const BodyInstance& b : world.bodies)
-    if (b.body->nonlinear())
-      throw RunError(0.0, "moreau-jean: body '" + b.name + "' is hyperelastic; its Newton iterations are only in the "
-                          "quasi-static stepper so far (integrator.type: quasi-static)");
-  if (!world.prescribed.empty() || !world.ties.empty())
-    throw RunError(0.0, "moreau-jean: prescribed components and ties are only taken by the quasi-static stepper so far");
+    if (!b.body->fixed() && std::isfinite(b.body->bounding_radius)) length_ = std::max(length_, b.body->bounding_radius);
+  if (!(length_ > 0.0)) length_ = 1.0;
 
-  // Linear constraints: rows of C, and the position index of each term when it has one.
-  const int ne = static_cast<int>(world.constraints.size());
+  if (!world.ties.empty())
+    throw RunError(0.0, "moreau-jean: ties (an elastic body's nodes on a rigid hub) are only taken by the quasi-static "
+                        "stepper so far");
+  build_equalities(parameters_.step);
+}
+
+// The equality rows C v = target: the World's linear constraints, then the prescriptions active at
+// t (s). Each term's position index, when it has one, lets the target hold the constraint in position.
+void MoreauJean::build_equalities(double t) {
+  const int n = world_.velocity_size;
+  active_prescriptions_.clear();
+  for (int p = 0; p < static_cast<int>(world_.prescribed.size()); ++p)
+    if (world_.prescribed[p].active(t)) active_prescriptions_.push_back(p);
+  const int nw = static_cast<int>(world_.constraints.size());
+  const int ne = nw + static_cast<int>(active_prescriptions_.size());
   constraint_rows_.setZero(ne, n);
-  constraint_positions_.resize(ne);
-  for (int e = 0; e < ne; ++e) {
-    for (const auto& [index, coefficient] : world.constraints[e].terms) {
-      constraint_rows_(e, index) += coefficient;
-      int position = -1;
-      for (const BodyInstance& b : world.bodies) {
-        const int local = index - b.velocity_offset;
-        if (local < 0 || local >= b.body->velocity_size()) continue;
-        // Coordinates and velocities coincide except for the rotation of a 3D rigid body.
-        if (b.body->position_size() == b.body->velocity_size() || local < 3)
-          position = b.position_offset + local;
-      }
-      constraint_positions_[e].push_back(position);
+  constraint_positions_.assign(ne, {});
+  auto position_of = [&](int index) {
+    for (const BodyInstance& b : world_.bodies) {
+      const int local = index - b.velocity_offset;
+      if (local < 0 || local >= b.body->velocity_size()) continue;
+      // Coordinates and velocities coincide except for the rotation of a 3D rigid body.
+      if (b.body->position_size() == b.body->velocity_size() || local < 3) return b.position_offset + local;
     }
+    return -1;
+  };
+  for (int e = 0; e < nw; ++e)
+    for (const auto& [index, coefficient] : world_.constraints[e].terms) {
+      constraint_rows_(e, index) += coefficient;
+      constraint_positions_[e].push_back(position_of(index));
+    }
+  for (int i = 0; i < static_cast<int>(active_prescriptions_.size()); ++i) {
+    const PrescribedComponent& c = world_.prescribed[active_prescriptions_[i]];
+    const int index = world_.bodies[c.body].velocity_offset + c.component;
+    constraint_rows_(nw + i, index) = 1.0;
+    constraint_positions_[nw + i].push_back(position_of(index));
   }
+  constraint_columns_.clear();  // W_it⁻¹ Cᵀ: recomputed for the new rows
 }
 
 MoreauJean::~MoreauJean() = default;
 
 void MoreauJean::initialize(State& state) {
+  if (!world_.prescribed.empty()) state.reactions.setZero(world_.velocity_size);
   operators_.apply_mass(state.v, work_);
   state.energy.kinetic = state.energy.initial_kinetic = 0.5 * state.v.dot(work_);
   state.energy.elastic = state.energy.initial_elastic = forces_.elastic_energy(state.q);
 }
 
-void MoreauJean::compute_free_velocity(const State& state) {
+// Loads at both ends of the step (their points taken at q_k), and the inertial force at v_k.
+void MoreauJean::compute_loads(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
-  operators_.update(state.q, h, theta);
-  // Loads at both ends of the step (their points taken at q_k), and the inertial force at v_k.
   forces_.external(state.q, state.t + h, f_total_);
   f_loads_ = theta * f_total_;
   forces_.external(state.q, state.t, f_total_);
@@ -72,6 +90,12 @@ void MoreauJean::compute_free_velocity(const State& state) {
   for (const BodyInstance& b : world_.bodies)
     b.body->add_inertial_force(state.v.segment(b.velocity_offset, b.body->velocity_size()),
                                f_loads_.segment(b.velocity_offset, b.body->velocity_size()));
+}
+
+void MoreauJean::compute_free_velocity(const State& state) {
+  const double h = parameters_.step, theta = parameters_.theta;
+  operators_.update(state.q, h, theta);
+  compute_loads(state);
   f_total_ = f_loads_;
   if (operators_.has_stiffness()) {
     forces_.add_spring_forces(state.q, f_total_);
@@ -86,11 +110,45 @@ void MoreauJean::compute_free_velocity(const State& state) {
   v_free_ = h * f_total_;
   operators_.solve_in_place(v_free_);
   v_free_ += state.v;
-  if (!v_free_.allFinite()) {
+  check_free_velocity(v_free_, state.t + h);
+}
+
+// Newton's free velocity at the iterate v_j: v_free = v_j − W_j⁻¹ R(v_j), with W_j the iteration
+// matrix at q_j (refactored here) and
+//   R(v_j) = M (v_j − v_k) − h [f_loads + θ f(q_j) + (1−θ) f(q_k) − C v_θ],  v_θ = (1−θ)v_k + θv_j.
+// f(q_k) is in f_start_ (computed once a step).
+void MoreauJean::compute_newton_free_velocity(const State& state, const Vector& v_iterate) {
+  const double h = parameters_.step, theta = parameters_.theta;
+  v_theta_ = (1.0 - theta) * state.v + theta * v_iterate;
+  q_iterate_.resize(state.q.size());
+  for (const BodyInstance& b : world_.bodies) {
+    if (b.body->fixed()) continue;
+    b.body->integrate_position(b.positions(state.q), v_theta_.segment(b.velocity_offset, b.body->velocity_size()), h,
+                               q_iterate_.segment(b.position_offset, b.body->position_size()));
+  }
+  operators_.update(q_iterate_, h, theta);
+  f_iterate_.setZero(state.v.size());
+  forces_.add_spring_forces(q_iterate_, f_iterate_);
+  forces_.add_body_internal_forces(q_iterate_, f_iterate_);
+  f_total_ = f_loads_ + theta * f_iterate_ + (1.0 - theta) * f_start_;
+  if (operators_.has_damping()) {
+    operators_.apply_damping(v_theta_, work_);
+    f_total_ -= work_;
+  }
+  dv_ = v_iterate - state.v;
+  operators_.apply_mass(dv_, work_);
+  v_free_ = h * f_total_ - work_;  // −R(v_j)
+  operators_.solve_in_place(v_free_);
+  v_free_ += v_iterate;
+  check_free_velocity(v_free_, state.t + h);
+}
+
+void MoreauJean::check_free_velocity(const Vector& v_free, double t) const {
+  if (!v_free.allFinite()) {
     std::ostringstream message;
-    message << "non-finite free velocity at t = " << state.t + h
+    message << "non-finite free velocity at t = " << t
             << " s (forces or stiffness overflow: check the loads, masses and the time step)";
-    throw RunError(state.t + h, message.str());
+    throw RunError(t, message.str());
   }
 }
 
@@ -100,7 +158,18 @@ void MoreauJean::detect(const State& state) {
   if (detector_.empty()) return;
   const double h = parameters_.step, theta = parameters_.theta;
   // Broad-phase margin: no point can travel farther than this in one step.
-  const double margin = 2.0 * std::max(detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h)) + 1e-12;
+  // The θ-weighted velocity of a free step, v_θ = (1−θ)v_k + θ v_free, except on prescribed
+  // components, which move as prescribed: (q_ref + value(t_{k+1}) − q_k) / h. A plate driven into a
+  // body is then caught at its first step instead of penetrating by one step's travel.
+  v_predicted_ = (1.0 - theta) * state.v + theta * v_free_;
+  for (int p : active_prescriptions_) {
+    const PrescribedComponent& c = world_.prescribed[p];
+    const BodyInstance& b = world_.bodies[c.body];
+    const double target = b.reference_position(c.component) + c.value(state.t + h);
+    v_predicted_(b.velocity_offset + c.component) = (target - state.q(b.position_offset + c.component)) / h;
+  }
+  const double margin = 2.0 * std::max(detector_.travel_bound(state.v, h), detector_.travel_bound(v_predicted_, h)) +
+                        2.0 * detector_.travel_bound(v_free_, h) + 1e-12;
   detector_.detect(state.q, margin, candidates_, candidate_rows_);
   const int d = contact_dimension_;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
@@ -108,8 +177,7 @@ void MoreauJean::detect(const State& state) {
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at
     // rest under a load that presses it on the surface is caught at the first step, whatever the
     // round-off in its gap.
-    const double normal_velocity =
-        (1.0 - theta) * normal_row.dot(state.v) + theta * normal_row.dot(v_free_);
+    const double normal_velocity = normal_row.dot(v_predicted_);
     if (candidates_[k].point.gap + kActivationGamma * h * normal_velocity > 0.0) continue;
     active_.push_back(candidates_[k]);
     active_rows_.push_back(static_cast<int>(k));
@@ -121,7 +189,7 @@ void MoreauJean::gather_columns() {
   const int n = world_.velocity_size;
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
-  const int ne = static_cast<int>(world_.constraints.size());
+  const int ne = static_cast<int>(constraint_rows_.rows());
   if (operators_.factorizations() != cache_factorization_) {
     column_cache_.clear();
     constraint_columns_.clear();
@@ -166,7 +234,8 @@ void MoreauJean::gather_columns() {
 void MoreauJean::assemble(const State& state) {
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
-  const int ne = static_cast<int>(world_.constraints.size());
+  const int ne = static_cast<int>(constraint_rows_.rows());
+  const int nw = static_cast<int>(world_.constraints.size());
   const int m = d * nc + ne;
   const double h = parameters_.step, theta = parameters_.theta;
 
@@ -192,16 +261,21 @@ void MoreauJean::assemble(const State& state) {
     const double e = world_.contact_laws[active_[i].law].restitution;
     if (e > 0.0) problem_.q(d * i) += e * rows_[d * i].dot(state.v);
   }
-  // Constraint targets: C v_{k+1} such that C (q_{k+1} − q_ref) = value exactly.
+  // Equality targets: C v_{k+1} such that C (q_{k+1} − q_ref) = value exactly (a prescription's
+  // value at t_{k+1}).
+  const std::vector<std::pair<int, double>> single{{-1, 1.0}};  // a prescription's term (its index unused)
   for (int e = 0; e < ne; ++e) {
-    const LinearConstraint& constraint = world_.constraints[e];
+    const bool prescribed = e >= nw;
+    const double value = prescribed ? world_.prescribed[active_prescriptions_[e - nw]].value(state.t + h)
+                                    : world_.constraints[e].value;
+    const std::vector<std::pair<int, double>>& terms = prescribed ? single : world_.constraints[e].terms;
     double target = 0.0;
     bool position_level = true;
     double displacement = 0.0;
-    for (std::size_t t = 0; t < constraint.terms.size(); ++t) {
+    for (std::size_t t = 0; t < terms.size(); ++t) {
       const int p = constraint_positions_[e][t];
       if (p < 0) { position_level = false; break; }
-      const auto [index, coefficient] = constraint.terms[t];
+      const double coefficient = terms[t].second;
       double reference = 0.0;
       for (const BodyInstance& b : world_.bodies)
         if (p >= b.position_offset && p < b.position_offset + b.body->position_size())
@@ -210,14 +284,16 @@ void MoreauJean::assemble(const State& state) {
     }
     if (position_level) {
       const double rate_k = constraint_rows_.row(e).dot(state.v);
-      target = (constraint.value - displacement - h * (1.0 - theta) * rate_k) / (h * theta);
+      target = (value - displacement - h * (1.0 - theta) * rate_k) / (h * theta);
     }
     problem_.q(d * nc + e) -= target;
   }
 }
 
-void MoreauJean::solve(State& state) {
-  warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
+void MoreauJean::solve(State& state, bool warm_from_state) {
+  // Newton's later iterations start from the last iteration's r_ (same contacts, same order).
+  if (warm_from_state || r_.size() != problem_.size())
+    warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
   solve_contacts(pgs_, problem_, parameters_.failure_residual, state.t + parameters_.step, r_, active_,
                  state.counters);
 }
@@ -273,6 +349,43 @@ void MoreauJean::account_energy(State& state) {
   e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
 }
 
+// One step with finite-strain bodies: Newton on v_{k+1}, the contact solve inside (see the header).
+void MoreauJean::step_newton(State& state) {
+  const double h = parameters_.step;
+  compute_loads(state);
+  f_start_.setZero(state.v.size());
+  forces_.add_spring_forces(state.q, f_start_);
+  forces_.add_body_internal_forces(state.q, f_start_);
+  v_iterate_ = state.v;
+  SolverCounters& c = state.counters;
+  for (int iteration = 1;; ++iteration) {
+    try {
+      compute_newton_free_velocity(state, v_iterate_);
+    } catch (const FemError& e) {
+      throw RunError(state.t + h, "moreau-jean Newton iteration " + std::to_string(iteration) + ": " + e.what());
+    }
+    if (iteration == 1) detect(state);
+    assemble(state);
+    solve(state, iteration == 1);
+    update(state);
+    const double increment = h * (v_next_ - v_iterate_).lpNorm<Eigen::Infinity>();
+    v_iterate_ = v_next_;
+    if (increment <= parameters_.newton_tolerance * length_) {
+      c.newton_iterations += iteration;
+      c.max_newton_iterations = std::max(c.max_newton_iterations, iteration);
+      c.newton_regularized = operators_.regularizations();
+      break;
+    }
+    if (iteration >= parameters_.newton_max_iterations || !std::isfinite(increment)) {
+      std::ostringstream message;
+      message << "moreau-jean: Newton did not converge at t = " << state.t + h << " s: h|dv| = " << increment
+              << " after " << iteration << " iterations (tolerance " << parameters_.newton_tolerance * length_
+              << "; integrator.newton_max_iterations, or a smaller time.step)";
+      throw RunError(state.t + h, message.str());
+    }
+  }
+}
+
 void MoreauJean::step(State& state) {
   // Phase timers are sampled on one step in kTimerSampling (a clock read costs ~20 ns, a lumped step
   // ~1 µs) and scaled, so the per-phase times in the summary are estimates of the totals.
@@ -286,22 +399,42 @@ void MoreauJean::step(State& state) {
     phase += kTimerSampling * std::chrono::duration<double>(now - mark).count();
     mark = now;
   };
-  compute_free_velocity(state);
-  state.factorization_seconds = operators_.factorization_seconds();
-  lap(state.timers.free_velocity);
-  detect(state);
-  lap(state.timers.detection);
-  assemble(state);
-  lap(state.timers.assembly);
-  solve(state);
-  lap(state.timers.solve);
-  update(state);
+  if (!world_.prescribed.empty()) {  // a prescription released over this step: its row goes
+    bool released = false;
+    for (const PrescribedComponent& p : world_.prescribed)
+      released = released || (p.active(state.t) && !p.active(state.t + parameters_.step));
+    if (released) build_equalities(state.t + parameters_.step);
+  }
+  if (operators_.nonlinear()) {
+    step_newton(state);  // phases interleaved over the iterations: timed as one
+    state.factorization_seconds = operators_.factorization_seconds();
+    lap(state.timers.free_velocity);
+  } else {
+    compute_free_velocity(state);
+    state.factorization_seconds = operators_.factorization_seconds();
+    lap(state.timers.free_velocity);
+    detect(state);
+    lap(state.timers.detection);
+    assemble(state);
+    lap(state.timers.assembly);
+    solve(state);
+    lap(state.timers.solve);
+    update(state);
+  }
   account_energy(state);
   if (!v_next_.allFinite() || !q_next_.allFinite()) {
     std::ostringstream message;
     message << "non-finite state at t = " << state.t + parameters_.step
             << " s (check the time step, stiffness and loads)";
     throw RunError(state.t + parameters_.step, message.str());
+  }
+  if (!world_.prescribed.empty()) {  // the force each prescription exerted: its impulse / h
+    state.reactions.setZero(world_.velocity_size);
+    const int first = static_cast<int>(rows_.size() + world_.constraints.size());
+    for (std::size_t i = 0; i < active_prescriptions_.size(); ++i) {
+      const PrescribedComponent& p = world_.prescribed[active_prescriptions_[i]];
+      state.reactions(world_.bodies[p.body].velocity_offset + p.component) = r_(first + i) / parameters_.step;
+    }
   }
   state.q.swap(q_next_);
   state.v.swap(v_next_);

@@ -8,14 +8,28 @@
 //                      g + γ h u_n ≤ 0 (γ = ½), u_n from the θ-weighted free velocity
 //                      (1−θ)v_k + θ v_free; warm start from the last impulse with the same key;
 //   3. assemble        u = H v, Delassus W = H W_it⁻¹ Hᵀ, q = H v_free + e·u_n(v_k) on normal rows
-//                      (Newton impact law), plus the rows of the linear constraints, whose target
-//                      makes them hold exactly in position at t_{k+1}. H is sparse (a few entries a
+//                      (Newton impact law), plus the rows of the linear constraints and of the
+//                      prescribed components (world.h; their force, impulse / h, is state.reactions),
+//                      whose target makes them hold exactly in position at t_{k+1}. H is sparse (a few entries a
 //                      row), and the columns W_it⁻¹ hᵀ are cached by contact key while W_it and the row
 //                      do not change (a node sliding on a plane keeps its column), so that a step costs
 //                      O(unknowns + contacts²) once W_it is factored;
 //   4. solve           projected Gauss–Seidel on {W, q, μ};
 //   5. update          v_{k+1} = v_free + W_it⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
 //   6. post            energy balance, counters, non-finite check.
+//
+// Finite-strain bodies (nonlinear internal force f(q), tangent K_T(q)): the step is the implicit
+//   M (v_{k+1} − v_k) = h [f_loads + θ f(q_{k+1}) + (1−θ) f(q_k) − C v_θ] + Hᵀ r,
+//   q_{k+1} = q_k + h v_θ,
+// solved by Newton's method on v_{k+1} with the contact problem inside every iteration (Acary &
+// Brogliato 2008, §10.4; Siconos' MoreauJeanOSI): at the iterate v_j, q_j = q_k + h((1−θ)v_k + θv_j),
+//   W_j = M + hθC + h²θ² K_T(q_j),   v_free = v_j − W_j⁻¹ R(v_j)   (R: the equation above without Hᵀ r),
+// then steps 3–5 with W_j give v_{j+1}. The contacts are detected once, at q_k (the predicted-gap
+// rule of step 2 with the first free velocity), and their rows kept for the step, as in the linear
+// scheme. Stops at h |v_{j+1} − v_j|∞ ≤ newton_tolerance · L (L: the largest body's bounding radius).
+// The first iteration from v_0 = v_k is the linear scheme above (f(q_k + h v_k) − f(q_k) = −hK v_k for
+// a linear body), so a linear World keeps its single solve. The energy balance then closes to the
+// trapezoidal rule's error on the path integral of f, O(|Δq|³) a step (second order in h).
 //
 // Energy: with v_θ = (1−θ)v_k + θv_{k+1} and Δq = h v_θ, multiplying the step by v_θ gives exactly
 //   ΔE_kin + ΔE_el = h f_loads·v_θ + rᵀ H v_θ − (θ−½)(|Δv|²_M + |Δq|²_K)
@@ -39,6 +53,8 @@ struct MoreauJeanParameters {
   double theta = 0.5;             // θ ∈ [½, 1]
   PgsParameters solver;
   double failure_residual = 1e-6; // a solve left above this relative residual stops the run
+  double newton_tolerance = 1e-10;  // finite-strain bodies: on h |Δv|∞ / L
+  int newton_max_iterations = 30;
 };
 
 class MoreauJean final : public Stepper {
@@ -51,11 +67,16 @@ class MoreauJean final : public Stepper {
   double time_step() const override { return parameters_.step; }
 
  private:
+  void build_equalities(double t);
+  void compute_loads(const State& state);
   void compute_free_velocity(const State& state);
+  void compute_newton_free_velocity(const State& state, const Vector& v_iterate);
+  void check_free_velocity(const Vector& v_free, double t) const;
+  void step_newton(State& state);
   void detect(const State& state);
   void gather_columns();
   void assemble(const State& state);
-  void solve(State& state);
+  void solve(State& state, bool warm_from_state = true);
   void update(State& state);
   void account_energy(State& state);
 
@@ -66,10 +87,12 @@ class MoreauJean final : public Stepper {
   PgsSolver pgs_;
   ContactDetector detector_;
   int contact_dimension_;             // 2 in plane scenes, 3 in space
+  double length_ = 1.0;               // m: Newton's length scale (the largest bounding radius)
 
 
   // Per-step work data (kept to avoid allocation in the time loop).
-  Vector f_loads_, f_total_, v_free_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
+  Vector f_start_, f_iterate_, v_iterate_, q_iterate_;  // Newton: f(q_k), f(q_j), v_j, q_j
+  Vector f_loads_, f_total_, v_free_, v_predicted_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
   std::vector<ActiveContact> candidates_;
   std::vector<ActiveContact> active_;
   std::vector<SparseRow> candidate_rows_;  // rows of every candidate contact (dimension each)
@@ -88,7 +111,8 @@ class MoreauJean final : public Stepper {
   long cache_factorization_ = -1;
   std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and W_it⁻¹ Hᵀ
   FrictionContactProblem problem_;
-  Matrix constraint_rows_;            // equalities × n
+  Matrix constraint_rows_;            // equalities × n: the World's constraints, then the active prescriptions
+  std::vector<int> active_prescriptions_;  // index in world.prescribed of each prescription row
   std::vector<std::vector<int>> constraint_positions_;  // position index of each term (−1: velocity only)
 };
 
