@@ -146,9 +146,9 @@ void read_ties(const SceneNode& root, World& world) {
     const auto nodes = nodes_of_set(fe->mesh(), set);
     if (!nodes) tie_node.fail_at("nodes", "the mesh has no node or face set '" + set + "'");
     tie.nodes = *nodes;
-    for (int n : tie.nodes)
-      for (int c = 0; c < 2; ++c)
-        if (fe->free_index(n, c) < 0) tie_node.fail_at("nodes", "node " + std::to_string(n) + " is also fixed");
+    // The whole body rides in its hub's frame (reduced_coordinates.h): no node of it may be fixed.
+    if (fe->velocity_size() != fe->dofs_per_node() * static_cast<int>(fe->mesh().nodes.size()))
+      node.fail_at("fixed", "a tied body rides on its hub: it may have no fixed nodes");
     world.ties.push_back(tie);
   }
 }
