@@ -236,10 +236,13 @@ void CollisionWorld::Impl::surface_contacts(const Object& surface, const Object&
   const std::size_t begin = out.size();
   const Surface& s = *surface.surface;
   const SurfaceFeatures features = s.features(shape.body);
-  if (features != SurfaceFeatures::nodes)
+  if (features == SurfaceFeatures::smoothed)
+    curve_shape_contacts(s.positions, s.geometry, shape.instance.shape, shape.instance.pose, margin, surface_is_a,
+                         planar, static_cast<int>(s.positions.size()), out);
+  if (features == SurfaceFeatures::faces || features == SurfaceFeatures::both)
     shape_face_contacts(s.positions, s.geometry, shape.instance.shape, shape.instance.pose, margin, surface_is_a,
                         planar, out);
-  if (features != SurfaceFeatures::faces)
+  if (features == SurfaceFeatures::nodes || features == SurfaceFeatures::both)
     for (int node : s.geometry.contact_nodes)
       node_shape_contact(s.positions[node], node, shape.instance.shape, shape.instance.pose, margin, surface_is_a,
                          planar, out);

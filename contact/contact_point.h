@@ -18,8 +18,9 @@ namespace csim {
 
 // Identity of a contact across steps (warm start, output, sorting): the two objects and the feature
 // that touches (the box vertex index for box–halfspace, whichever of the two is A; 0 for pairs with
-// one contact point; on a deformable surface, the node index ≥ 0 for its node features and −1 − k
-// for feature k of the rigid shape landing on its faces). object_a < object_b.
+// one contact point; on a deformable surface, the node index ≥ 0 for its node features, −1 − k
+// for feature k of the rigid shape landing on its faces, and node_count + G·segment + g for Gauss
+// point g of a segment of its smoothed boundary, boundary_curve.h). object_a < object_b.
 struct ContactKey {
   int object_a = -1;
   int object_b = -1;
@@ -28,12 +29,13 @@ struct ContactKey {
 };
 
 // The deformable side's point of a contact, as a combination of the surface's nodes:
-// x = Σ weight[k] · x(nodes[k]), weights ≥ 0 summing to 1 (a node feature: one node of weight 1;
-// a point on a boundary segment or triangle: its linear interpolation weights).
+// x = Σ weight[k] · x(nodes[k]), weights summing to 1 (a node feature: one node of weight 1;
+// a point on a boundary segment or triangle: its linear interpolation weights, ≥ 0; a point of a
+// smoothed boundary: its curve's weights on up to four nodes, some negative, boundary_curve.h).
 struct SurfacePoint {
   int count = 0;  // 0 when neither object is a deformable surface
-  std::array<int, 3> nodes{};
-  std::array<double, 3> weights{};
+  std::array<int, 4> nodes{};
+  std::array<double, 4> weights{};
 };
 
 struct ContactPoint {

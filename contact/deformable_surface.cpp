@@ -55,17 +55,19 @@ Projection project(const Eigen::Vector3d& x, const Shape& shape, const Eigen::Is
 
 }  // namespace
 
-void node_shape_contact(const Eigen::Vector3d& x, int node, const Shape& shape, const Eigen::Isometry3d& pose,
-                        double margin, bool surface_is_a, bool planar, std::vector<ContactPoint>& out) {
+namespace {
+
+// A contact of the surface point x (its node weights `surface`) with the shape, if gap ≤ margin.
+void point_shape_contact(const Eigen::Vector3d& x, const SurfacePoint& surface, int feature, const Shape& shape,
+                         const Eigen::Isometry3d& pose, double margin, bool surface_is_a, bool planar,
+                         std::vector<ContactPoint>& out) {
   const Projection p = project(x, shape, pose, planar);
   if (p.distance > margin) return;
   ContactPoint& c = out.emplace_back();
-  c.key.feature = node;
-  c.surface.count = 1;
-  c.surface.nodes[0] = node;
-  c.surface.weights[0] = 1.0;
+  c.key.feature = feature;
+  c.surface = surface;
   c.gap = p.distance;
-  // The shape's outward normal points from the shape to the node.
+  // The shape's outward normal points from the shape to the surface point.
   if (surface_is_a) {
     c.point_a = x;
     c.point_b = p.point;
@@ -80,6 +82,28 @@ void node_shape_contact(const Eigen::Vector3d& x, int node, const Shape& shape, 
     c.normal.normalize();
     c.point_a.z() = c.point_b.z() = 0.0;
   }
+}
+
+}  // namespace
+
+void node_shape_contact(const Eigen::Vector3d& x, int node, const Shape& shape, const Eigen::Isometry3d& pose,
+                        double margin, bool surface_is_a, bool planar, std::vector<ContactPoint>& out) {
+  SurfacePoint at_node;
+  at_node.count = 1;
+  at_node.nodes[0] = node;
+  at_node.weights[0] = 1.0;
+  point_shape_contact(x, at_node, node, shape, pose, margin, surface_is_a, planar, out);
+}
+
+void curve_shape_contacts(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,
+                          const Shape& shape, const Eigen::Isometry3d& pose, double margin, bool surface_is_a,
+                          bool planar, int first_feature, std::vector<ContactPoint>& out) {
+  for (int i = 0; i < static_cast<int>(geometry.curve.size()); ++i)
+    for (int g = 0; g < kCurveGaussPoints; ++g) {
+      const SurfacePoint point = curve_point(geometry.curve[i], kCurveGaussAbscissae[g]);
+      point_shape_contact(surface_position(point, positions), point, first_feature + kCurveGaussPoints * i + g,
+                          shape, pose, margin, surface_is_a, planar, out);
+    }
 }
 
 namespace {

@@ -8,7 +8,16 @@
 //   point, a box's vertices; feature = −1 − k): the closest point of the deformed faces (segments in
 //   plane scenes, triangles in space, so quad8 edges and hexa8 faces are taken piecewise flat) and its
 //   interpolation weights on the face's nodes, which give the contact's Jacobian on the nodes.
-// `both` is the symmetric (two-pass) treatment: a box edge and a surface corner can both be caught.
+// `both` is the symmetric (two-pass) treatment: a box edge and a surface corner can both be caught;
+// - smoothed features (plane scenes), Gauss points along a smooth curve through the boundary nodes
+//   (boundary_curve.h: Catmull–Rom for quad4 boundaries, the quadratic edge for quad8) against the
+//   rigid shape, each set like a node (feature = node_count + kCurveGaussPoints·segment + g). Against a
+//   plane (a halfspace, a box face) the gap n·x(s_g) − offset is exactly linear in the nodes, with the
+//   row n·Σ w_k(s_g) δx_k. The points are independent unilateral constraints, not scaled by their
+//   Gauss weights: a positive factor on a row rescales its force and leaves the (rigid) Signorini–
+//   Coulomb solution unchanged, and the contact solver handles the redundant rows (more points
+//   than nodes). What the curve removes is the polygon's facets: its points follow the circle to
+//   O(h⁴) where the nodes' chords leave a sagitta R h²/8.
 // FCL does the broad phase: the surface's triangles form a BVHModel<OBBRSS> refitted at every update
 // (beginUpdateModel / updateSubModel / endUpdateModel, then computeLocalAABB and the object's AABB,
 // then the manager's update: without all of these the broad phase silently misses contacts).
@@ -16,6 +25,7 @@
 // that FCL's 3D tree holds them; nodes and normals stay in z = 0.
 #pragma once
 
+#include "contact/boundary_curve.h"
 #include "contact/contact_point.h"
 #include "contact/shape.h"
 
@@ -25,13 +35,14 @@
 
 namespace csim {
 
-enum class SurfaceFeatures { nodes, faces, both };
+enum class SurfaceFeatures { nodes, faces, both, smoothed };
 
 struct DeformableSurfaceGeometry {
   // Boundary segments (2D: node pairs) or triangles (3D: node triples), outward order.
   std::vector<std::array<int, 3>> triangles;   // 3D
   std::vector<std::array<int, 2>> segments;    // 2D
   std::vector<int> contact_nodes;              // the nodes that may touch (sorted)
+  std::vector<CurveSegment> curve;             // 2D, smoothed features only (boundary_curve.h)
 };
 
 // The contacts of node `node` at world position x with a rigid shape at `pose` (gap ≤ margin),
@@ -49,5 +60,12 @@ void node_shape_contact(const Eigen::Vector3d& x, int node, const Shape& shape, 
 void shape_face_contacts(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,
                          const Shape& shape, const Eigen::Isometry3d& pose, double margin, bool surface_is_a,
                          bool planar, std::vector<ContactPoint>& out);
+
+// The contacts of the Gauss points of the smoothed boundary (geometry.curve) with a rigid shape
+// (gap ≤ margin), oriented like node_shape_contact; feature = first_feature + kCurveGaussPoints·i + g
+// for point g of segment i (first_feature: the node count, so that they never meet node features).
+void curve_shape_contacts(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,
+                          const Shape& shape, const Eigen::Isometry3d& pose, double margin, bool surface_is_a,
+                          bool planar, int first_feature, std::vector<ContactPoint>& out);
 
 }  // namespace csim

@@ -44,17 +44,30 @@ ContactDetector::ContactDetector(const World& world)
       // An elastic body touches through its boundary nodes (node-to-surface against rigid shapes).
       DeformableSurfaceGeometry geometry;
       const std::vector<Face> faces = boundary_faces(fe->mesh());
+      std::vector<std::array<int, 2>> edges;            // quad4 boundary: the Catmull–Rom curve's nodes
+      std::vector<std::array<int, 3>> quadratic_edges;  // quad8 boundary: its curved edges
       for (const Face& f : faces) {
-        if (f.nodes.size() == 2) geometry.segments.push_back({f.nodes[0], f.nodes[1]});
-        else if (fe->mesh().dimension() == 2) {  // quad8 edge: corner, corner, mid-side
+        if (f.nodes.size() == 2) {
+          geometry.segments.push_back({f.nodes[0], f.nodes[1]});
+          edges.push_back({f.nodes[0], f.nodes[1]});
+        } else if (fe->mesh().dimension() == 2) {  // quad8 edge: corner, corner, mid-side
           geometry.segments.push_back({f.nodes[0], f.nodes[2]});
           geometry.segments.push_back({f.nodes[2], f.nodes[1]});
+          quadratic_edges.push_back({f.nodes[0], f.nodes[1], f.nodes[2]});
         } else {
           geometry.triangles.push_back({f.nodes[0], f.nodes[1], f.nodes[2]});
           geometry.triangles.push_back({f.nodes[0], f.nodes[2], f.nodes[3]});
         }
       }
       geometry.contact_nodes = nodes_of(faces);
+      bool smoothed = false;
+      for (const ContactLaw& law : world.contact_laws)
+        smoothed |= (law.body_a == i || law.body_b == i) && law.features == SurfaceFeatures::smoothed;
+      if (smoothed) {
+        geometry.curve = catmull_rom_segments(edges, fe->mesh().nodes);
+        const std::vector<CurveSegment> quadratic = quadratic_segments(quadratic_edges);
+        geometry.curve.insert(geometry.curve.end(), quadratic.begin(), quadratic.end());
+      }
       const int object = collision_->add_deformable_surface(i, fe->mesh().nodes, geometry);
       for (const ContactLaw& law : world.contact_laws) {
         if (law.body_a == i) collision_->set_surface_features(object, law.body_b, law.features);

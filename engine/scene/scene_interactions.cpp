@@ -108,7 +108,9 @@ void read_constraints(const SceneNode& root, World& world) {
 // mu_ramp: [start, end] (s; μ grows linearly from 0 over that window)}.
 // features (with an elastic body): nodes (its boundary nodes on the other body's shapes, node-to-
 // surface), faces (the other body's sphere or box vertices on its boundary faces, so that a rigid body
-// can land on it), or both.
+// can land on it), both, or smoothed (plane scenes: Gauss points on a smooth curve through its boundary
+// nodes, Catmull–Rom on quad4 boundaries, the quadratic edges of quad8, against the other body's
+// shapes; deformable_surface.h, boundary_curve.h).
 void read_contacts(const SceneNode& root, World& world) {
   if (!root.has("contacts")) return;
   for (const auto& [name, node] : root.child("contacts").entries()) {
@@ -157,7 +159,11 @@ void read_contacts(const SceneNode& root, World& world) {
     const std::string features = node.string("features", "nodes");
     if (features == "faces") law.features = SurfaceFeatures::faces;
     else if (features == "both") law.features = SurfaceFeatures::both;
-    else if (features != "nodes") node.fail_at("features", "expected nodes, faces or both, got '" + features + "'");
+    else if (features == "smoothed") law.features = SurfaceFeatures::smoothed;
+    else if (features != "nodes")
+      node.fail_at("features", "expected nodes, faces, both or smoothed, got '" + features + "'");
+    if (features == "smoothed" && world.dimension != 2)
+      node.fail_at("features", "smoothed is for plane scenes (dimension 2): a curve along the boundary edges");
     if (!has_elastic && features != "nodes")
       node.fail_at("features", "only meaningful when one of the bodies is elastic");
     world.contact_laws.push_back(law);
