@@ -163,12 +163,11 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
       p.component = b.body->velocity_index(component);
       if (p.component < 0 || (d == 3 && type == "rigid" && p.component >= 3))
         value.fail("body '" + name + "' has no prescribable component '" + component + "'");
-      SceneNode values = value;
       if (value.is_map()) {  // {value: V | [[t, V], ...], until: T}
         value.allow_only({"value", "until"});
         p.until = value.number("until");
-        values = value.child("value");
       }
+      const SceneNode values = value.is_map() ? value.child("value") : value;
       if (values.is_sequence()) {
         read_table_rows(values, p.value.table);
         if (p.value.table.empty()) values.fail("the table must not be empty");

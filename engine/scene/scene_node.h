@@ -33,6 +33,13 @@ struct SceneDocument {
 class SceneNode {
  public:
   SceneNode(YAML::Node node, std::string path, SceneDocument* document, int line_hint = 0);
+  SceneNode(const SceneNode&) = default;
+  SceneNode(SceneNode&&) = default;
+  // No assignment: YAML::Node's operator= replaces the content of the node it refers to, so assigning
+  // one SceneNode to another would rewrite the scene tree (a prescribed {value, until} map once became
+  // its value table that way, losing `until` when the tree was read again for a --set on a default).
+  SceneNode& operator=(const SceneNode&) = delete;
+  SceneNode& operator=(SceneNode&&) = delete;
 
   const std::string& path() const { return path_; }
   int line() const;
