@@ -3,11 +3,13 @@
 
 Reference values: Abaqus Benchmarks Manual 6.6, section 1.5.1, Table 2 (seeds/SPEC.md section 3.7),
 Faria's values from L. O. Faria, Tire Modeling by Finite Elements, PhD thesis, UT Austin, 1989.
-Each row runs on the benchmark's first-order mesh (34 x 5 quad4) and on a mesh twice as fine in both
-directions (68 x 10), the mesh-convergence column. Usage:
-    python3 bench/rolling_table.py [--csim build/tools/csim] [--out docs/rolling.md] [--rows 1,5,...]
+Each row runs on the benchmark's meshes (34 x 5 quad4, 18 x 3 quad8) and on meshes twice as fine in
+both directions (the mesh-convergence columns), with node and smoothed contact on quad4. The script
+replaces only the block between the generated markers of docs/rolling.md. Usage:
+    python3 bench/rolling_table.py [--csim build/tools/csim] [--out docs/rolling.md] [--rows 1,5,...] [--jobs 2]
 """
 import argparse
+import concurrent.futures
 import json
 import os
 import subprocess
@@ -32,9 +34,19 @@ ROWS = [
     ("linear-elastic", 0.10, 1.0, 0.02, 1.02810, 1.02872, 0.06),
     ("linear-elastic", 0.10, 1.7, 0.02, 0.99156, 0.99542, 0.39),
 ]
-MESHES = [("34 x 5", 34, 5), ("68 x 10", 68, 10)]
-# Sensitivity of one Mooney-Rivlin and one elastic row (34 x 5): pseudo-time step (the quasi-static
-# run has no inertia; the step only resolves the loading path), incompressibility, finite-strain law.
+# Configurations: element, divisions (circumferential x radial), contact surface. 34 x 5 quad4 and
+# 18 x 3 quad8 are the benchmark's meshes; the others are twice as fine (the mesh-convergence columns).
+CONFIGS = [
+    ("q4 34×5 nodes", "quad4", 34, 5, "nodes"),
+    ("q4 34×5 smoothed", "quad4", 34, 5, "smoothed"),
+    ("q4 68×10 nodes", "quad4", 68, 10, "nodes"),
+    ("q4 68×10 smoothed", "quad4", 68, 10, "smoothed"),
+    ("q8 18×3 nodes", "quad8", 18, 3, "nodes"),
+    ("q8 36×6 nodes", "quad8", 36, 6, "nodes"),
+]
+# Sensitivity of one Mooney-Rivlin and one elastic row (q4 34 x 5, node contact): pseudo-time step
+# (the quasi-static run has no inertia; the step only resolves the loading path), incompressibility,
+# finite-strain law.
 STUDIES = [
     (ROWS[5], "step 0.02", ["--set", "parameters.step=0.02"]),
     (ROWS[5], "step 0.01 (default)", []),
@@ -46,17 +58,17 @@ STUDIES = [
     (ROWS[12], "St Venant-Kirchhoff", ["--set", "parameters.elastic_law=saint-venant-kirchhoff"]),
     (ROWS[12], "step 0.005", ["--set", "parameters.step=0.005"]),
 ]
-
-
-def run(csim, row, mesh, extra):
+def run(csim, row, config, extra):
     material, delta, r_i, mu, faria = row[:5]
+    _, element, circumferential, radial, surface = config
     with tempfile.TemporaryDirectory() as out:
         command = [csim, "run", "scenes/rolling-ring", "--quiet", "--out", out,
                    "--set", f"parameters.material={material}", "--set", f"parameters.indentation={delta}",
                    "--set", f"parameters.inner_radius={r_i}", "--set", f"parameters.mu={mu}",
-                   "--set", f"parameters.reference_spin={faria}",
-                   "--set", f"parameters.divisions_circumferential={mesh[1]}",
-                   "--set", f"parameters.divisions_radial={mesh[2]}"] + extra
+                   "--set", f"parameters.reference_spin={faria}", "--set", f"parameters.element={element}",
+                   "--set", f"parameters.divisions_circumferential={circumferential}",
+                   "--set", f"parameters.divisions_radial={radial}",
+                   "--set", f"parameters.contact_surface={surface}"] + extra
         start = time.perf_counter()
         process = subprocess.run(command, capture_output=True, text=True)
         wall = time.perf_counter() - start
@@ -74,62 +86,77 @@ def percent(value, reference):
     return 100.0 * (value - reference) / reference
 
 
+BEGIN, END = "<!-- generated: begin -->", "<!-- generated: end -->"
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--csim", default="build/tools/csim")
     parser.add_argument("--out", default="docs/rolling.md")
     parser.add_argument("--rows", default="")
+    parser.add_argument("--jobs", type=int, default=2)
     args = parser.parse_args()
     rows = ROWS if not args.rows else [ROWS[int(i) - 1] for i in args.rows.split(",")]
-    lines = []
-    results = []
-    for number, row in enumerate(rows, 1):
-        result = [run(args.csim, row, mesh, []) for mesh in MESHES]
-        results.append((row, result))
-        print(row, [r.get("spin", r.get("error")) for r in result], file=sys.stderr, flush=True)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        futures = [[pool.submit(run, args.csim, row, config, []) for config in CONFIGS] for row in rows]
+        studies = [pool.submit(run, args.csim, row, CONFIGS[0], extra) for row, _, extra in STUDIES]
+        results = []
+        for row, row_futures in zip(rows, futures):
+            result = [f.result() for f in row_futures]
+            results.append((row, result))
+            print(row[:4], [r.get("spin", "failed") for r in result], file=sys.stderr, flush=True)
+        study_results = [f.result() for f in studies]
 
-    lines.append("# Free rolling of a ring: Abaqus Benchmark 1.5.1 / Faria (1989)\n")
-    lines.append("Generated by `python3 bench/rolling_table.py` (scene `scenes/rolling-ring`, quasi-static, finite strain,")
-    lines.append("quad4, pseudo-time step 0.01, 420 steps: press 100, mu ramp 20, rolling 300 over a ground travel of 6).")
-    lines.append("Spin: the hub's angular velocity in units of v/R (R = 2, undeformed), Hann-weighted mean over the last")
-    lines.append("window of 1 time unit (one element passage takes 0.18). Steadiness: the change from the window before.")
-    lines.append("Errors are relative to Faria's value. Abaqus' column and its error are Table 2's.\n")
-    lines.append("| material | δ | r_i | μ | Faria | Abaqus (err %) | ours 34×5 (err %) | ours 68×10 (err %) | steadiness 68×10 | time 34×5 / 68×10 (s) | Newton its 34×5 / 68×10 (max/step) |")
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    lines = [BEGIN]
+    lines.append(f"Generated by `python3 bench/rolling_table.py` ({args.jobs} runs at a time on this machine's "
+                 f"{os.cpu_count()} cores; wall times are per run).\n")
+    lines.append("| material | δ | r_i | μ | Faria | Abaqus (err %) | " +
+                 " | ".join(f"{c[0]} (err %)" for c in CONFIGS) + " |")
+    lines.append("|" + "---|" * (6 + len(CONFIGS)))
     for row, result in results:
         material, delta, r_i, mu, faria, abaqus, abaqus_diff = row
         cells = [material, f"{delta:g}", f"{r_i:g}", f"{mu:g}", f"{faria:.5f}", f"{abaqus:.5f} ({abaqus_diff:.2f})"]
         for r in result:
-            cells.append(f"{r['spin']:.5f} ({percent(r['spin'], faria):+.2f})" if "spin" in r else f"failed: {r['error']}")
-        fine = result[-1]
-        cells.append(f"{abs(fine['spin'] - fine['earlier']):.1e}" if "spin" in fine else "–")
-        cells.append(" / ".join(f"{r['wall']:.1f}" for r in result))
-        cells.append(" / ".join(f"{r['newton']} ({r['newton_max']})" if "newton" in r else "–" for r in result))
+            cells.append(f"{r['spin']:.5f} ({percent(r['spin'], faria):+.2f})" if "spin" in r else "failed¹")
         lines.append("| " + " | ".join(cells) + " |")
     lines.append("")
-    lines.append("## Sensitivity (34 × 5)\n")
+    failures = [(row, config, r["error"]) for row, result in results for config, r in zip(CONFIGS, result) if "error" in r]
+    for row, config, error in failures:
+        lines.append(f"¹ {row[0]} δ={row[1]:g} r_i={row[2]:g} μ={row[3]:g}, {config[0]}: `{error}`  ")
+    lines.append("")
+    lines.append("Steadiness (the change of the spin from the window before the last), wall time (s) and Newton "
+                 "iterations (total, and the most in one step), per configuration:\n")
+    lines.append("| material | δ | r_i | μ | " + " | ".join(c[0] for c in CONFIGS) + " |")
+    lines.append("|" + "---|" * (4 + len(CONFIGS)))
+    for row, result in results:
+        cells = [row[0], f"{row[1]:g}", f"{row[2]:g}", f"{row[3]:g}"]
+        for r in result:
+            if "spin" in r:
+                cells.append(f"{abs(r['spin'] - r['earlier']):.0e}, {r['wall']:.1f} s, {r['newton']} ({r['newton_max']})")
+            else:
+                cells.append(f"failed, {r['wall']:.1f} s")
+        lines.append("| " + " | ".join(cells) + " |")
+    lines.append("")
+    lines.append("Sensitivity (q4 34×5 nodes):\n")
     lines.append("| row | setting | spin | change from the default |")
     lines.append("|---|---|---|---|")
-    base = {}
-    for row, label, extra in STUDIES:
-        r = run(args.csim, row, MESHES[0], extra)
-        key = row[:4]
-        if not extra:
-            base[key] = r.get("spin")
-        print(label, r.get("spin", r.get("error")), file=sys.stderr, flush=True)
-        studies_row = f"{row[0]} δ={row[1]:g} r_i={row[2]:g} μ={row[3]:g}"
-        value = f"{r['spin']:.5f}" if "spin" in r else f"failed: {r['error']}"
-        lines.append(f"| {studies_row} | {label} | {value} | CHANGE:{key}:{r.get('spin', 'nan')} |")
-    for i, line in enumerate(lines):
-        if "CHANGE:" in line:
-            head, tail = line.split("CHANGE:")
-            key_text, value = tail.rsplit(":", 1)
-            reference = [v for k, v in base.items() if str(k) == key_text][0]
-            change = "–" if value.strip(" |") == "nan" else f"{percent(float(value.strip(' |')), reference):+.3f} %"
-            lines[i] = head + change + " |"
-    os.makedirs(os.path.dirname(args.out), exist_ok=True)
+    base = {row[:4]: r.get("spin") for (row, _, extra), r in zip(STUDIES, study_results) if not extra}
+    for (row, label, extra), r in zip(STUDIES, study_results):
+        name = f"{row[0]} δ={row[1]:g} r_i={row[2]:g} μ={row[3]:g}"
+        value = f"{r['spin']:.5f}" if "spin" in r else "failed"
+        reference = base.get(row[:4])
+        change = f"{percent(r['spin'], reference):+.3f} %" if "spin" in r and reference else "–"
+        lines.append(f"| {name} | {label} | {value} | {change} |")
+    lines.append(END)
+
+    # Only the generated block is replaced: the text around it is written by hand.
+    text = open(args.out).read() if os.path.exists(args.out) else BEGIN + "\n" + END + "\n"
+    if BEGIN not in text or END not in text:
+        sys.exit(f"{args.out}: no '{BEGIN}' ... '{END}' block to replace")
+    head, rest = text.split(BEGIN, 1)
+    tail = rest.split(END, 1)[1]
     with open(args.out + ".tmp", "w") as f:
-        f.write("\n".join(lines) + "\n")
+        f.write(head + "\n".join(lines) + tail)
     os.replace(args.out + ".tmp", args.out)
     print("\n".join(lines))
 
