@@ -36,6 +36,14 @@ struct SurfacePoint {
   int count = 0;  // 0 when neither object is a deformable surface
   std::array<int, 4> nodes{};
   std::array<double, 4> weights{};
+
+  static SurfacePoint at_node(int node) {  // a node feature
+    SurfacePoint point;
+    point.count = 1;
+    point.nodes[0] = node;
+    point.weights[0] = 1.0;
+    return point;
+  }
 };
 
 struct ContactPoint {

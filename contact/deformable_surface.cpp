@@ -88,11 +88,7 @@ void point_shape_contact(const Eigen::Vector3d& x, const SurfacePoint& surface, 
 
 void node_shape_contact(const Eigen::Vector3d& x, int node, const Shape& shape, const Eigen::Isometry3d& pose,
                         double margin, bool surface_is_a, bool planar, std::vector<ContactPoint>& out) {
-  SurfacePoint at_node;
-  at_node.count = 1;
-  at_node.nodes[0] = node;
-  at_node.weights[0] = 1.0;
-  point_shape_contact(x, at_node, node, shape, pose, margin, surface_is_a, planar, out);
+  point_shape_contact(x, SurfacePoint::at_node(node), node, shape, pose, margin, surface_is_a, planar, out);
 }
 
 void curve_shape_contacts(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,

@@ -1,5 +1,6 @@
 #include "engine/structural_operators.h"
 
+#include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 
 #include <chrono>
@@ -66,16 +67,14 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       forces_.spring_stiffness(q, dense_stiffness_);
       if (body_stiffness_.nonZeros() > 0) dense_stiffness_ += body_stiffness_;
     }
-    Matrix W = dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_;
+    const Matrix W = dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_;
     dense_factor_.compute(W);
     if (nonlinear_ && !(dense_factor_.vectorD().array() > 0.0).all()) {
-      const double largest = W.diagonal().cwiseAbs().maxCoeff();
-      for (double epsilon = 1e-6 * largest;; epsilon *= 10.0) {
-        dense_factor_.compute(W + epsilon * Matrix::Identity(W.rows(), W.cols()));
-        if ((dense_factor_.vectorD().array() > 0.0).all()) break;
-        if (epsilon > largest) throw FemError("the iteration matrix stays indefinite (a material instability?)");
-      }
-      ++regularizations_;
+      const Matrix identity = Matrix::Identity(W.rows(), W.cols());
+      regularize(W.diagonal().cwiseAbs().maxCoeff(), [&](double epsilon) {
+        dense_factor_.compute(W + epsilon * identity);
+        return (dense_factor_.vectorD().array() > 0.0).all();
+      });
     }
   }
   factored_ = true;
@@ -93,13 +92,17 @@ void StructuralOperators::factor_regularized(const SparseMatrix& W) {
     return tangent_factor_.info() == Eigen::Success && (tangent_factor_.vectorD().array() > 0.0).all();
   };
   if (positive_definite(W)) return;
-  const double largest = W.diagonal().cwiseAbs().maxCoeff();
   SparseMatrix identity(W.rows(), W.cols());
   identity.setIdentity();
-  for (double epsilon = 1e-6 * largest;; epsilon *= 10.0) {
-    if (positive_definite(W + epsilon * identity)) break;
-    if (epsilon > largest) throw FemError("the iteration matrix stays indefinite (a material instability?)");
-  }
+  regularize(W.diagonal().cwiseAbs().maxCoeff(),
+             [&](double epsilon) { return positive_definite(W + epsilon * identity); });
+}
+
+// The proximal term of the header (engine/steppers/proximal.h), counted; FemError when it fails.
+template <class PositiveDefiniteWith>
+void StructuralOperators::regularize(double largest, PositiveDefiniteWith&& positive_definite_with) {
+  if (!grow_proximal_term(largest, positive_definite_with))
+    throw FemError("the iteration matrix stays indefinite (a material instability?)");
   ++regularizations_;
 }
 

@@ -9,9 +9,9 @@
 // finite-strain (hyperelastic) body, K is its tangent at the q of the last update: Moreau–Jean's Newton
 // iterations refresh it at every iterate. That tangent can be indefinite (a compressed body held only
 // by contacts, whose own stiffness is not in K: its sway and buckling modes), and so can W when the
-// masses are small: W then gets a proximal term ε I, from 1e-6 · max diag W grown tenfold until W is
-// positive definite (Eigen's SimplicialLDLT, whose pivots D are checked). Newton's residual is exact,
-// so the term changes the iterations' path, not the converged step.
+// masses are small: W then gets a proximal term ε I (engine/steppers/proximal.h: from 1e-6 · max diag W
+// grown tenfold until W is positive definite; Eigen's SimplicialLDLT, whose pivots D are checked).
+// Newton's residual is exact, so the term changes the iterations' path, not the converged step.
 #pragma once
 
 #include "engine/forces.h"
@@ -61,6 +61,8 @@ class StructuralOperators {
   Eigen::SimplicialLDLT<SparseMatrix> tangent_factor_;  // nonlinear worlds: its pivots say if W > 0
 
   void factor_regularized(const SparseMatrix& W);
+  template <class PositiveDefiniteWith>
+  void regularize(double largest, PositiveDefiniteWith&& positive_definite_with);
 };
 
 }  // namespace csim

@@ -11,6 +11,8 @@
 #include "engine/time_function.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
@@ -138,6 +140,19 @@ struct World {
     for (std::size_t i = 0; i < bodies.size(); ++i)
       if (bodies[i].name == name) return static_cast<int>(i);
     return -1;
+  }
+  // The largest bounding radius of a moving body (m; 1 when none is finite): Newton's length scale.
+  double length_scale() const {
+    double length = 0.0;
+    for (const BodyInstance& b : bodies)
+      if (!b.body->fixed() && std::isfinite(b.body->bounding_radius)) length = std::max(length, b.body->bounding_radius);
+    return length > 0.0 ? length : 1.0;
+  }
+  // True when a prescription active at `from` is released by `to` (s).
+  bool releases_prescription(double from, double to) const {
+    for (const PrescribedComponent& p : prescribed)
+      if (p.active(from) && !p.active(to)) return true;
+    return false;
   }
   // Recomputes the offsets and sizes after bodies were added.
   void finalize_layout() {

@@ -168,11 +168,7 @@ Eigen::Vector3d FeBody::point_world(const ConstVectorRef& q, const Eigen::Vector
 PointJacobian FeBody::point_jacobian(const ConstVectorRef&, const Eigen::Vector3d& local) const {
   const int node = node_at(local);
   if (node < 0) return {};
-  SurfacePoint at_node;
-  at_node.count = 1;
-  at_node.nodes[0] = node;
-  at_node.weights[0] = 1.0;
-  return surface_point_jacobian(at_node);
+  return surface_point_jacobian(SurfacePoint::at_node(node));
 }
 
 PointJacobian FeBody::surface_point_jacobian(const SurfacePoint& point) const {

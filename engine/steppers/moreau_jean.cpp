@@ -3,6 +3,7 @@
 #include "engine/steppers/contact_solve.h"
 #include "fem/mesh.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -25,12 +26,8 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
       operators_(world, forces_),
       pgs_(parameters.solver),
       detector_(world),
-      contact_dimension_(detector_.dimension()) {
-  length_ = 0.0;
-  for (const BodyInstance& b : world.bodies)
-    if (!b.body->fixed() && std::isfinite(b.body->bounding_radius)) length_ = std::max(length_, b.body->bounding_radius);
-  if (!(length_ > 0.0)) length_ = 1.0;
-
+      contact_dimension_(detector_.dimension()),
+      length_(world.length_scale()) {
   if (!world.ties.empty())
     throw RunError(0.0, "moreau-jean: ties (an elastic body's nodes on a rigid hub) are only taken by the quasi-static "
                         "stepper so far");
@@ -47,7 +44,7 @@ void MoreauJean::build_equalities(double t) {
   const int nw = static_cast<int>(world_.constraints.size());
   const int ne = nw + static_cast<int>(active_prescriptions_.size());
   constraint_rows_.setZero(ne, n);
-  constraint_positions_.assign(ne, {});
+  equality_terms_.assign(ne, {});
   auto position_of = [&](int index) {
     for (const BodyInstance& b : world_.bodies) {
       const int local = index - b.velocity_offset;
@@ -60,13 +57,13 @@ void MoreauJean::build_equalities(double t) {
   for (int e = 0; e < nw; ++e)
     for (const auto& [index, coefficient] : world_.constraints[e].terms) {
       constraint_rows_(e, index) += coefficient;
-      constraint_positions_[e].push_back(position_of(index));
+      equality_terms_[e].emplace_back(position_of(index), coefficient);
     }
   for (int i = 0; i < static_cast<int>(active_prescriptions_.size()); ++i) {
     const PrescribedComponent& c = world_.prescribed[active_prescriptions_[i]];
     const int index = world_.bodies[c.body].velocity_offset + c.component;
     constraint_rows_(nw + i, index) = 1.0;
-    constraint_positions_[nw + i].push_back(position_of(index));
+    equality_terms_[nw + i].emplace_back(position_of(index), 1.0);
   }
   constraint_columns_.clear();  // W_it⁻¹ Cᵀ: recomputed for the new rows
 }
@@ -120,12 +117,7 @@ void MoreauJean::compute_free_velocity(const State& state) {
 void MoreauJean::compute_newton_free_velocity(const State& state, const Vector& v_iterate) {
   const double h = parameters_.step, theta = parameters_.theta;
   v_theta_ = (1.0 - theta) * state.v + theta * v_iterate;
-  q_iterate_.resize(state.q.size());
-  for (const BodyInstance& b : world_.bodies) {
-    if (b.body->fixed()) continue;
-    b.body->integrate_position(b.positions(state.q), v_theta_.segment(b.velocity_offset, b.body->velocity_size()), h,
-                               q_iterate_.segment(b.position_offset, b.body->position_size()));
-  }
+  integrate_positions(state.q, v_theta_, q_iterate_);
   operators_.update(q_iterate_, h, theta);
   f_iterate_.setZero(state.v.size());
   forces_.add_spring_forces(q_iterate_, f_iterate_);
@@ -168,8 +160,8 @@ void MoreauJean::detect(const State& state) {
     const double target = b.reference_position(c.component) + c.value(state.t + h);
     v_predicted_(b.velocity_offset + c.component) = (target - state.q(b.position_offset + c.component)) / h;
   }
-  const double margin = 2.0 * std::max(detector_.travel_bound(state.v, h), detector_.travel_bound(v_predicted_, h)) +
-                        2.0 * detector_.travel_bound(v_free_, h) + 1e-12;
+  const double margin = 2.0 * std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
+                                        detector_.travel_bound(v_predicted_, h)}) + 1e-12;
   detector_.detect(state.q, margin, candidates_, candidate_rows_);
   const int d = contact_dimension_;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
@@ -263,19 +255,14 @@ void MoreauJean::assemble(const State& state) {
   }
   // Equality targets: C v_{k+1} such that C (q_{k+1} − q_ref) = value exactly (a prescription's
   // value at t_{k+1}).
-  const std::vector<std::pair<int, double>> single{{-1, 1.0}};  // a prescription's term (its index unused)
   for (int e = 0; e < ne; ++e) {
-    const bool prescribed = e >= nw;
-    const double value = prescribed ? world_.prescribed[active_prescriptions_[e - nw]].value(state.t + h)
-                                    : world_.constraints[e].value;
-    const std::vector<std::pair<int, double>>& terms = prescribed ? single : world_.constraints[e].terms;
+    const double value = e >= nw ? world_.prescribed[active_prescriptions_[e - nw]].value(state.t + h)
+                                 : world_.constraints[e].value;
     double target = 0.0;
     bool position_level = true;
     double displacement = 0.0;
-    for (std::size_t t = 0; t < terms.size(); ++t) {
-      const int p = constraint_positions_[e][t];
+    for (const auto& [p, coefficient] : equality_terms_[e]) {
       if (p < 0) { position_level = false; break; }
-      const double coefficient = terms[t].second;
       double reference = 0.0;
       for (const BodyInstance& b : world_.bodies)
         if (p >= b.position_offset && p < b.position_offset + b.body->position_size())
@@ -299,7 +286,7 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
 }
 
 void MoreauJean::update(State& state) {
-  const double h = parameters_.step, theta = parameters_.theta;
+  const double theta = parameters_.theta;
   v_next_ = v_free_;
   const int rows = static_cast<int>(r_.size());
   const int contact_rows = static_cast<int>(rows_.size());
@@ -314,12 +301,16 @@ void MoreauJean::update(State& state) {
     for (int a = 0; a < rows; ++a) v_next_ += r_(a) * *columns_[a];
   }
   v_theta_ = (1.0 - theta) * state.v + theta * v_next_;
-  q_next_.resize(state.q.size());
+  integrate_positions(state.q, v_theta_, q_next_);
+}
+
+// q + h v_θ body by body (a 3D rigid body's rotation through its quaternion; fixed bodies have no coordinates).
+void MoreauJean::integrate_positions(const Vector& q, const Vector& v_theta, Vector& out) const {
+  out.resize(q.size());
   for (const BodyInstance& b : world_.bodies) {
     if (b.body->fixed()) continue;
-    b.body->integrate_position(b.positions(state.q),
-                               v_theta_.segment(b.velocity_offset, b.body->velocity_size()), h,
-                               q_next_.segment(b.position_offset, b.body->position_size()));
+    b.body->integrate_position(b.positions(q), v_theta.segment(b.velocity_offset, b.body->velocity_size()),
+                               parameters_.step, out.segment(b.position_offset, b.body->position_size()));
   }
 }
 
@@ -399,12 +390,8 @@ void MoreauJean::step(State& state) {
     phase += kTimerSampling * std::chrono::duration<double>(now - mark).count();
     mark = now;
   };
-  if (!world_.prescribed.empty()) {  // a prescription released over this step: its row goes
-    bool released = false;
-    for (const PrescribedComponent& p : world_.prescribed)
-      released = released || (p.active(state.t) && !p.active(state.t + parameters_.step));
-    if (released) build_equalities(state.t + parameters_.step);
-  }
+  // A prescription released over this step: its row goes.
+  if (world_.releases_prescription(state.t, state.t + parameters_.step)) build_equalities(state.t + parameters_.step);
   if (operators_.nonlinear()) {
     step_newton(state);  // phases interleaved over the iterations: timed as one
     state.factorization_seconds = operators_.factorization_seconds();

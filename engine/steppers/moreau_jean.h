@@ -78,6 +78,7 @@ class MoreauJean final : public Stepper {
   void assemble(const State& state);
   void solve(State& state, bool warm_from_state = true);
   void update(State& state);
+  void integrate_positions(const Vector& q, const Vector& v_theta, Vector& out) const;
   void account_energy(State& state);
 
   const World& world_;
@@ -87,7 +88,7 @@ class MoreauJean final : public Stepper {
   PgsSolver pgs_;
   ContactDetector detector_;
   int contact_dimension_;             // 2 in plane scenes, 3 in space
-  double length_ = 1.0;               // m: Newton's length scale (the largest bounding radius)
+  double length_;                     // m: Newton's length scale (World::length_scale)
 
 
   // Per-step work data (kept to avoid allocation in the time loop).
@@ -113,7 +114,8 @@ class MoreauJean final : public Stepper {
   FrictionContactProblem problem_;
   Matrix constraint_rows_;            // equalities × n: the World's constraints, then the active prescriptions
   std::vector<int> active_prescriptions_;  // index in world.prescribed of each prescription row
-  std::vector<std::vector<int>> constraint_positions_;  // position index of each term (−1: velocity only)
+  // Each equality row's terms: (position index, or −1 for a velocity only, coefficient).
+  std::vector<std::vector<std::pair<int, double>>> equality_terms_;
 };
 
 }  // namespace csim

@@ -1,6 +1,7 @@
 #include "engine/steppers/quasi_static.h"
 
 #include "engine/steppers/contact_solve.h"
+#include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 
 #include <algorithm>
@@ -13,7 +14,6 @@ namespace csim {
 namespace {
 
 constexpr double kHubProximal = 1e-4;  // ε / max diag(K_z) on hub unknowns (see the header)
-constexpr double kProximal = 1e-6;     // the first proximal term on all unknowns, / max diag(K_z)
 
 ReducedCoordinates reduce(const World& world, double t) {
   try {
@@ -42,10 +42,7 @@ QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parame
       throw RunError(0.0, "quasi-static: body '" + b.name + "' is held by no stiffness (its K would be singular)");
   }
   linear_ = !nonlinear && world.ties.empty() && forces_.constant_stiffness();
-  length_ = 0.0;
-  for (const BodyInstance& b : world.bodies)
-    if (!b.body->fixed() && std::isfinite(b.body->bounding_radius)) length_ = std::max(length_, b.body->bounding_radius);
-  if (!(length_ > 0.0)) length_ = 1.0;
+  length_ = world.length_scale();
   contact_distance_ = parameters.contact_distance > 0.0 ? parameters.contact_distance : 0.1 * length_;
 }
 
@@ -94,14 +91,14 @@ void QuasiStatic::assemble_stiffness(const Vector& q) {
       throw RunError(t_, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held by "
                          "springs, ties, prescribed components or fixed degrees of freedom)");
     double added = 0.0;
-    for (double epsilon = kProximal * largest;; epsilon *= 10.0) {
+    const bool held = grow_proximal_term(largest, [&](double epsilon) {
       for (int i = 0; i < K_z_.rows(); ++i) K_z_.coeffRef(i, i) += epsilon - added;
       added = epsilon;
-      if (positive_definite()) break;
-      if (epsilon > largest)
-        throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
-                           "material instability)");
-    }
+      return positive_definite();
+    });
+    if (!held)
+      throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
+                         "material instability)");
     ++counters_->newton_regularized;
   }
   factored_ = true;
@@ -176,9 +173,7 @@ void QuasiStatic::step(State& state) {
   const double h = parameters_.step;
   const double t_next = static_cast<double>(state.counters.steps + 1) * h;
   counters_ = &state.counters;
-  bool released = false;
-  for (const PrescribedComponent& p : world_.prescribed) released = released || (p.active(state.t) && !p.active(t_next));
-  if (released) {  // new unknowns: the released components
+  if (world_.releases_prescription(state.t, t_next)) {  // new unknowns: the released components
     reduced_ = reduce(world_, t_next);
     factored_ = false;
   }
