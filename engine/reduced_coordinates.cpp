@@ -2,6 +2,7 @@
 
 #include "engine/bodies/fe_body.h"
 #include "engine/bodies/rigid_body_2d.h"
+#include "engine/bodies/rigid_body_3d.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,63 +12,83 @@ namespace csim {
 
 namespace {
 
-Eigen::Matrix2d rotation(double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  Eigen::Matrix2d R;
-  R << c, -s, s, c;
-  return R;
+// A prescription that holds its component at the reference value for all time.
+bool held_at_reference(const PrescribedComponent& p) {
+  if (p.value.table.empty()) return false;  // a multiplier, not a value
+  return std::all_of(p.value.table.begin(), p.value.table.end(), [](const auto& point) { return point.second == 0.0; });
 }
-
-const Eigen::Matrix2d kJ = (Eigen::Matrix2d() << 0.0, -1.0, 1.0, 0.0).finished();  // e_z × in the plane
 
 }  // namespace
 
 ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&world) {
-  const int n = world.position_size;
-  if (world.position_size != world.velocity_size)
-    throw std::invalid_argument("the quasi-static stepper takes no 3D rigid body (their rotations are quaternions)");
+  const int n = world.velocity_size;
   unknown_of_.assign(n, -1);
   prescription_of_.assign(n, -1);
   floating_of_.assign(n, -1);
+  position_of_.assign(n, -1);
+  for (std::size_t b = 0; b < world.bodies.size(); ++b) {
+    const BodyInstance& body = world.bodies[b];
+    const bool incremental = body.body->position_size() != body.body->velocity_size();
+    if (incremental) incremental_bodies_.push_back(static_cast<int>(b));
+    else
+      for (int c = 0; c < body.body->velocity_size(); ++c) position_of_[body.velocity_offset + c] = body.position_offset + c;
+  }
   for (std::size_t p = 0; p < world.prescribed.size(); ++p) {
     const PrescribedComponent& c = world.prescribed[p];
     if (!c.active(t)) continue;
-    const int i = world.bodies[c.body].position_offset + c.component;
+    const int i = world.bodies[c.body].velocity_offset + c.component;
     if (prescription_of_[i] >= 0)
       throw std::invalid_argument("component " + std::to_string(c.component) + " of body '" +
                                   world.bodies[c.body].name + "' is prescribed twice");
     prescription_of_[i] = static_cast<int>(p);
   }
-  // The unknowns in q's order, a floating node's two at its first component.
   std::vector<bool> tied_node;
-  for (std::size_t k = 0; k < world.ties.size(); ++k) {
-    const RigidTie& tie = world.ties[k];
+  for (const RigidTie& tie : world.ties) {
     const BodyInstance& ring = world.bodies[tie.elastic_body];
-    const BodyInstance& hub = world.bodies[tie.rigid_body];
+    const BodyInstance& rigid = world.bodies[tie.rigid_body];
     const auto* fe = dynamic_cast<const FeBody*>(ring.body.get());
-    if (!fe || !dynamic_cast<const RigidBody2d*>(hub.body.get()))
-      throw std::invalid_argument("tie '" + tie.name + "' must join an elastic body to a plane rigid body");
-    const int nodes = static_cast<int>(fe->mesh().nodes.size());
-    if (fe->velocity_size() != 2 * nodes)
-      throw std::invalid_argument("tie '" + tie.name + "': a tied body may have no fixed nodes (it rides on its hub)");
-    if (floating_of_[ring.position_offset] >= 0)
-      throw std::invalid_argument("body '" + ring.name + "' has two ties");
+    const bool plane = dynamic_cast<const RigidBody2d*>(rigid.body.get()) != nullptr;
+    if (!fe || !(plane || dynamic_cast<const RigidBody3d*>(rigid.body.get())))
+      throw std::invalid_argument("tie '" + tie.name + "' must join an elastic body to a rigid body");
+    if (floating_of_[ring.velocity_offset] >= 0) throw std::invalid_argument("body '" + ring.name + "' has two ties");
+    int hub_index = 0;
+    while (hub_index < static_cast<int>(hubs_.size()) && hubs_[hub_index].body != tie.rigid_body) ++hub_index;
+    if (hub_index == static_cast<int>(hubs_.size())) {
+      Hub hub;
+      hub.body = tie.rigid_body;
+      const Eigen::Isometry3d reference = rigid.body->pose(rigid.reference_position);
+      hub.rotation_ref = reference.linear();
+      hub.centre_ref = reference.translation();
+      if (plane) hub.axes = {{2, Eigen::Vector3d::UnitZ()}};
+      else hub.axes = {{3, Eigen::Vector3d::UnitX()}, {4, Eigen::Vector3d::UnitY()}, {5, Eigen::Vector3d::UnitZ()}};
+      hubs_.push_back(hub);
+    }
+    const Hub& hub = hubs_[hub_index];
+    const int nodes = static_cast<int>(fe->mesh().nodes.size()), dimension = fe->dofs_per_node();
+    for (int c = 0; c < dimension; ++c)
+      for (int node = 0; node < nodes; ++node)
+        if (fe->free_index(node, c) < 0) {
+          check_fixed_component(hub, c, ring.name);
+          break;
+        }
     tied_node.assign(nodes, false);
     for (int node : tie.nodes) tied_node[node] = true;
     for (int node = 0; node < nodes; ++node) {
       Floating f;
-      f.rigid_offset = hub.position_offset;
-      f.centre_ref = hub.reference_position.head<2>();
-      f.angle_ref = hub.reference_position(2);
-      f.arm = fe->mesh().nodes[node].head<2>() - f.centre_ref;
-      for (int c = 0; c < 2; ++c) {
-        f.dof[c] = ring.position_offset + fe->free_index(node, c);
+      f.hub = hub_index;
+      f.arm = fe->mesh().nodes[node] - hub.centre_ref;
+      for (int c = 0; c < dimension; ++c) {
+        const int free = fe->free_index(node, c);
+        if (free < 0) continue;
+        f.dof[c] = ring.velocity_offset + free;
+        f.position[c] = ring.position_offset + free;
         f.unknown[c] = tied_node[node] ? -1 : -2;  // numbered below
         floating_of_[f.dof[c]] = static_cast<int>(floating_.size());
       }
       floating_.push_back(f);
     }
   }
+  // The unknowns in velocity order, a floating node's at its components.
   for (int i = 0; i < n; ++i) {
     if (prescription_of_[i] >= 0) continue;
     if (floating_of_[i] < 0) {
@@ -75,59 +96,114 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
       continue;
     }
     Floating& f = floating_[floating_of_[i]];
-    const int c = i == f.dof[0] ? 0 : 1;
-    if (f.unknown[c] == -2) f.unknown[c] = unknown_count_++;
+    for (int c = 0; c < 3; ++c)
+      if (f.dof[c] == i && f.unknown[c] == -2) f.unknown[c] = unknown_count_++;
   }
   identity_ = unknown_count_ == n && floating_.empty();
-  for (const RigidTie& tie : world.ties) {
-    const int offset = world.bodies[tie.rigid_body].position_offset;
-    for (int c = 0; c < 3; ++c)
-      if (unknown_of_[offset + c] >= 0 &&
-          std::find(hub_unknowns_.begin(), hub_unknowns_.end(), unknown_of_[offset + c]) == hub_unknowns_.end())
-        hub_unknowns_.push_back(unknown_of_[offset + c]);
+  for (const Hub& hub : hubs_) {
+    const BodyInstance& rigid = world.bodies[hub.body];
+    for (int c = 0; c < rigid.body->velocity_size(); ++c) {
+      const int u = unknown_of_[rigid.velocity_offset + c];
+      if (u >= 0 && std::find(hub_unknowns_.begin(), hub_unknowns_.end(), u) == hub_unknowns_.end())
+        hub_unknowns_.push_back(u);
+    }
   }
 }
 
-Eigen::Matrix2d ReducedCoordinates::frame(const Floating& node, const Vector& q) const {
-  return rotation(q(node.rigid_offset + 2) - node.angle_ref);
+// A fixed component c of a tied body stays put only if the frame never moves it: the hub's
+// translation along c and its rotations about the axes that are not along c held at 0.
+void ReducedCoordinates::check_fixed_component(const Hub& hub, int c, const std::string& body_name) const {
+  const BodyInstance& rigid = world_->bodies[hub.body];
+  auto held = [&](int component) {
+    const int p = prescription_of_[rigid.velocity_offset + component];
+    return p >= 0 && held_at_reference(world_->prescribed[p]);
+  };
+  bool ok = held(c);
+  for (const auto& [component, axis] : hub.axes)
+    if ((hub.rotation_ref * axis).cross(Eigen::Vector3d::Unit(c)).norm() > 1e-12) ok = ok && held(component);
+  if (!ok) {
+    const char* names = "xyz";
+    throw std::invalid_argument("body '" + body_name + "' has fixed " + names[c] + " components but rides on '" +
+                                rigid.name + "', which may move them: prescribe its " + names[c] +
+                                " and its rotations about the other axes at 0");
+  }
 }
 
-// x − x_B = R (a + w), with x = X + u = x_B,ref + a + u.
-Eigen::Vector2d ReducedCoordinates::current_arm(const Floating& node, const Vector& q) const {
-  const Eigen::Vector2d x = node.centre_ref + node.arm + Eigen::Vector2d(q(node.dof[0]), q(node.dof[1]));
-  return x - q.segment<2>(node.rigid_offset);
+Eigen::Isometry3d ReducedCoordinates::hub_pose(const Hub& hub, const Vector& q) const {
+  const BodyInstance& rigid = world_->bodies[hub.body];
+  return rigid.body->pose(q.segment(rigid.position_offset, rigid.body->position_size()));
 }
 
-void ReducedCoordinates::gather(const Vector& q, Vector& z) const {
+// x = X + u = x_B,ref + a + u (u = 0 on fixed components).
+Eigen::Vector3d ReducedCoordinates::node_position(const Floating& node, const Vector& q) const {
+  Eigen::Vector3d x = hubs_[node.hub].centre_ref + node.arm;
+  for (int c = 0; c < 3; ++c)
+    if (node.position[c] >= 0) x(c) += q(node.position[c]);
+  return x;
+}
+
+Eigen::Vector3d ReducedCoordinates::node_force(const Floating& node, const Vector& f) const {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  for (int c = 0; c < 3; ++c)
+    if (node.dof[c] >= 0) force(c) = f(node.dof[c]);
+  return force;
+}
+
+void ReducedCoordinates::gather(const Vector& q, double t, Vector& z) {
+  base_ = q;
+  base_time_ = t;
   z.resize(unknown_count_);
   for (int i = 0; i < static_cast<int>(unknown_of_.size()); ++i)
-    if (unknown_of_[i] >= 0) z(unknown_of_[i]) = q(i);
+    if (unknown_of_[i] >= 0) z(unknown_of_[i]) = position_of_[i] >= 0 ? q(position_of_[i]) : 0.0;  // increments from q
   for (const Floating& f : floating_) {
-    const Eigen::Vector2d w = frame(f, q).transpose() * current_arm(f, q) - f.arm;
-    for (int c = 0; c < 2; ++c)
+    const Eigen::Isometry3d pose = hub_pose(hubs_[f.hub], q);
+    const Eigen::Matrix3d relative = pose.linear() * hubs_[f.hub].rotation_ref.transpose();
+    const Eigen::Vector3d w = relative.transpose() * (node_position(f, q) - pose.translation()) - f.arm;
+    for (int c = 0; c < 3; ++c)
       if (f.unknown[c] >= 0) z(f.unknown[c]) = w(c);
   }
 }
 
 void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
-  const int n = static_cast<int>(unknown_of_.size());
-  q.resize(n);
-  for (int i = 0; i < n; ++i) {
+  const World& world = *world_;
+  if (!incremental_bodies_.empty() && base_.size() != world.position_size)
+    throw std::logic_error("ReducedCoordinates::expand before gather");
+  q.resize(world.position_size);
+  auto prescribed_value = [&](int i, double time) {
+    const PrescribedComponent& c = world.prescribed[prescription_of_[i]];
+    return c.value(time);
+  };
+  for (int i = 0; i < static_cast<int>(unknown_of_.size()); ++i) {
+    if (position_of_[i] < 0) continue;
     if (unknown_of_[i] >= 0) {
-      q(i) = z(unknown_of_[i]);
+      q(position_of_[i]) = z(unknown_of_[i]);
     } else if (prescription_of_[i] >= 0) {
-      const PrescribedComponent& c = world_->prescribed[prescription_of_[i]];
-      q(i) = world_->bodies[c.body].reference_position(c.component) + c.value(t);
+      const PrescribedComponent& c = world.prescribed[prescription_of_[i]];
+      q(position_of_[i]) = world.bodies[c.body].reference_position(c.component) + c.value(t);
     }
+  }
+  for (int b : incremental_bodies_) {
+    const BodyInstance& body = world.bodies[b];
+    Vector increment = Vector::Zero(body.body->velocity_size());
+    for (int c = 0; c < increment.size(); ++c) {
+      const int i = body.velocity_offset + c;
+      if (unknown_of_[i] >= 0) increment(c) = z(unknown_of_[i]);
+      else if (prescription_of_[i] >= 0) increment(c) = prescribed_value(i, t) - prescribed_value(i, base_time_);
+    }
+    const int offset = body.position_offset, size = body.body->position_size();
+    body.body->integrate_position(base_.segment(offset, size), increment, 1.0, q.segment(offset, size));
   }
   // The floating nodes last: their rigid body's coordinates are set by now.
   for (const Floating& f : floating_) {
-    Eigen::Vector2d w = Eigen::Vector2d::Zero();
-    for (int c = 0; c < 2; ++c)
+    const Hub& hub = hubs_[f.hub];
+    const Eigen::Isometry3d pose = hub_pose(hub, q);
+    Eigen::Vector3d w = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 3; ++c)
       if (f.unknown[c] >= 0) w(c) = z(f.unknown[c]);
-    const Eigen::Vector2d u = q.segment<2>(f.rigid_offset) + frame(f, q) * (f.arm + w) - f.centre_ref - f.arm;
-    q(f.dof[0]) = u(0);
-    q(f.dof[1]) = u(1);
+    const Eigen::Vector3d u =
+        pose.translation() + pose.linear() * hub.rotation_ref.transpose() * (f.arm + w) - hub.centre_ref - f.arm;
+    for (int c = 0; c < 3; ++c)
+      if (f.position[c] >= 0) q(f.position[c]) = u(c);
   }
 }
 
@@ -137,30 +213,41 @@ void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vec
   for (int i = 0; i < n; ++i)
     if (prescription_of_[i] >= 0) forces(i) = f(i);
   for (const Floating& node : floating_) {
-    const Eigen::Vector2d force(f(node.dof[0]), f(node.dof[1]));
-    for (int c = 0; c < 2; ++c)
-      if (prescription_of_[node.rigid_offset + c] >= 0) forces(node.rigid_offset + c) += force(c);
-    if (prescription_of_[node.rigid_offset + 2] >= 0)
-      forces(node.rigid_offset + 2) += force.dot(kJ * current_arm(node, q));
+    const Hub& hub = hubs_[node.hub];
+    const BodyInstance& rigid = world_->bodies[hub.body];
+    const ConstVectorRef hub_q = q.segment(rigid.position_offset, rigid.body->position_size());
+    const Eigen::Isometry3d pose = rigid.body->pose(hub_q);
+    const PointJacobian J = rigid.body->point_jacobian(hub_q, pose.inverse() * node_position(node, q));
+    const Eigen::Vector3d force = node_force(node, f);
+    for (int k = 0; k < J.count; ++k) {
+      const int i = rigid.velocity_offset + J.index[k];
+      if (prescription_of_[i] >= 0) forces(i) += force.dot(J.column.col(k));
+    }
   }
 }
 
 void ReducedCoordinates::tangent(const Vector& q, SparseMatrix& T) const {
   const int n = static_cast<int>(unknown_of_.size());
   Triplets entries;
-  entries.reserve(n + 5 * floating_.size());
+  entries.reserve(n + 9 * floating_.size());
   for (int i = 0; i < n; ++i)
-    if (unknown_of_[i] >= 0) entries.emplace_back(i, unknown_of_[i], 1.0);
+    if (unknown_of_[i] >= 0 && floating_of_[i] < 0) entries.emplace_back(i, unknown_of_[i], 1.0);
   for (const Floating& f : floating_) {
-    const Eigen::Matrix2d R = frame(f, q);
-    const Eigen::Vector2d turn = kJ * current_arm(f, q);  // ∂x/∂φ
-    const int phi = unknown_of_[f.rigid_offset + 2];
-    for (int c = 0; c < 2; ++c) {
-      const int centre = unknown_of_[f.rigid_offset + c];
-      if (centre >= 0) entries.emplace_back(f.dof[c], centre, 1.0);
-      if (phi >= 0) entries.emplace_back(f.dof[c], phi, turn(c));
-      for (int k = 0; k < 2; ++k)
-        if (f.unknown[k] >= 0) entries.emplace_back(f.dof[c], f.unknown[k], R(c, k));
+    const Hub& hub = hubs_[f.hub];
+    const BodyInstance& rigid = world_->bodies[hub.body];
+    const ConstVectorRef hub_q = q.segment(rigid.position_offset, rigid.body->position_size());
+    const Eigen::Isometry3d pose = rigid.body->pose(hub_q);
+    const Eigen::Matrix3d relative = pose.linear() * hub.rotation_ref.transpose();
+    // The hub's columns: the node moves as the hub's material point at the same place.
+    const PointJacobian J = rigid.body->point_jacobian(hub_q, pose.inverse() * node_position(f, q));
+    for (int c = 0; c < 3; ++c) {
+      if (f.dof[c] < 0) continue;
+      for (int k = 0; k < J.count; ++k) {
+        const int u = unknown_of_[rigid.velocity_offset + J.index[k]];
+        if (u >= 0 && J.column(c, k) != 0.0) entries.emplace_back(f.dof[c], u, J.column(c, k));
+      }
+      for (int k = 0; k < 3; ++k)
+        if (f.unknown[k] >= 0) entries.emplace_back(f.dof[c], f.unknown[k], relative(c, k));
     }
   }
   T.resize(n, unknown_count_);
@@ -174,20 +261,29 @@ void ReducedCoordinates::reduce_stiffness(const SparseMatrix& K, const SparseMat
     return;
   }
   K_z = SparseMatrix(T.transpose() * K * T);
-  // −Σ f·∂²x: on (φ, φ) f·R(a + w) = f·(x − x_B); on (φ, w_k) and (w_k, φ) −f·(J R e_k).
   Triplets geometric;
   for (const Floating& node : floating_) {
-    const int phi = unknown_of_[node.rigid_offset + 2];
-    if (phi < 0) continue;
-    const Eigen::Matrix2d R = frame(node, q);
-    const Eigen::Vector2d force(f(node.dof[0]), f(node.dof[1]));
-    geometric.emplace_back(phi, phi, force.dot(current_arm(node, q)));
-    const Eigen::Matrix2d JR = kJ * R;
-    for (int k = 0; k < 2; ++k) {
-      if (node.unknown[k] < 0) continue;
-      const double value = -force.dot(JR.col(k));
-      geometric.emplace_back(phi, node.unknown[k], value);
-      geometric.emplace_back(node.unknown[k], phi, value);
+    const Hub& hub = hubs_[node.hub];
+    const BodyInstance& rigid = world_->bodies[hub.body];
+    const Eigen::Isometry3d pose = hub_pose(hub, q);
+    const Eigen::Matrix3d& R = pose.linear();
+    const Eigen::Vector3d s = R.transpose() * (node_position(node, q) - pose.translation());  // body-frame arm
+    const Eigen::Vector3d force = node_force(node, f);
+    for (const auto& [ci, ei] : hub.axes) {
+      const int ui = unknown_of_[rigid.velocity_offset + ci];
+      if (ui < 0) continue;
+      for (const auto& [cj, ej] : hub.axes) {
+        const int uj = unknown_of_[rigid.velocity_offset + cj];
+        if (uj < 0) continue;
+        const Eigen::Vector3d second = 0.5 * (ei.cross(ej.cross(s)) + ej.cross(ei.cross(s)));
+        geometric.emplace_back(ui, uj, -force.dot(R * second));
+      }
+      for (int k = 0; k < 3; ++k) {
+        if (node.unknown[k] < 0) continue;
+        const double value = -force.dot(R * ei.cross(hub.rotation_ref.transpose().col(k)));
+        geometric.emplace_back(ui, node.unknown[k], value);
+        geometric.emplace_back(node.unknown[k], ui, value);
+      }
     }
   }
   if (!geometric.empty()) {

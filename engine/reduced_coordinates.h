@@ -1,21 +1,36 @@
-// The unknowns of the quasi-static stepper: the World's coordinates q (n entries) as a function of
-// fewer unknowns z (nz entries) and of time, q = Φ(z, t):
+// The unknowns of the quasi-static stepper: the World's configuration q as a function of fewer
+// unknowns z (nz entries) and of time, q = Φ(z, t). z is laid out over the World's velocity
+// components (the coordinates of a 3D rigid body's rotation are a quaternion, its unknowns three
+// angles):
 //   a free component is an unknown;
 //   a prescribed one (world.h, PrescribedComponent) is q_ref + value(t), while it is active (a
 //   released one is free: the stepper builds new reduced coordinates when the set changes);
+//   a body whose coordinates are not its velocity components (a 3D rigid body: position and unit
+//   quaternion) is moved from a base configuration, the q given to the last gather(): its unknowns
+//   are the increments Δ of its velocity components (m, and rad about its body axes) and
+//   q = integrate_position(q_base, Δ, 1), R = R_base exp([Δ_rot]); a prescribed rotation component
+//   turns it by value(t) − value(t_base) about that body axis (exact for a turn about one fixed axis,
+//   a ground turning about a vertical axis, the only use so far). The stepper gathers at every
+//   Newton iterate, so T below is exact there;
 //   an elastic body with a tie (world.h, RigidTie) rides in the frame of its rigid body B (a floating
-//   frame): its node a is at x_a = x_B + R(φ_B − φ_B,ref)(a + w_a), a = X_a − x_B,ref its arm in the
-//   reference configuration (m), and its unknowns are w_a, the displacements in B's frame; the tied
-//   nodes have w_a = 0.
+//   frame): its node a is at x_a = x_B + R_rel (a + w_a), R_rel = R_B R_B,ref⁻¹ the hub's rotation
+//   since the reference, a = X_a − x_B,ref its arm in the reference configuration (m), and its
+//   unknowns are w_a, the displacements in B's frame; the tied nodes have w_a = 0. A tied body may
+//   have fixed components (plane strain across a 3D ring: z held) only where B's frame cannot move
+//   them: B's translation along that axis and its rotations about the other axes prescribed at 0.
 // Why a floating frame rather than only the tied nodes following B: the strain energy is exactly
 // invariant under B's rotation, so the rigid rotation of a stressed ring costs nothing in K_z, as in
 // the continuum. With the free nodes in world coordinates, Newton's linearization sees along that
 // rotation the stiffness −Σ r·(x − x_B) of the contact forces r (a node moving along its tangent
 // leaves the circle), −N (R − δ) for a wheel pressed by N: negative, and the iteration diverges.
-// Newton's method on z needs T = ∂Φ/∂z (n × nz) and, for the equilibrium Tᵀ f(q) = 0 with f the
-// generalized force (N, N·m), the reduced tangent
-//   K_z = Tᵀ K T − Σ_i f_i ∂²Φ_i/∂z²,   ∂²x_a/∂φ² = −R (a + w_a),  ∂²x_a/∂φ∂w_a = J R  (J = e_z ×),
-// whose second term is the frame's geometric stiffness. Units: q as the bodies' (m, rad); z the same.
+// Newton's method on z needs T = ∂Φ/∂z (velocity components × nz) and, for the equilibrium
+// Tᵀ f(q) = 0 with f the generalized force (N, N·m), the reduced tangent
+//   K_z = Tᵀ K T − Σ_i f_i ∂²Φ_i/∂z²,
+// whose second term is the frame's geometric stiffness: with s = R_B⁻¹ (x_a − x_B) the arm in B's
+// body frame and e_i B's body axes,
+//   ∂x_a/∂θ_i = R_B (e_i × s),  ∂²x_a/∂θ_i∂θ_j = R_B ½ (e_i × (e_j × s) + e_j × (e_i × s)),
+//   ∂²x_a/∂θ_i∂w_k = R_B (e_i × R_B,ref⁻¹ e_k)
+// (the plane hub: one axis e_z, ∂²x_a/∂φ² = −R (a + w_a)). Units: q as the bodies' (m, rad); z the same.
 #pragma once
 
 #include "engine/sparse_row.h"
@@ -29,48 +44,65 @@ namespace csim {
 class ReducedCoordinates {
  public:
   // Throws std::invalid_argument (the caller reports it) for a component prescribed twice, a tied body
-  // with fixed nodes or two ties, or a tie to a body that is not a plane rigid body.
-  // The prescriptions active at time t (PrescribedComponent::until).
+  // with a fixed component its hub's frame can move or two ties, or a tie to a body that is not a
+  // rigid body. The prescriptions active at time t (PrescribedComponent::until).
   ReducedCoordinates(const World& world, double t);
 
   int size() const { return unknown_count_; }
-  bool identity() const { return identity_; }  // nothing prescribed or tied: z = q
-  // The unknown of component i of q, or −1 (prescribed or tied).
+  bool identity() const { return identity_; }  // nothing prescribed or tied: T = I
+  // The unknown of velocity component i, or −1 (prescribed or tied).
   int unknown(int i) const { return unknown_of_[i]; }
   bool prescribed(int i) const { return prescription_of_[i] >= 0; }
   // Unknowns that belong to a rigid body carrying tied nodes (a hub): their stiffness comes only through
   // the ring, which a rigid-body mode of the ring leaves without (see quasi_static.h).
   const std::vector<int>& hub_unknowns() const { return hub_unknowns_; }
 
-  void gather(const Vector& q, Vector& z) const;              // z ← the unknowns' entries of q
+  // z ← the unknowns at q (time t, s); q becomes the base of the bodies moved by increments.
+  void gather(const Vector& q, double t, Vector& z);
   void expand(const Vector& z, double t, Vector& q) const;    // q ← Φ(z, t)
-  // The generalized force f (N, N·m, in q's components) on each prescribed component, through every
-  // coordinate that moves with it (a hub's spin carries its ring's nodes): ∂Φ/∂p ᵀ f, p the
+  // The generalized force f (N, N·m, in velocity components) on each prescribed component, through
+  // every coordinate that moves with it (a hub's spin carries its ring's nodes): ∂Φ/∂p ᵀ f, p the
   // prescribed coordinate; zero on the other components.
   void prescribed_forces(const Vector& q, const Vector& f, Vector& forces) const;
-  // T at q (the floating bodies' columns depend on q, through their frame's angle).
+  // T at q (the floating bodies' columns depend on q, through their frame's rotation).
   void tangent(const Vector& q, SparseMatrix& T) const;
   // K_z = Tᵀ K T − Σ f_i ∂²Φ_i/∂z² (T from tangent(q), f the generalized force at q).
   void reduce_stiffness(const SparseMatrix& K, const SparseMatrix& T, const Vector& q, const Vector& f,
                         SparseMatrix& K_z) const;
 
  private:
+  // A rigid body carrying tied nodes.
+  struct Hub {
+    int body = -1;
+    Eigen::Matrix3d rotation_ref = Eigen::Matrix3d::Identity();  // R_B,ref
+    Eigen::Vector3d centre_ref = Eigen::Vector3d::Zero();        // x_B,ref (m)
+    std::vector<std::pair<int, Eigen::Vector3d>> axes;           // rotation components and their body axes
+  };
   // A node of a body riding in a rigid body's frame.
   struct Floating {
-    std::array<int, 2> dof{};     // its x, y entries of q
-    std::array<int, 2> unknown{}; // its w entries of z, −1 for a tied node
-    Eigen::Vector2d arm;          // a = X_a − x_B,ref (m)
-    int rigid_offset = 0;         // position offset of the rigid body (x, y, φ)
-    double angle_ref = 0.0;       // φ_B,ref (rad)
-    Eigen::Vector2d centre_ref;   // x_B,ref (m)
+    std::array<int, 3> dof{-1, -1, -1};      // velocity index of x, y, z; −1 when fixed or absent
+    std::array<int, 3> position{-1, -1, -1}; // the same in q
+    std::array<int, 3> unknown{-1, -1, -1};  // its w entries of z, −1 for a tied node or a fixed component
+    Eigen::Vector3d arm = Eigen::Vector3d::Zero();  // a = X_a − x_B,ref (m)
+    int hub = 0;                            // in hubs_
   };
-  // The frame's rotation R(φ − φ_ref) at q.
-  Eigen::Matrix2d frame(const Floating& node, const Vector& q) const;
-  Eigen::Vector2d current_arm(const Floating& node, const Vector& q) const;  // x_a − x_B = R (a + w_a), m
+  const Body& hub_body(const Hub& hub) const { return *world_->bodies[hub.body].body; }
+  Eigen::Isometry3d hub_pose(const Hub& hub, const Vector& q) const;
+  Eigen::Vector3d node_position(const Floating& node, const Vector& q) const;  // x_a at q (m)
+  Eigen::Vector3d node_force(const Floating& node, const Vector& f) const;
+  // Throws unless the hub's frame keeps component c of the tied body's nodes where it is.
+  void check_fixed_component(const Hub& hub, int c, const std::string& body_name) const;
+
   const World* world_;  // a pointer, so that a stepper can rebuild its reduced coordinates
   int unknown_count_ = 0;
   bool identity_ = true;
-  std::vector<int> unknown_of_, prescription_of_, floating_of_;  // per q component; −1 when not
+  // Per velocity component: its unknown, its prescription, its floating node, its index in q (−1 for
+  // a body moved by increments).
+  std::vector<int> unknown_of_, prescription_of_, floating_of_, position_of_;
+  std::vector<int> incremental_bodies_;  // bodies whose coordinates are not their velocity components
+  Vector base_;                          // their base configuration (the whole q; only their slices used)
+  double base_time_ = 0.0;
+  std::vector<Hub> hubs_;
   std::vector<Floating> floating_;
   std::vector<int> hub_unknowns_;
 };

@@ -90,16 +90,16 @@ struct PrescribedComponent {
   bool active(double t) const { return t <= until; }
 };
 
-// Nodes of an elastic body tied to a rigid body in the plane: each node moves with the rigid body,
-//   x_a = x_B + R(φ_B − φ_B,ref) (X_a − x_B,ref),
+// Nodes of an elastic body tied to a rigid body: each node moves with the rigid body,
+//   x_a = x_B + R_B R_B,ref⁻¹ (X_a − x_B,ref),
 // exactly, whatever the rotation (a wheel's rim on its hub). X_a: the node's reference position,
-// x_B, φ_B: the rigid body's centre and angle. The tied components leave the unknowns of the
+// x_B, R_B: the rigid body's centre and rotation. The tied components leave the unknowns of the
 // quasi-static stepper (reduced_coordinates.h).
 struct RigidTie {
   std::string name;
   int elastic_body = -1;
   std::vector<int> nodes;  // mesh nodes
-  int rigid_body = -1;     // a RigidBody2d
+  int rigid_body = -1;     // a RigidBody2d or RigidBody3d
 };
 
 // Contact law between the shapes of two bodies: Coulomb friction (isotropic when mu(0) == mu(1);
@@ -153,6 +153,14 @@ struct World {
     for (const PrescribedComponent& p : prescribed)
       if (p.active(from) && !p.active(to)) return true;
     return false;
+  }
+  // d (velocity components) such that each body's slice of q1 = integrate_position(q0, d, 1): the
+  // generalized displacement from q0 to q1 (m, rad).
+  void position_difference(const Vector& q1, const Vector& q0, Vector& d) const {
+    d.resize(velocity_size);
+    for (const BodyInstance& b : bodies)
+      b.body->position_difference(b.positions(q1), b.positions(q0),
+                                  d.segment(b.velocity_offset, b.body->velocity_size()));
   }
   // Recomputes the offsets and sizes after bodies were added.
   void finalize_layout() {

@@ -105,6 +105,12 @@ class Body {
   virtual void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                                   VectorRef q_next) const = 0;
 
+  // The increment d of the velocity components that takes q0 to q1: q1 = integrate_position(q0, d, 1)
+  // (m, rad). q1 − q0, except for the quaternion of a 3D rigid body.
+  virtual void position_difference(const ConstVectorRef& q1, const ConstVectorRef& q0, VectorRef d) const {
+    d = q1 - q0;
+  }
+
   // dq/dt for velocities v (smooth integrators); the coordinates' rate equals v except for the
   // quaternion of a 3D rigid body.
   virtual void position_rate(const ConstVectorRef& q, const ConstVectorRef& v, VectorRef q_dot) const {

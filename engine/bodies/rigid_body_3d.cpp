@@ -46,6 +46,12 @@ void RigidBody3d::integrate_position(const ConstVectorRef& q, const ConstVectorR
   q_next(6) = next.z();
 }
 
+void RigidBody3d::position_difference(const ConstVectorRef& q1, const ConstVectorRef& q0, VectorRef d) const {
+  d.head<3>() = q1.head<3>() - q0.head<3>();
+  const Eigen::AngleAxisd turn(orientation(q0).normalized().conjugate() * orientation(q1).normalized());
+  d.tail<3>() = turn.angle() * turn.axis();
+}
+
 // q̇ = ½ q ⊗ (0, ω) for the quaternion, with ω in the body frame.
 void RigidBody3d::position_rate(const ConstVectorRef& q, const ConstVectorRef& v, VectorRef q_dot) const {
   q_dot.head<3>() = v.head<3>();

@@ -7,7 +7,8 @@
 //           each with an optional position and angle in the body frame;
 //   prescribed: {COMPONENT: value | [[t, value], ...]}: the component's displacement from the
 //           reference position (m, or rad for rz) as a constant or a table interpolated linearly in
-//           time (quasi-static stepper; a ground moved along a path, a hub held at its centre), or
+//           time (a ground moved along a path, a hub held at its centre; 3D rotations rx, ry, rz: the
+//           angle turned about that body axis, exact for turns about one axis), or
 //           {value: ..., until: T (s)}: prescribed until T, then free (a hub's spin held during a press).
 #include "engine/bodies/fe_body.h"
 #include "engine/bodies/fixed_body.h"
@@ -161,7 +162,7 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
       PrescribedComponent p;
       p.body = static_cast<int>(world.bodies.size());
       p.component = b.body->velocity_index(component);
-      if (p.component < 0 || (d == 3 && type == "rigid" && p.component >= 3))
+      if (p.component < 0)
         value.fail("body '" + name + "' has no prescribable component '" + component + "'");
       if (value.is_map()) {  // {value: V | [[t, V], ...], until: T}
         value.allow_only({"value", "until"});

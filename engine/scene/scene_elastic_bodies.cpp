@@ -15,8 +15,9 @@
 //   mass: consistent | lumped; fixed: {SET: [x, y(, z)]}: the components held at zero on a node set
 //   (or face set) of the mesh; velocity: a uniform initial velocity (m/s); angular_velocity: a rigid
 //   spin added to it (plane scenes: ω rad/s about z, through the origin: v = ω ẑ × x);
-//   tie: {nodes: SET, body: RIGID}: the set's nodes move with a plane rigid body (world.h, RigidTie).
+//   tie: {nodes: SET, body: RIGID}: the set's nodes move with a rigid body (world.h, RigidTie).
 #include "engine/bodies/fe_body.h"
+#include "engine/reduced_coordinates.h"
 #include "engine/scene/scene_parts.h"
 #include "fem/gmsh_reader.h"
 #include "fem/mesh_generators.h"
@@ -139,17 +140,23 @@ void read_ties(const SceneNode& root, World& world) {
     tie.elastic_body = world.body_index(name);
     tie.rigid_body = body_named(tie_node, "body", world);
     const auto* fe = static_cast<const FeBody*>(world.bodies[tie.elastic_body].body.get());
-    if (world.dimension != 2 || world.bodies[tie.rigid_body].body->position_size() != 3 ||
-        world.bodies[tie.rigid_body].body->elastic())
-      tie_node.fail_at("body", "a tie joins an elastic body to a rigid body of a plane scene");
+    const Body& rigid = *world.bodies[tie.rigid_body].body;
+    if (rigid.elastic() || rigid.velocity_size() != 3 * (world.dimension - 1))
+      tie_node.fail_at("body", "a tie joins an elastic body to a rigid body");
     const std::string set = tie_node.string("nodes");
     const auto nodes = nodes_of_set(fe->mesh(), set);
     if (!nodes) tie_node.fail_at("nodes", "the mesh has no node or face set '" + set + "'");
     tie.nodes = *nodes;
-    // The whole body rides in its hub's frame (reduced_coordinates.h): no node of it may be fixed.
-    if (fe->velocity_size() != fe->dofs_per_node() * static_cast<int>(fe->mesh().nodes.size()))
-      node.fail_at("fixed", "a tied body rides on its hub: it may have no fixed nodes");
     world.ties.push_back(tie);
+    // The whole body rides in its hub's frame (reduced_coordinates.h): a fixed component only where
+    // the frame cannot move it (plane strain across a ring on an axle held in its plane).
+    if (fe->velocity_size() != fe->dofs_per_node() * static_cast<int>(fe->mesh().nodes.size())) {
+      try {
+        ReducedCoordinates check(world, 0.0);
+      } catch (const std::invalid_argument& e) {
+        node.fail_at("fixed", std::string("a tied body rides on its hub: ") + e.what());
+      }
+    }
   }
 }
 

@@ -157,8 +157,11 @@ void MoreauJean::detect(const State& state) {
   for (int p : active_prescriptions_) {
     const PrescribedComponent& c = world_.prescribed[p];
     const BodyInstance& b = world_.bodies[c.body];
-    const double target = b.reference_position(c.component) + c.value(state.t + h);
-    v_predicted_(b.velocity_offset + c.component) = (target - state.q(b.position_offset + c.component)) / h;
+    double& predicted = v_predicted_(b.velocity_offset + c.component);
+    if (b.body->position_size() != b.body->velocity_size() && c.component >= 3)  // a 3D rotation: its rate
+      predicted = (c.value(state.t + h) - c.value(state.t)) / h;
+    else
+      predicted = (b.reference_position(c.component) + c.value(state.t + h) - state.q(b.position_offset + c.component)) / h;
   }
   const double margin = 2.0 * std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
                                         detector_.travel_bound(v_predicted_, h)}) + 1e-12;
@@ -269,9 +272,12 @@ void MoreauJean::assemble(const State& state) {
           reference = b.reference_position(p - b.position_offset);
       displacement += coefficient * (state.q(p) - reference);
     }
+    const double rate_k = constraint_rows_.row(e).dot(state.v);
     if (position_level) {
-      const double rate_k = constraint_rows_.row(e).dot(state.v);
       target = (value - displacement - h * (1.0 - theta) * rate_k) / (h * theta);
+    } else if (e >= nw) {  // a 3D rigid body's rotation: prescribed through its rate over the step
+      const double rate = (value - world_.prescribed[active_prescriptions_[e - nw]].value(state.t)) / h;
+      target = (rate - (1.0 - theta) * rate_k) / theta;
     }
     problem_.q(d * nc + e) -= target;
   }

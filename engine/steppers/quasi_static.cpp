@@ -129,7 +129,7 @@ void QuasiStatic::assemble_contacts(const State& state, double t_next) {
   X_ = factor_.solve(Matrix(H_.transpose()));
   problem_.W.noalias() = H_ * X_;
   problem_.q.noalias() = H_ * factor_.solve(f_z_);
-  step_increment_ = q_ - state.q;
+  world_.position_difference(q_, state.q, step_increment_);
   for (int i = 0; i < nc; ++i) {
     problem_.q(d_ * i) += active_[i].point.gap;
     // The slip since the step start: the rows over q, before T.
@@ -162,6 +162,7 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     if (ratio < -0.5) relaxation = 1.0 / (1.0 - ratio);
   }
   previous_dz_ = dz_;
+  reduced_.gather(q_, t_next, z_);  // at q_j, so that T is exact there (3D rotations: increments)
   z_ += relaxation * dz_;
   reduced_.expand(z_, t_next, q_);
   if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
@@ -177,7 +178,7 @@ void QuasiStatic::step(State& state) {
     reduced_ = reduce(world_, t_next);
     factored_ = false;
   }
-  reduced_.gather(state.q, z_);
+  reduced_.gather(state.q, state.t, z_);
   reduced_.expand(z_, t_next, q_);
   // The warm start: the last step's forces (its impulses are forces × h).
   previous_ = state.contacts;
@@ -208,7 +209,8 @@ void QuasiStatic::step(State& state) {
   c.max_newton_iterations = std::max(c.max_newton_iterations, iterations);
   for (ActiveContact& contact : active_) contact.impulse *= h;
 
-  state.v = (q_ - state.q) / h;
+  world_.position_difference(q_, state.q, state.v);
+  state.v /= h;
   state.q = q_;
   state.reactions = reactions_;
   ++c.steps;

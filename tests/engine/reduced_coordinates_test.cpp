@@ -42,11 +42,11 @@ TEST(ReducedCoordinates, UnknownsAreTheFreeComponents) {
 
 TEST(ReducedCoordinates, GatherInvertsExpand) {
   const auto scene = coarse_ring();
-  const ReducedCoordinates reduced(scene->world, 2.0);
+  ReducedCoordinates reduced(scene->world, 2.0);
   const Vector z = some_state(reduced, scene->world);
   Vector q, z_back;
   reduced.expand(z, 2.0, q);
-  reduced.gather(q, z_back);
+  reduced.gather(q, 2.0, z_back);
   EXPECT_LT((z_back - z).lpNorm<Eigen::Infinity>(), 1e-14);
 }
 
