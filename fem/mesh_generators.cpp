@@ -2,6 +2,7 @@
 // quadrilaterals in a parameter plane (a, b) ∈ [0, 1]², mapped to space by a function of the shape.
 // A quad8 grid is the quad4 grid of half the step without its element centres, which gives the
 // serendipity nodes and shares each mid-side node between the two elements of its edge.
+// The 3D annulus is the quad4 annulus extruded along +z: one copy of the plane nodes per layer.
 #include "fem/mesh_generators.h"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <sstream>
 #include <string>
 
@@ -37,6 +39,17 @@ void require_size(const char* function, const char* divisions, double node_count
     std::ostringstream message;
     message << function << ": " << divisions << " give about " << node_count
             << " nodes, too many for int node indices";
+    throw FemError(message.str());
+  }
+}
+
+void require_radii(const char* function, double inner_radius, double outer_radius) {
+  require_length(function, "inner_radius", inner_radius);
+  require_length(function, "outer_radius", outer_radius);
+  if (!(inner_radius < outer_radius)) {
+    std::ostringstream message;
+    message << function << ": inner_radius must be < outer_radius (got " << inner_radius << " and " << outer_radius
+            << ")";
     throw FemError(message.str());
   }
 }
@@ -149,6 +162,57 @@ class PlaneGrid {
   Mesh mesh_;
 };
 
+// ----- annulus and extrusion ------------------------------------------------------------------------
+
+// The plane annulus, unplaced, with its sides "inner" and "outer"; arguments already checked.
+Mesh plane_annulus(double inner_radius, double outer_radius, int n_circumferential, int n_radial, ElementType type) {
+  // a runs outward along the radius and b counter-clockwise around: x_r × x_θ = r e_z, so every
+  // element is counter-clockwise with a positive Jacobian.
+  const double two_pi = 2.0 * std::numbers::pi;
+  PlaneGrid grid(n_radial, n_circumferential, true, type, [&](double a, double b) {
+    const double r = a == 1.0 ? outer_radius : inner_radius + (outer_radius - inner_radius) * a;
+    const double theta = two_pi * b;
+    return Eigen::Vector3d(r * std::cos(theta), r * std::sin(theta), 0.0);
+  });
+  Mesh& mesh = grid.mesh();
+  const int last_i = grid.last_i();
+  const std::vector<Face> boundary = boundary_faces(mesh);
+  add_side(mesh, boundary, "inner", grid.nodes_where([](int i, int) { return i == 0; }));
+  add_side(mesh, boundary, "outer", grid.nodes_where([&](int i, int) { return i == last_i; }));
+  return std::move(mesh);
+}
+
+// The hexa8 mesh swept by a quad4 mesh of z = 0 through −width/2 ≤ z ≤ width/2 (m) in `layers`
+// equal layers: layer k's nodes are the plane nodes, in their order, at z_k; elements layer by layer.
+// Each counter-clockwise quad becomes the bottom face of its hexa8 (fem/mesh.h), the top face above
+// it, so every Jacobian keeps the sign of the plane one. No node sets: see nodes_above.
+Mesh extrude(const Mesh& plane, double width, int layers) {
+  Mesh mesh;
+  mesh.element_type = ElementType::hexa8;
+  const int per_layer = static_cast<int>(plane.nodes.size());
+  for (int k = 0; k <= layers; ++k) {
+    // width · (k / layers − 1/2) is exactly ∓width/2 at the end faces and 0 in a middle layer.
+    const double z = width * (static_cast<double>(k) / layers - 0.5);
+    for (const Eigen::Vector3d& x : plane.nodes) mesh.nodes.emplace_back(x.x(), x.y(), z);
+  }
+  for (int k = 0; k < layers; ++k)
+    for (const std::vector<int>& quad : plane.elements) {
+      std::vector<int> hexa;
+      for (int level : {k, k + 1})
+        for (int corner = 0; corner < 4; ++corner) hexa.push_back(quad[corner] + level * per_layer);
+      mesh.elements.push_back(std::move(hexa));
+    }
+  return mesh;
+}
+
+// The nodes of an extruded mesh above the plane nodes `plane_nodes`, in layers first..last.
+std::vector<int> nodes_above(const std::vector<int>& plane_nodes, int per_layer, int first_layer, int last_layer) {
+  std::vector<int> nodes;
+  for (int k = first_layer; k <= last_layer; ++k)
+    for (int node : plane_nodes) nodes.push_back(node + k * per_layer);
+  return nodes;
+}
+
 }  // namespace
 
 Mesh rectangle_mesh(double width, double height, int nx, int ny, ElementType type, const Placement& placement) {
@@ -181,14 +245,7 @@ Mesh rectangle_mesh(double width, double height, int nx, int ny, ElementType typ
 Mesh annulus_mesh(double inner_radius, double outer_radius, int n_circumferential, int n_radial, ElementType type,
                   const Placement& placement) {
   constexpr const char* kFunction = "annulus_mesh";
-  require_length(kFunction, "inner_radius", inner_radius);
-  require_length(kFunction, "outer_radius", outer_radius);
-  if (!(inner_radius < outer_radius)) {
-    std::ostringstream message;
-    message << kFunction << ": inner_radius must be < outer_radius (got " << inner_radius << " and " << outer_radius
-            << ")";
-    throw FemError(message.str());
-  }
+  require_radii(kFunction, inner_radius, outer_radius);
   // Fewer than 3 elements around would make elements that overlap themselves or have no area.
   require_divisions(kFunction, "n_circumferential", n_circumferential, 3);
   require_divisions(kFunction, "n_radial", n_radial, 1);
@@ -196,21 +253,37 @@ Mesh annulus_mesh(double inner_radius, double outer_radius, int n_circumferentia
   require_placement(kFunction, placement, true);
   require_size(kFunction, "n_circumferential, n_radial", (2.0 * n_circumferential) * (2.0 * n_radial + 1.0));
 
-  // a runs outward along the radius and b counter-clockwise around: x_r × x_θ = r e_z, so every
-  // element is counter-clockwise with a positive Jacobian.
-  const double two_pi = 2.0 * std::numbers::pi;
-  PlaneGrid grid(n_radial, n_circumferential, true, type, [&](double a, double b) {
-    const double r = a == 1.0 ? outer_radius : inner_radius + (outer_radius - inner_radius) * a;
-    const double theta = two_pi * b;
-    return Eigen::Vector3d(r * std::cos(theta), r * std::sin(theta), 0.0);
-  });
-  Mesh& mesh = grid.mesh();
-  const int last_i = grid.last_i();
-  const std::vector<Face> boundary = boundary_faces(mesh);
-  add_side(mesh, boundary, "inner", grid.nodes_where([](int i, int) { return i == 0; }));
-  add_side(mesh, boundary, "outer", grid.nodes_where([&](int i, int) { return i == last_i; }));
+  Mesh mesh = plane_annulus(inner_radius, outer_radius, n_circumferential, n_radial, type);
   place(mesh, placement);
-  return std::move(mesh);
+  return mesh;
+}
+
+Mesh annulus_mesh_3d(double inner_radius, double outer_radius, double width, int n_circumferential, int n_radial,
+                     int n_axial, const Placement& placement) {
+  constexpr const char* kFunction = "annulus_mesh_3d";
+  require_radii(kFunction, inner_radius, outer_radius);
+  require_length(kFunction, "width", width);
+  require_divisions(kFunction, "n_circumferential", n_circumferential, 3);  // as annulus_mesh
+  require_divisions(kFunction, "n_radial", n_radial, 1);
+  require_divisions(kFunction, "n_axial", n_axial, 1);
+  require_placement(kFunction, placement, false);
+  require_size(kFunction, "n_circumferential, n_radial, n_axial",
+               static_cast<double>(n_circumferential) * (n_radial + 1.0) * (n_axial + 1.0));
+
+  const Mesh plane = plane_annulus(inner_radius, outer_radius, n_circumferential, n_radial, ElementType::quad4);
+  Mesh mesh = extrude(plane, width, n_axial);
+  const int per_layer = static_cast<int>(plane.nodes.size());
+  std::vector<int> every_plane_node(per_layer);
+  std::iota(every_plane_node.begin(), every_plane_node.end(), 0);
+
+  const std::vector<Face> boundary = boundary_faces(mesh);
+  add_side(mesh, boundary, "inner", nodes_above(plane.node_sets.at("inner"), per_layer, 0, n_axial));
+  add_side(mesh, boundary, "outer", nodes_above(plane.node_sets.at("outer"), per_layer, 0, n_axial));
+  add_side(mesh, boundary, "zmin", nodes_above(every_plane_node, per_layer, 0, 0));
+  add_side(mesh, boundary, "zmax", nodes_above(every_plane_node, per_layer, n_axial, n_axial));
+  mesh.node_sets["all"] = nodes_above(every_plane_node, per_layer, 0, n_axial);
+  place(mesh, placement);
+  return mesh;
 }
 
 Mesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, const Placement& placement) {

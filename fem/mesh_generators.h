@@ -1,4 +1,5 @@
-// Structured meshes of simple shapes: rectangle (quad4, quad8), box (hexa8), annulus (quad4, quad8).
+// Structured meshes of simple shapes: rectangle (quad4, quad8), box (hexa8), annulus (quad4, quad8;
+// hexa8 through annulus_mesh_3d).
 //
 // Every generator numbers nodes and elements deterministically (rows of nodes, then rows of elements),
 // shares every node between its elements (no duplicates, also at the closing seam of the annulus) and
@@ -13,6 +14,8 @@
 //   box:       "xmin", "xmax", "ymin", "ymax", "zmin", "zmax";
 //              corners "x0y0z0", "x1y0z0", "x0y1z0", "x1y1z0", "x0y0z1", … (x1 = at x = lx, etc.).
 //   annulus:   "inner" (r = inner_radius), "outer" (r = outer_radius).
+//   annulus_mesh_3d: "inner", "outer" (all layers), "zmin" (z = −width/2), "zmax" (z = width/2);
+//              and the node set "all" (every node, e.g. to hold z for plane strain: fixed: {all: [z]}).
 // Sides and corners are named in the shape's own frame, before the placement moves it.
 //
 // Invalid arguments (a size not finite and > 0, a division count < 1, inner ≥ outer radius, an element
@@ -44,5 +47,13 @@ Mesh box_mesh(double lx, double ly, double lz, int nx, int ny, int nz, const Pla
 // edges sit exactly on their circle, so quad8 represents the arcs to second order.
 Mesh annulus_mesh(double inner_radius, double outer_radius, int n_circumferential, int n_radial, ElementType type,
                   const Placement& placement = {});
+
+// The quad4 annulus above extruded along +z into the ring inner_radius ≤ r ≤ outer_radius,
+// −width/2 ≤ z ≤ width/2 (m): n_axial (≥ 1) layers of hexa8 elements, centred on z = 0 (e.g. a 3D
+// rolling ring, one element wide). Layer k's nodes follow layer k−1's in the plane annulus's order,
+// elements go layer by layer, and each hexa8's bottom face is its quad4 (positive Jacobians). The
+// curved faces are flat between the circles' nodes, as the quad4 edges are straight.
+Mesh annulus_mesh_3d(double inner_radius, double outer_radius, double width, int n_circumferential, int n_radial,
+                     int n_axial, const Placement& placement = {});
 
 }  // namespace csim

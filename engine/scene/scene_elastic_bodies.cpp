@@ -2,6 +2,10 @@
 //   mesh: {generator: rectangle, size: [w, h], divisions: [nx, ny], element: quad4 | quad8}
 //       | {generator: box, size: [lx, ly, lz], divisions: [nx, ny, nz]}                (hexa8)
 //       | {generator: annulus, inner_radius, outer_radius, divisions: [n_around, n_radial], element}
+//                                                                                (quad4 | quad8)
+//       | {generator: annulus, inner_radius, outer_radius, width (m), divisions: [n_around, n_radial,
+//          n_axial], element: hexa8}  (the ring extruded along z over −width/2 ≤ z ≤ width/2; its node
+//          set "all" serves plane strain: fixed: {all: [z]})
 //       | {file: NAME.msh}  (Gmsh MSH 4.1 ASCII, beside the scene file)
 //     with an optional position (m) and angle (deg) for the generators;
 //   material: {young (Pa), poisson, density (kg/m³)} (linear elasticity, small strain), or a finite-strain
@@ -43,9 +47,30 @@ ElementType element_type(const SceneNode& node, const std::string& default_type)
   node.fail_at("element", "unknown element '" + name + "' (available: quad4, quad8, hexa8)");
 }
 
+// The annulus generator: a plane ring (quad4, quad8), or with element hexa8 the ring extruded over
+// its width, which then takes a third division (layers along z).
+Mesh read_annulus(const SceneNode& node, const Placement& placement) {
+  const ElementType type = element_type(node, "quad4");
+  const double inner_radius = node.positive("inner_radius"), outer_radius = node.positive("outer_radius");
+  if (type == ElementType::hexa8) {
+    const Eigen::Vector3d n = node.vector("divisions", 3, 3);
+    const SceneNode divisions = node.child("divisions");
+    return annulus_mesh_3d(inner_radius, outer_radius, node.positive("width"), whole(divisions, n.x(), "divisions"),
+                           whole(divisions, n.y(), "divisions"), whole(divisions, n.z(), "divisions"), placement);
+  }
+  // A plane ring is plane strain: its out-of-plane size is the body's thickness, not a mesh key.
+  if (node.has("width"))
+    node.fail_at("width", "only for a hexa8 annulus (a " + std::string(to_string(type)) +
+                              " ring is plane: give the body a thickness instead)");
+  const Eigen::Vector3d n = node.vector("divisions", 2, 2);
+  const SceneNode divisions = node.child("divisions");
+  return annulus_mesh(inner_radius, outer_radius, whole(divisions, n.x(), "divisions"),
+                      whole(divisions, n.y(), "divisions"), type, placement);
+}
+
 Mesh read_mesh(const SceneNode& node, int dimension) {
-  node.allow_only({"generator", "file", "size", "divisions", "element", "inner_radius", "outer_radius", "position",
-                   "angle"});
+  node.allow_only({"generator", "file", "size", "divisions", "element", "inner_radius", "outer_radius", "width",
+                   "position", "angle"});
   try {
     if (node.has("file")) {
       if (node.has("generator")) node.fail("give either file or generator, not both");
@@ -68,13 +93,7 @@ Mesh read_mesh(const SceneNode& node, int dimension) {
       return box_mesh(size.x(), size.y(), size.z(), whole(divisions, n.x(), "divisions"),
                       whole(divisions, n.y(), "divisions"), whole(divisions, n.z(), "divisions"), placement);
     }
-    if (generator == "annulus") {
-      const Eigen::Vector3d n = node.vector("divisions", 2, 2);
-      const SceneNode divisions = node.child("divisions");
-      return annulus_mesh(node.positive("inner_radius"), node.positive("outer_radius"),
-                          whole(divisions, n.x(), "divisions"), whole(divisions, n.y(), "divisions"),
-                          element_type(node, "quad4"), placement);
-    }
+    if (generator == "annulus") return read_annulus(node, placement);
     node.fail_at("generator", "unknown mesh generator '" + generator + "' (available: rectangle, box, annulus)");
   } catch (const FemError& e) {
     node.fail(e.what());

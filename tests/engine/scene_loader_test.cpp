@@ -171,6 +171,43 @@ TEST_F(SceneLoaderTest, DumpConfigContainsDefaults) {
   EXPECT_EQ(again->world.bodies.size(), scene->world.bodies.size());
 }
 
+// A ring one element wide (hexa8 annulus), held in z everywhere: plane strain in a 3D scene.
+const char* kRingScene = R"(dimension: 3
+bodies:
+  ring:
+    type: elastic
+    mesh: {generator: annulus, inner_radius: 1, outer_radius: 2, width: 0.5, divisions: [16, 2, 1],
+           element: hexa8, position: [0, 0, 0.25]}
+    material: {young: 800, poisson: 0.3, density: 1}
+    fixed: {all: [z]}
+time: {end: 0.1, step: 0.01}
+)";
+
+TEST_F(SceneLoaderTest, Hexa8AnnulusLoadsWithItsWidthAndThirdDivision) {
+  const auto scene = load_scene(write(kRingScene), {});
+  ASSERT_EQ(scene->world.bodies.size(), 1u);
+  EXPECT_EQ(scene->world.bodies[0].body->velocity_size(), 2 * 16 * 3 * 2);  // x, y free at every node
+}
+
+TEST_F(SceneLoaderTest, AnnulusWidthOnlyForHexa8) {
+  auto ring = [&](const std::string& from, const std::string& to) {
+    std::string text = kRingScene;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return write(text.replace(at, from.size(), to));
+  };
+  const std::string plane = error_of(ring("divisions: [16, 2, 1],\n           element: hexa8, position: [0, 0, 0.25]",
+                                          "divisions: [16, 2], element: quad4"));
+  EXPECT_NE(plane.find("bodies.ring.mesh.width: only for a hexa8 annulus"), std::string::npos) << plane;
+  const std::string missing = error_of(ring("width: 0.5, ", ""));
+  EXPECT_NE(missing.find("bodies.ring.mesh"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("width"), std::string::npos) << missing;
+  const std::string negative = error_of(ring("width: 0.5", "width: -0.5"));
+  EXPECT_NE(negative.find("bodies.ring.mesh.width: must be > 0"), std::string::npos) << negative;
+  const std::string two = error_of(ring("[16, 2, 1]", "[16, 2]"));
+  EXPECT_NE(two.find("bodies.ring.mesh.divisions: expected a list of 3 numbers"), std::string::npos) << two;
+}
+
 }  // namespace
 }  // namespace csim
 

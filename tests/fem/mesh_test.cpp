@@ -387,6 +387,161 @@ TEST(AnnulusMeshTest, ErrorsNameTheArgument) {
   EXPECT_NE(error_of([] { annulus_mesh(1.0, 2.0, 8, 1, ElementType::hexa8); }).find("type"), std::string::npos);
 }
 
+// ----- annulus, 3D ----------------------------------------------------------------------------------
+
+// det J (m³ per unit reference volume) of a hexa8 at (ξ, η, ζ), from the trilinear shape functions.
+double hexa_jacobian(const Mesh& mesh, int e, double xi, double eta, double zeta) {
+  static constexpr int kSigns[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                       {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  const double at[3] = {xi, eta, zeta};
+  Eigen::Matrix3d jacobian = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < 8; ++a)
+    for (int d = 0; d < 3; ++d) {
+      double derivative = kSigns[a][d] / 8.0;  // ∂N_a/∂(ξ, η, ζ)_d, N_a = Π (1 + s_k x_k) / 8
+      for (int k = 0; k < 3; ++k)
+        if (k != d) derivative *= 1.0 + kSigns[a][k] * at[k];
+      jacobian.col(d) += derivative * mesh.nodes[mesh.elements[e][a]];
+    }
+  return jacobian.determinant();
+}
+
+// The volume (m³) of a hexa8 by 2 × 2 × 2 Gauss points (exact for the trilinear map's det J, which has
+// degree 2 in each coordinate), checking that det J > 0 at each of them and at the corners.
+double checked_hexa_volume(const Mesh& mesh, int e) {
+  const double g = 1.0 / std::sqrt(3.0);
+  double volume = 0.0;
+  for (double xi : {-g, g})
+    for (double eta : {-g, g})
+      for (double zeta : {-g, g}) {
+        const double det = hexa_jacobian(mesh, e, xi, eta, zeta);
+        EXPECT_GT(det, 0.0) << "element " << e;
+        volume += det;
+      }
+  for (double xi : {-1.0, 1.0})
+    for (double eta : {-1.0, 1.0})
+      for (double zeta : {-1.0, 1.0}) EXPECT_GT(hexa_jacobian(mesh, e, xi, eta, zeta), 0.0) << "element " << e;
+  return volume;
+}
+
+TEST(Annulus3dMeshTest, CountsJacobiansAndPolygonVolume) {
+  const double inner = 0.5, outer = 1.25, width = 0.3;
+  const int n_c = 12, n_r = 3, n_a = 2;
+  const Mesh mesh = annulus_mesh_3d(inner, outer, width, n_c, n_r, n_a);
+  EXPECT_EQ(mesh.element_type, ElementType::hexa8);
+  EXPECT_EQ(mesh.nodes.size(), static_cast<std::size_t>(n_c * (n_r + 1) * (n_a + 1)));
+  ASSERT_EQ(mesh.elements.size(), static_cast<std::size_t>(n_c * n_r * n_a));
+  double total = 0.0;
+  for (int e = 0; e < static_cast<int>(mesh.elements.size()); ++e) total += checked_hexa_volume(mesh, e);
+  // The quad4 ring is exactly the area between two regular n_c-gons; the prism over it has that area × w.
+  const double polygon = n_c / 2.0 * std::sin(2.0 * std::numbers::pi / n_c) * (outer * outer - inner * inner);
+  EXPECT_NEAR(total, polygon * width, 1e-12);
+  EXPECT_GT(min_node_distance(mesh), 1e-3);  // the seam at θ = 0 shares its nodes, in every layer
+  expect_every_node_used(mesh);
+  expect_sets_sorted_unique(mesh);
+  expect_face_sets_match_node_sets(mesh);
+  EXPECT_EQ(boundary_faces(mesh).size(), static_cast<std::size_t>(2 * n_c * n_a + 2 * n_c * n_r));
+}
+
+TEST(Annulus3dMeshTest, LayersFollowThePlaneAnnulus) {
+  const Mesh plane = annulus_mesh(1.0, 2.0, 8, 2, ElementType::quad4);
+  const Mesh mesh = annulus_mesh_3d(1.0, 2.0, 0.5, 8, 2, 3);
+  const int per_layer = static_cast<int>(plane.nodes.size());
+  const int per_layer_elements = static_cast<int>(plane.elements.size());
+  for (int k = 0; k <= 3; ++k)
+    for (int node = 0; node < per_layer; ++node) {
+      const Eigen::Vector3d& x = mesh.nodes[k * per_layer + node];
+      EXPECT_EQ(x.x(), plane.nodes[node].x());
+      EXPECT_EQ(x.y(), plane.nodes[node].y());
+      EXPECT_NEAR(x.z(), -0.25 + 0.5 * k / 3.0, kTolerance);
+    }
+  for (int k = 0; k < 3; ++k)
+    for (int e = 0; e < per_layer_elements; ++e)
+      for (int corner = 0; corner < 4; ++corner) {
+        EXPECT_EQ(mesh.elements[k * per_layer_elements + e][corner], plane.elements[e][corner] + k * per_layer);
+        EXPECT_EQ(mesh.elements[k * per_layer_elements + e][corner + 4],
+                  plane.elements[e][corner] + (k + 1) * per_layer);
+      }
+}
+
+TEST(Annulus3dMeshTest, SetsAndOutwardNormals) {
+  const double inner = 0.3, outer = 0.7, width = 0.2;
+  const int n_c = 10, n_r = 2, n_a = 3;
+  const Mesh mesh = annulus_mesh_3d(inner, outer, width, n_c, n_r, n_a);
+  auto radius = [](const Eigen::Vector3d& x) { return std::hypot(x.x(), x.y()); };
+  const struct {
+    const char* name;
+    std::size_t faces, nodes;
+  } sides[] = {{"inner", n_c * n_a, n_c * (n_a + 1)},
+               {"outer", n_c * n_a, n_c * (n_a + 1)},
+               {"zmin", n_c * n_r, n_c * (n_r + 1)},
+               {"zmax", n_c * n_r, n_c * (n_r + 1)}};
+  for (const auto& side : sides) {
+    ASSERT_TRUE(mesh.face_sets.count(side.name) && mesh.node_sets.count(side.name)) << side.name;
+    EXPECT_EQ(mesh.face_sets.at(side.name).size(), side.faces) << side.name;
+    EXPECT_EQ(mesh.node_sets.at(side.name).size(), side.nodes) << side.name;
+  }
+  for (int node : mesh.node_sets.at("inner")) EXPECT_NEAR(radius(mesh.nodes[node]), inner, kTolerance);
+  for (int node : mesh.node_sets.at("outer")) EXPECT_NEAR(radius(mesh.nodes[node]), outer, kTolerance);
+  for (int node : mesh.node_sets.at("zmin")) EXPECT_EQ(mesh.nodes[node].z(), -width / 2.0);
+  for (int node : mesh.node_sets.at("zmax")) EXPECT_EQ(mesh.nodes[node].z(), width / 2.0);
+  std::vector<int> every(mesh.nodes.size());
+  for (int node = 0; node < static_cast<int>(every.size()); ++node) every[node] = node;
+  EXPECT_EQ(mesh.node_sets.at("all"), every);
+  EXPECT_EQ(mesh.node_sets.size(), 5u);
+  EXPECT_EQ(mesh.face_sets.size(), 4u);
+
+  // Outward: away from the axis on "outer", towards it on "inner", along ∓z on the end faces.
+  for (const Face& face : mesh.face_sets.at("outer")) {
+    const Eigen::Vector3d centre = face_centre(mesh, face);
+    EXPECT_GT(scaled_normal(mesh, face).dot(Eigen::Vector3d(centre.x(), centre.y(), 0.0)), 0.0);
+  }
+  for (const Face& face : mesh.face_sets.at("inner")) {
+    const Eigen::Vector3d centre = face_centre(mesh, face);
+    EXPECT_LT(scaled_normal(mesh, face).dot(Eigen::Vector3d(centre.x(), centre.y(), 0.0)), 0.0);
+  }
+  for (const Face& face : mesh.face_sets.at("zmin"))
+    EXPECT_LT((scaled_normal(mesh, face).normalized() - Eigen::Vector3d(0, 0, -1)).norm(), kTolerance);
+  for (const Face& face : mesh.face_sets.at("zmax"))
+    EXPECT_LT((scaled_normal(mesh, face).normalized() - Eigen::Vector3d(0, 0, 1)).norm(), kTolerance);
+}
+
+TEST(Annulus3dMeshTest, OneLayerAndPlacement) {
+  Placement placement;
+  placement.angle = 0.7;
+  placement.offset = Eigen::Vector3d(1.0, -2.0, 0.5);  // z allowed: the mesh is not plane
+  const Mesh mesh = annulus_mesh_3d(1.0, 2.0, 0.4, 16, 2, 1, placement);
+  EXPECT_EQ(mesh.nodes.size(), 16u * 3u * 2u);
+  ASSERT_EQ(mesh.elements.size(), 32u);
+  for (int node : mesh.node_sets.at("outer")) {
+    const Eigen::Vector3d relative = mesh.nodes[node] - placement.offset;
+    EXPECT_NEAR(std::hypot(relative.x(), relative.y()), 2.0, kTolerance);
+  }
+  for (int node : mesh.node_sets.at("zmin")) EXPECT_NEAR(mesh.nodes[node].z(), 0.3, kTolerance);
+  for (int node : mesh.node_sets.at("zmax")) EXPECT_NEAR(mesh.nodes[node].z(), 0.7, kTolerance);
+  for (int e = 0; e < 32; ++e) checked_hexa_volume(mesh, e);
+}
+
+TEST(Annulus3dMeshTest, ErrorsNameTheFunctionAndArgument) {
+  auto error = [](const std::function<void()>& action, const std::string& argument) {
+    const std::string message = error_of(action);
+    EXPECT_NE(message.find("annulus_mesh_3d"), std::string::npos) << message;
+    EXPECT_NE(message.find(argument), std::string::npos) << message;
+  };
+  error([] { annulus_mesh_3d(0.0, 1.0, 0.1, 8, 1, 1); }, "inner_radius");
+  error([] { annulus_mesh_3d(1.0, -1.0, 0.1, 8, 1, 1); }, "outer_radius");
+  error([] { annulus_mesh_3d(2.0, 1.0, 0.1, 8, 1, 1); }, "inner_radius must be < outer_radius");
+  error([] { annulus_mesh_3d(1.0, 2.0, 0.0, 8, 1, 1); }, "width");
+  error([] { annulus_mesh_3d(1.0, 2.0, -0.1, 8, 1, 1); }, "width");
+  error([] { annulus_mesh_3d(1.0, 2.0, INFINITY, 8, 1, 1); }, "width");
+  error([] { annulus_mesh_3d(1.0, 2.0, std::nan(""), 8, 1, 1); }, "width");
+  error([] { annulus_mesh_3d(1.0, 2.0, 0.1, 2, 1, 1); }, "n_circumferential");
+  error([] { annulus_mesh_3d(1.0, 2.0, 0.1, 8, 0, 1); }, "n_radial");
+  error([] { annulus_mesh_3d(1.0, 2.0, 0.1, 8, 1, 0); }, "n_axial");
+  Placement bad;
+  bad.offset = Eigen::Vector3d(0.0, 0.0, std::nan(""));
+  error([&] { annulus_mesh_3d(1.0, 2.0, 0.1, 8, 1, 1, bad); }, "placement.offset");
+}
+
 // ----- box ------------------------------------------------------------------------------------------
 
 TEST(BoxMeshTest, CountsAndVolumes) {
