@@ -30,8 +30,9 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
     const BodyInstance& body = world.bodies[b];
     const bool incremental = body.body->position_size() != body.body->velocity_size();
     if (incremental) incremental_bodies_.push_back(static_cast<int>(b));
-    else
-      for (int c = 0; c < body.body->velocity_size(); ++c) position_of_[body.velocity_offset + c] = body.position_offset + c;
+    // Coordinates and velocity components coincide except for a 3D rigid body's rotation (its last three).
+    const int coinciding = incremental ? 3 : body.body->velocity_size();
+    for (int c = 0; c < coinciding; ++c) position_of_[body.velocity_offset + c] = body.position_offset + c;
   }
   for (std::size_t p = 0; p < world.prescribed.size(); ++p) {
     const PrescribedComponent& c = world.prescribed[p];
@@ -154,7 +155,7 @@ void ReducedCoordinates::gather(const Vector& q, double t, Vector& z) {
   base_time_ = t;
   z.resize(unknown_count_);
   for (int i = 0; i < static_cast<int>(unknown_of_.size()); ++i)
-    if (unknown_of_[i] >= 0) z(unknown_of_[i]) = position_of_[i] >= 0 ? q(position_of_[i]) : 0.0;  // increments from q
+    if (unknown_of_[i] >= 0) z(unknown_of_[i]) = position_of_[i] >= 0 ? q(position_of_[i]) : 0.0;  // rotations: from q
   for (const Floating& f : floating_) {
     const Eigen::Isometry3d pose = hub_pose(hubs_[f.hub], q);
     const Eigen::Matrix3d relative = pose.linear() * hubs_[f.hub].rotation_ref.transpose();
@@ -173,6 +174,19 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
     const PrescribedComponent& c = world.prescribed[prescription_of_[i]];
     return c.value(time);
   };
+  // The rotations of 3D rigid bodies from their base, then the components that are coordinates.
+  for (int b : incremental_bodies_) {
+    const BodyInstance& body = world.bodies[b];
+    Vector increment = Vector::Zero(body.body->velocity_size());
+    for (int c = 0; c < increment.size(); ++c) {
+      const int i = body.velocity_offset + c;
+      if (position_of_[i] >= 0) continue;  // set below, from z or the prescription
+      if (unknown_of_[i] >= 0) increment(c) = z(unknown_of_[i]);
+      else if (prescription_of_[i] >= 0) increment(c) = prescribed_value(i, t) - prescribed_value(i, base_time_);
+    }
+    const int offset = body.position_offset, size = body.body->position_size();
+    body.body->integrate_position(base_.segment(offset, size), increment, 1.0, q.segment(offset, size));
+  }
   for (int i = 0; i < static_cast<int>(unknown_of_.size()); ++i) {
     if (position_of_[i] < 0) continue;
     if (unknown_of_[i] >= 0) {
@@ -181,17 +195,6 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
       const PrescribedComponent& c = world.prescribed[prescription_of_[i]];
       q(position_of_[i]) = world.bodies[c.body].reference_position(c.component) + c.value(t);
     }
-  }
-  for (int b : incremental_bodies_) {
-    const BodyInstance& body = world.bodies[b];
-    Vector increment = Vector::Zero(body.body->velocity_size());
-    for (int c = 0; c < increment.size(); ++c) {
-      const int i = body.velocity_offset + c;
-      if (unknown_of_[i] >= 0) increment(c) = z(unknown_of_[i]);
-      else if (prescription_of_[i] >= 0) increment(c) = prescribed_value(i, t) - prescribed_value(i, base_time_);
-    }
-    const int offset = body.position_offset, size = body.body->position_size();
-    body.body->integrate_position(base_.segment(offset, size), increment, 1.0, q.segment(offset, size));
   }
   // The floating nodes last: their rigid body's coordinates are set by now.
   for (const Floating& f : floating_) {

@@ -5,10 +5,9 @@
 //   a free component is an unknown;
 //   a prescribed one (world.h, PrescribedComponent) is q_ref + value(t), while it is active (a
 //   released one is free: the stepper builds new reduced coordinates when the set changes);
-//   a body whose coordinates are not its velocity components (a 3D rigid body: position and unit
-//   quaternion) is moved from a base configuration, the q given to the last gather(): its unknowns
-//   are the increments Δ of its velocity components (m, and rad about its body axes) and
-//   q = integrate_position(q_base, Δ, 1), R = R_base exp([Δ_rot]); a prescribed rotation component
+//   the rotation of a 3D rigid body (a unit quaternion) is moved from a base configuration, the q
+//   given to the last gather(): its unknowns are the angles Δ turned about its body axes (rad),
+//   R = R_base exp([Δ]); a prescribed rotation component
 //   turns it by value(t) − value(t_base) about that body axis (exact for a turn about one fixed axis,
 //   a ground turning about a vertical axis, the only use so far). The stepper gathers at every
 //   Newton iterate, so T below is exact there;
@@ -99,7 +98,7 @@ class ReducedCoordinates {
   // Per velocity component: its unknown, its prescription, its floating node, its index in q (−1 for
   // a body moved by increments).
   std::vector<int> unknown_of_, prescription_of_, floating_of_, position_of_;
-  std::vector<int> incremental_bodies_;  // bodies whose coordinates are not their velocity components
+  std::vector<int> incremental_bodies_;  // 3D rigid bodies: their rotations are moved by increments
   Vector base_;                          // their base configuration (the whole q; only their slices used)
   double base_time_ = 0.0;
   std::vector<Hub> hubs_;

@@ -1,8 +1,11 @@
 // Reduced coordinates of the quasi-static stepper (a ring riding in its hub's frame, a ground whose
 // components are prescribed): Φ against its own inverse, T = ∂Φ/∂z and the frame's geometric
 // stiffness −Σ f ∂²Φ/∂z² against central finite differences, and the objectivity that motivates the
-// floating frame (a hub rotation leaves the strain energy unchanged).
+// floating frame (a hub rotation leaves the strain energy unchanged); the same in 3D, where the hub's
+// rotation and the ground's are quaternions moved by increments, and the 3D ring held in z rolls as
+// the plane one.
 #include "engine/reduced_coordinates.h"
+#include "engine/run.h"
 #include "engine/scene/scene.h"
 
 #include <gtest/gtest.h>
@@ -122,6 +125,148 @@ TEST(ReducedCoordinates, TurningTheHubLeavesTheStrainEnergyUnchanged) {
     reduced.expand(z, 2.0, q);
     EXPECT_NEAR(ring.body->strain_energy(ring.positions(q)), energy, 1e-11 * energy) << angle;
   }
+}
+
+// ----- 3D: a HEXA8 ring held in z on a 3D hub, a ground turning about a vertical axis -----------------
+
+const std::string kRing3d = CSIM_SOURCE_DIR "/scenes/rolling-ring-3d/scene.yaml";
+
+std::unique_ptr<Scene> coarse_ring_3d(std::vector<std::string> overrides = {}) {
+  overrides.insert(overrides.end(), {"parameters.divisions_circumferential=8", "parameters.divisions_radial=2",
+                                     "parameters.inner_radius=1.0"});
+  return load_scene(kRing3d, overrides);
+}
+
+Vector initial_positions(const World& world) {
+  Vector q(world.position_size);
+  for (const BodyInstance& b : world.bodies) q.segment(b.position_offset, b.body->position_size()) = b.initial_position;
+  return q;
+}
+
+// A state away from the reference, gathered again so that it is the base (3D rotations: zero increments).
+Vector some_state_3d(ReducedCoordinates& reduced, const World& world, double t, Vector& q) {
+  Vector z;
+  reduced.gather(initial_positions(world), 0.0, z);
+  for (int k = 0; k < z.size(); ++k) z(k) += 0.01 * std::sin(1.3 * k + 0.2);
+  z(reduced.unknown(world.bodies[world.body_index("hub")].velocity_offset + 5)) = 0.7;
+  reduced.expand(z, t, q);
+  reduced.gather(q, t, z);
+  return z;
+}
+
+TEST(ReducedCoordinates3d, UnknownsAreTheFreeComponents) {
+  const auto scene = coarse_ring_3d();
+  const World& world = scene->world;
+  const ReducedCoordinates reduced(world, 2.0);
+  const int hub = world.bodies[world.body_index("hub")].velocity_offset;
+  for (int c = 0; c < 5; ++c) EXPECT_LT(reduced.unknown(hub + c), 0) << c;  // held
+  EXPECT_GE(reduced.unknown(hub + 5), 0);                                      // spin free
+  // ring: 8 × 3 × 2 nodes, z held on all, the 16 inner ones tied: 32 free nodes × (x, y); hub: 1
+  EXPECT_EQ(reduced.size(), 2 * 32 + 1);
+}
+
+TEST(ReducedCoordinates3d, GatherInvertsExpand) {
+  const auto scene = coarse_ring_3d();
+  ReducedCoordinates reduced(scene->world, 2.0);
+  Vector q, q_back;
+  const Vector z = some_state_3d(reduced, scene->world, 2.0, q);
+  reduced.expand(z, 2.0, q_back);
+  EXPECT_LT((q_back - q).lpNorm<Eigen::Infinity>(), 1e-14);
+}
+
+TEST(ReducedCoordinates3d, TangentAndGeometricStiffnessMatchFiniteDifferences) {
+  const auto scene = coarse_ring_3d();
+  const World& world = scene->world;
+  ReducedCoordinates reduced(world, 2.0);
+  Vector q;
+  const Vector z = some_state_3d(reduced, world, 2.0, q);
+  SparseMatrix T, K_z;
+  reduced.tangent(q, T);
+  Vector f(world.velocity_size);
+  for (int i = 0; i < f.size(); ++i) f(i) = std::cos(0.7 * i);
+  reduced.reduce_stiffness(SparseMatrix(world.velocity_size, world.velocity_size), T, q, f, K_z);
+  const Matrix tangent(T), stiffness(K_z);
+  const double h = 1e-6, scale = stiffness.cwiseAbs().maxCoeff();
+  double worst_tangent = 0.0, worst_stiffness = 0.0;
+  for (int k = 0; k < z.size(); ++k) {
+    Vector zp = z, zm = z, qp, qm, dq_plus, dq_minus;
+    zp(k) += h;
+    zm(k) -= h;
+    reduced.expand(zp, 2.0, qp);
+    reduced.expand(zm, 2.0, qm);
+    world.position_difference(qp, q, dq_plus);  // velocity components (the hub's rotation is a quaternion)
+    world.position_difference(qm, q, dq_minus);
+    worst_tangent = std::max(worst_tangent, ((dq_plus - dq_minus) / (2 * h) - tangent.col(k)).lpNorm<Eigen::Infinity>());
+    SparseMatrix Tp, Tm;
+    reduced.tangent(qp, Tp);
+    reduced.tangent(qm, Tm);
+    const Vector column = -(Tp.transpose() * f - Tm.transpose() * f) / (2 * h);
+    worst_stiffness = std::max(worst_stiffness, (column - stiffness.col(k)).lpNorm<Eigen::Infinity>());
+  }
+  EXPECT_LT(worst_tangent, 1e-8);
+  ASSERT_GT(scale, 0.1);
+  EXPECT_LT(worst_stiffness, 1e-7 * scale);
+}
+
+TEST(ReducedCoordinates3d, TurningTheHubLeavesTheStrainEnergyUnchanged) {
+  const auto scene = coarse_ring_3d();
+  const World& world = scene->world;
+  ReducedCoordinates reduced(world, 2.0);
+  Vector q;
+  Vector z = some_state_3d(reduced, world, 2.0, q);
+  const BodyInstance& ring = world.bodies[world.body_index("ring")];
+  const double energy = ring.body->strain_energy(ring.positions(q));
+  ASSERT_GT(energy, 0.0);
+  const int spin = reduced.unknown(world.bodies[world.body_index("hub")].velocity_offset + 5);
+  for (double angle : {0.3, 1.5, 3.0, -2.0}) {
+    z(spin) = angle;
+    reduced.expand(z, 2.0, q);
+    EXPECT_NEAR(ring.body->strain_energy(ring.positions(q)), energy, 1e-11 * energy) << angle;
+  }
+}
+
+TEST(ReducedCoordinates3d, TheGroundTurnsAboutItsVerticalAxisAsPrescribed) {
+  // Cornering: the ground turns by Omega (t - t_roll), Omega = v / R_c = 0.02 rad/s, t_roll = 1.2 s,
+  // about its vertical axis through (0, ., -R_c), from any base; its translation is absolute (the base
+  // here is the initial state, before the press).
+  const auto scene = coarse_ring_3d();
+  const World& world = scene->world;
+  ReducedCoordinates reduced(world, 2.0);
+  const BodyInstance& ground = world.bodies[world.body_index("ground")];
+  Vector z, q = initial_positions(world), next;
+  double base_time = 1.2;
+  for (double t : {2.7, 4.2}) {
+    reduced.gather(q, base_time, z);
+    reduced.expand(z, t, next);
+    const Eigen::Isometry3d pose = ground.body->pose(ground.positions(next));
+    const Eigen::Matrix3d expected = Eigen::AngleAxisd(0.02 * (t - 1.2), Eigen::Vector3d::UnitY()).toRotationMatrix();
+    EXPECT_LT((pose.linear() - expected).cwiseAbs().maxCoeff(), 1e-14) << t;
+    EXPECT_LT((pose.translation() - Eigen::Vector3d(0.0, -2.5 + 0.05, -100.0)).norm(), 1e-14) << t;
+    q = next;
+    base_time = t;
+  }
+}
+
+TEST(RollingRing3d, HeldInZItRollsLikeThePlaneRing) {
+  // The plane-strain HEXA8 ring, straight rolling: the same equilibrium as the quad4 ring of the plane
+  // scene (a HEXA8 with z held on both faces is the plane-strain quad4, mean dilatation included).
+  const std::vector<std::string> common = {
+      "parameters.divisions_circumferential=16", "parameters.divisions_radial=3", "parameters.inner_radius=1.0",
+      "parameters.indentation=0.1", "parameters.mu=0.2", "parameters.material=mooney-rivlin",
+      "parameters.roll_time=0.6", "parameters.window=0.3"};
+  auto plane = load_scene(kRing, common);
+  std::vector<std::string> spatial = common;
+  spatial.push_back("parameters.cornering_radius=0");
+  auto space = load_scene(kRing3d, spatial);
+  const RunReport a = run_scene(*plane, {}), b = run_scene(*space, {});
+  const auto spin = [](const Scene& scene, const RunReport& report) {
+    const int hub = scene.world.body_index("hub");
+    const BodyInstance& body = scene.world.bodies[hub];
+    return report.state.v(body.velocity_offset + body.body->velocity_size() - 1);
+  };
+  const double plane_spin = spin(*plane, a), space_spin = spin(*space, b);
+  ASSERT_GT(plane_spin, 0.5);  // rolling (v / R = 1)
+  EXPECT_NEAR(space_spin, plane_spin, 1e-7 * plane_spin);
 }
 
 }  // namespace
