@@ -72,7 +72,8 @@ TEST(MoreauJean, LinearConstraintHoldsInPositionEveryStep) {
   EXPECT_NEAR(s.q(2), 0.5 * (-1.0 / 1.5) * t * t, 1e-9);
 }
 
-TEST(MoreauJean, RigidBodySpinningAboutAPrincipalAxisRotatesExactly) {
+// One rigid body in space at rest in the identity orientation: m = 2 kg, I = (0.1, 0.2, 0.3) kg·m².
+World rigid_body_3d_world() {
   World world;
   world.dimension = 3;
   BodyInstance b;
@@ -82,9 +83,14 @@ TEST(MoreauJean, RigidBodySpinningAboutAPrincipalAxisRotatesExactly) {
   b.reference_position(3) = 1.0;  // identity quaternion
   b.initial_position = b.reference_position;
   b.initial_velocity.setZero(6);
-  b.initial_velocity(5) = 4.0;  // rad/s about the body z axis
   world.bodies.push_back(std::move(b));
   world.finalize_layout();
+  return world;
+}
+
+TEST(MoreauJean, RigidBodySpinningAboutAPrincipalAxisRotatesExactly) {
+  World world = rigid_body_3d_world();
+  world.bodies[0].initial_velocity(5) = 4.0;  // rad/s about the body z axis
   MoreauJeanParameters p;
   p.step = 1e-3;
   MoreauJean stepper(world, p);
@@ -101,17 +107,7 @@ TEST(MoreauJean, PrescribedRotationOfA3dRigidBodyTurnsItExactly) {
   // A 3D rotation is prescribed through its rate over each step (its coordinates are a quaternion):
   // the angle about the body's z axis follows the table at every step's end, and the reaction is the
   // torque that spins the body up, I ω̇ (here 0.3 kg·m² × 2 rad/s² on the ramp's first step at θ = 1).
-  World world;
-  world.dimension = 3;
-  BodyInstance b;
-  b.name = "turntable";
-  b.body = std::make_unique<RigidBody3d>(2.0, Eigen::Vector3d(0.1, 0.2, 0.3));
-  b.reference_position.setZero(7);
-  b.reference_position(3) = 1.0;
-  b.initial_position = b.reference_position;
-  b.initial_velocity.setZero(6);
-  world.bodies.push_back(std::move(b));
-  world.finalize_layout();
+  World world = rigid_body_3d_world();
   PrescribedComponent spin;
   spin.body = 0;
   spin.component = 5;  // rz
