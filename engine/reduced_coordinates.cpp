@@ -28,11 +28,13 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
   position_of_.assign(n, -1);
   for (std::size_t b = 0; b < world.bodies.size(); ++b) {
     const BodyInstance& body = world.bodies[b];
-    const bool incremental = body.body->position_size() != body.body->velocity_size();
+    bool incremental = false;
+    for (int c = 0; c < body.body->velocity_size(); ++c) {
+      const int coordinate = body.body->coordinate_of(c);
+      if (coordinate >= 0) position_of_[body.velocity_offset + c] = body.position_offset + coordinate;
+      else incremental = true;
+    }
     if (incremental) incremental_bodies_.push_back(static_cast<int>(b));
-    // Coordinates and velocity components coincide except for a 3D rigid body's rotation (its last three).
-    const int coinciding = incremental ? 3 : body.body->velocity_size();
-    for (int c = 0; c < coinciding; ++c) position_of_[body.velocity_offset + c] = body.position_offset + c;
   }
   for (std::size_t p = 0; p < world.prescribed.size(); ++p) {
     const PrescribedComponent& c = world.prescribed[p];
@@ -158,7 +160,7 @@ void ReducedCoordinates::gather(const Vector& q, double t, Vector& z) {
     if (unknown_of_[i] >= 0) z(unknown_of_[i]) = position_of_[i] >= 0 ? q(position_of_[i]) : 0.0;  // rotations: from q
   for (const Floating& f : floating_) {
     const Eigen::Isometry3d pose = hub_pose(hubs_[f.hub], q);
-    const Eigen::Matrix3d relative = pose.linear() * hubs_[f.hub].rotation_ref.transpose();
+    const Eigen::Matrix3d relative = relative_rotation(hubs_[f.hub], pose);
     const Eigen::Vector3d w = relative.transpose() * (node_position(f, q) - pose.translation()) - f.arm;
     for (int c = 0; c < 3; ++c)
       if (f.unknown[c] >= 0) z(f.unknown[c]) = w(c);
@@ -170,10 +172,6 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
   if (!incremental_bodies_.empty() && base_.size() != world.position_size)
     throw std::logic_error("ReducedCoordinates::expand before gather");
   q.resize(world.position_size);
-  auto prescribed_value = [&](int i, double time) {
-    const PrescribedComponent& c = world.prescribed[prescription_of_[i]];
-    return c.value(time);
-  };
   // The rotations of 3D rigid bodies from their base, then the components that are coordinates.
   for (int b : incremental_bodies_) {
     const BodyInstance& body = world.bodies[b];
@@ -182,7 +180,10 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
       const int i = body.velocity_offset + c;
       if (position_of_[i] >= 0) continue;  // set below, from z or the prescription
       if (unknown_of_[i] >= 0) increment(c) = z(unknown_of_[i]);
-      else if (prescription_of_[i] >= 0) increment(c) = prescribed_value(i, t) - prescribed_value(i, base_time_);
+      else if (prescription_of_[i] >= 0) {
+        const TimeFunction& angle = world.prescribed[prescription_of_[i]].value;
+        increment(c) = angle(t) - angle(base_time_);
+      }
     }
     const int offset = body.position_offset, size = body.body->position_size();
     body.body->integrate_position(base_.segment(offset, size), increment, 1.0, q.segment(offset, size));
@@ -193,7 +194,8 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
       q(position_of_[i]) = z(unknown_of_[i]);
     } else if (prescription_of_[i] >= 0) {
       const PrescribedComponent& c = world.prescribed[prescription_of_[i]];
-      q(position_of_[i]) = world.bodies[c.body].reference_position(c.component) + c.value(t);
+      const BodyInstance& body = world.bodies[c.body];
+      q(position_of_[i]) = body.reference_position(position_of_[i] - body.position_offset) + c.value(t);
     }
   }
   // The floating nodes last: their rigid body's coordinates are set by now.
@@ -204,10 +206,20 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
     for (int c = 0; c < 3; ++c)
       if (f.unknown[c] >= 0) w(c) = z(f.unknown[c]);
     const Eigen::Vector3d u =
-        pose.translation() + pose.linear() * hub.rotation_ref.transpose() * (f.arm + w) - hub.centre_ref - f.arm;
+        pose.translation() + relative_rotation(hub, pose) * (f.arm + w) - hub.centre_ref - f.arm;
     for (int c = 0; c < 3; ++c)
       if (f.position[c] >= 0) q(f.position[c]) = u(c);
   }
+}
+
+Eigen::Matrix3d ReducedCoordinates::relative_rotation(const Hub& hub, const Eigen::Isometry3d& pose) const {
+  return pose.linear() * hub.rotation_ref.transpose();
+}
+
+PointJacobian ReducedCoordinates::hub_columns(const Floating& node, const Vector& q, const Eigen::Isometry3d& pose) const {
+  const BodyInstance& rigid = world_->bodies[hubs_[node.hub].body];
+  return rigid.body->point_jacobian(q.segment(rigid.position_offset, rigid.body->position_size()),
+                                    pose.inverse() * node_position(node, q));
 }
 
 void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vector& forces) const {
@@ -218,9 +230,7 @@ void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vec
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const ConstVectorRef hub_q = q.segment(rigid.position_offset, rigid.body->position_size());
-    const Eigen::Isometry3d pose = rigid.body->pose(hub_q);
-    const PointJacobian J = rigid.body->point_jacobian(hub_q, pose.inverse() * node_position(node, q));
+    const PointJacobian J = hub_columns(node, q, hub_pose(hub, q));
     const Eigen::Vector3d force = node_force(node, f);
     for (int k = 0; k < J.count; ++k) {
       const int i = rigid.velocity_offset + J.index[k];
@@ -238,11 +248,9 @@ void ReducedCoordinates::tangent(const Vector& q, SparseMatrix& T) const {
   for (const Floating& f : floating_) {
     const Hub& hub = hubs_[f.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const ConstVectorRef hub_q = q.segment(rigid.position_offset, rigid.body->position_size());
-    const Eigen::Isometry3d pose = rigid.body->pose(hub_q);
-    const Eigen::Matrix3d relative = pose.linear() * hub.rotation_ref.transpose();
-    // The hub's columns: the node moves as the hub's material point at the same place.
-    const PointJacobian J = rigid.body->point_jacobian(hub_q, pose.inverse() * node_position(f, q));
+    const Eigen::Isometry3d pose = hub_pose(hub, q);
+    const Eigen::Matrix3d relative = relative_rotation(hub, pose);
+    const PointJacobian J = hub_columns(f, q, pose);
     for (int c = 0; c < 3; ++c) {
       if (f.dof[c] < 0) continue;
       for (int k = 0; k < J.count; ++k) {

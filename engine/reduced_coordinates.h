@@ -88,6 +88,10 @@ class ReducedCoordinates {
   const Body& hub_body(const Hub& hub) const { return *world_->bodies[hub.body].body; }
   Eigen::Isometry3d hub_pose(const Hub& hub, const Vector& q) const;
   Eigen::Vector3d node_position(const Floating& node, const Vector& q) const;  // x_a at q (m)
+  // R_rel = R_B R_B,ref⁻¹, the hub's rotation since the reference, at its pose.
+  Eigen::Matrix3d relative_rotation(const Hub& hub, const Eigen::Isometry3d& pose) const;
+  // ∂x_a/∂(hub velocity components): the node moves as the hub's material point at its place.
+  PointJacobian hub_columns(const Floating& node, const Vector& q, const Eigen::Isometry3d& pose) const;
   Eigen::Vector3d node_force(const Floating& node, const Vector& f) const;
   // Throws unless the hub's frame keeps component c of the tied body's nodes where it is.
   void check_fixed_component(const Hub& hub, int c, const std::string& body_name) const;
@@ -98,7 +102,7 @@ class ReducedCoordinates {
   // Per velocity component: its unknown, its prescription, its floating node, its index in q (−1 for
   // a body moved by increments).
   std::vector<int> unknown_of_, prescription_of_, floating_of_, position_of_;
-  std::vector<int> incremental_bodies_;  // 3D rigid bodies: their rotations are moved by increments
+  std::vector<int> incremental_bodies_;  // bodies with velocity components that are no coordinate's rate (3D rotations)
   Vector base_;                          // their base configuration (the whole q; only their slices used)
   double base_time_ = 0.0;
   std::vector<Hub> hubs_;

@@ -105,6 +105,10 @@ class Body {
   virtual void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                                   VectorRef q_next) const = 0;
 
+  // The coordinate (index in this body's q) that velocity component c is the rate of, or −1 when there
+  // is none (a 3D rigid body's rotation: its coordinates are a quaternion).
+  virtual int coordinate_of(int c) const { return c; }
+
   // The increment d of the velocity components that takes q0 to q1: q1 = integrate_position(q0, d, 1)
   // (m, rad). q1 − q0, except for the quaternion of a 3D rigid body.
   virtual void position_difference(const ConstVectorRef& q1, const ConstVectorRef& q0, VectorRef d) const {

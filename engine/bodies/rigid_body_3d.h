@@ -23,6 +23,7 @@ class RigidBody3d final : public Body {
   PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                           VectorRef q_next) const override;
+  int coordinate_of(int c) const override { return c < 3 ? c : -1; }
   // The translation, and the rotation vector of R0⁻¹ R1 (body frame, rad).
   void position_difference(const ConstVectorRef& q1, const ConstVectorRef& q0, VectorRef d) const override;
   void position_rate(const ConstVectorRef& q, const ConstVectorRef& v, VectorRef q_dot) const override;

@@ -49,8 +49,8 @@ void MoreauJean::build_equalities(double t) {
     for (const BodyInstance& b : world_.bodies) {
       const int local = index - b.velocity_offset;
       if (local < 0 || local >= b.body->velocity_size()) continue;
-      // Coordinates and velocities coincide except for the rotation of a 3D rigid body.
-      if (b.body->position_size() == b.body->velocity_size() || local < 3) return b.position_offset + local;
+      const int coordinate = b.body->coordinate_of(local);
+      return coordinate < 0 ? -1 : b.position_offset + coordinate;
     }
     return -1;
   };
@@ -157,11 +157,12 @@ void MoreauJean::detect(const State& state) {
   for (int p : active_prescriptions_) {
     const PrescribedComponent& c = world_.prescribed[p];
     const BodyInstance& b = world_.bodies[c.body];
+    const int coordinate = b.body->coordinate_of(c.component);
     double& predicted = v_predicted_(b.velocity_offset + c.component);
-    if (b.body->position_size() != b.body->velocity_size() && c.component >= 3)  // a 3D rotation: its rate
+    if (coordinate < 0)  // a 3D rotation: its rate
       predicted = (c.value(state.t + h) - c.value(state.t)) / h;
     else
-      predicted = (b.reference_position(c.component) + c.value(state.t + h) - state.q(b.position_offset + c.component)) / h;
+      predicted = (b.reference_position(coordinate) + c.value(state.t + h) - state.q(b.position_offset + coordinate)) / h;
   }
   const double margin = 2.0 * std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
                                         detector_.travel_bound(v_predicted_, h)}) + 1e-12;

@@ -124,7 +124,9 @@ TEST(MoreauJean, PrescribedRotationOfA3dRigidBodyTurnsItExactly) {
     const Eigen::Quaterniond q(s.q(3), s.q(4), s.q(5), s.q(6));
     const Eigen::Quaterniond expected(Eigen::AngleAxisd(spin.value(s.t), Eigen::Vector3d::UnitZ()));
     ASSERT_NEAR(q.angularDistance(expected), 0.0, 1e-12) << "t = " << s.t;
-    if (k == 100) EXPECT_NEAR(s.reactions(5), 0.3 * (2.0 - 1.0) / p.step, 1e-9);  // I Δω / h
+    if (k == 100) {
+      EXPECT_NEAR(s.reactions(5), 0.3 * (2.0 - 1.0) / p.step, 1e-9);  // I Δω / h
+    }
   }
   EXPECT_NEAR(s.v(5), 2.0, 1e-12);
 }
