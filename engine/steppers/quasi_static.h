@@ -95,9 +95,9 @@ class QuasiStatic final : public Stepper {
   int d_;
 
   Vector z_, q_, f_, f_z_, dz_, r_, reactions_;
-  Vector contact_force_;
+  Vector contact_force_;       // Hᵀ r of the last solve (N, N·m), in velocity components
   Vector previous_dz_;         // the last Newton step, to detect oscillation
-  Vector step_increment_;      // q_j − q_k (m, rad): the slip rows' argument  // Hᵀ r of the last solve (N), in q's components
+  Vector step_increment_;      // q_j ⊖ q_k in velocity components (m, rad): the slip rows' argument
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
   std::vector<SparseRow> rows_;
