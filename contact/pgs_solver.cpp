@@ -375,19 +375,37 @@ constexpr int kNewtonIterations = 30;
 // stick" (the usual state of a pressed interface, which a slowly converging iterate misclassifies at
 // the cone's edge), then the semismooth Newton method (alart_curnier.h), which also finds slip
 // directions in 3D. Each result is kept only if its full residual is smaller.
+//
+// Newton starts from Gauss–Seidel's own iterate, not from an active-set result. A contact whose t2 row
+// of W is zero (a node held across the ground's sliding direction: the plane-strain ring under a
+// cornering ground, with a lateral slip of 1e-7 of the step's) can slip only along t2's fixed velocity;
+// the active set may put it in stick with r_t2 = 0, a state whose residual looks smaller (the
+// residual weighs r_t2 by W_cc, here zero) but from which Newton cannot move (its stick Jacobian row
+// is zero) and the line search stops at once. From the Gauss–Seidel iterate, where the local solves
+// have put that contact in slip, Newton converged in 2 to 10 steps on every such problem met
+// (rolling-ring-3d on 34 × 5), where the former order left relative residuals of 3e-7 to 2e-6.
 template <int D>
 bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual, double tolerance) {
+  const Eigen::VectorXd iterate = r;
   bool improved = active_set_polish<D>(problem, r, residual, false);
   if (residual > tolerance) improved = active_set_polish<D>(problem, r, residual, true) || improved;
-  for (const double rho_scale : {1.0, 1e3}) {
-    if (residual <= tolerance) break;
-    Eigen::VectorXd candidate = r;
-    if (!alart_curnier_newton(problem, candidate, kNewtonIterations, 1e-3 * tolerance, nullptr, rho_scale)) break;
-    const double candidate_residual = relative_residual(problem, candidate);
-    if (candidate_residual < residual) {
-      r = candidate;
-      residual = candidate_residual;
-      improved = true;
+  // Newton from the iterate, then from the active set's result if it differs (the better start
+  // before this order was chosen; kept for the problems where it still is).
+  const Eigen::VectorXd active_set_result = r;
+  const bool active_set_moved = improved;
+  for (const Eigen::VectorXd* start : {&iterate, &active_set_result}) {
+    if (start == &active_set_result && !active_set_moved) break;
+    for (const double rho_scale : {1.0, 1e3}) {
+      if (residual <= tolerance) return improved;
+      Eigen::VectorXd candidate = *start;
+      if (!alart_curnier_newton(problem, candidate, kNewtonIterations, 1e-3 * tolerance, nullptr, rho_scale))
+        return improved;
+      const double candidate_residual = relative_residual(problem, candidate);
+      if (candidate_residual < residual) {
+        r = candidate;
+        residual = candidate_residual;
+        improved = true;
+      }
     }
   }
   return improved;

@@ -18,9 +18,9 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
   }
 }
 
-void solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
-                    double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c) {
-  if (problem.size() == 0) return;
+std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
+                           double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c) {
+  if (problem.size() == 0) return "";
   std::vector<ContactStatus> status;
   const PgsStatistics stats = pgs.solve(problem, r, &status);
   ++c.solves;
@@ -28,21 +28,20 @@ void solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem,
   c.max_iterations = std::max(c.max_iterations, stats.iterations);
   c.max_residual = std::max(c.max_residual, stats.residual);
   c.rejected_local_solutions += stats.rejected_local_solutions;
+  std::ostringstream failure;
   if (!stats.converged) {
     if (c.not_converged++ == 0) c.first_not_converged_time = t_next;
-    if (!(stats.residual <= failure_residual)) {
-      std::ostringstream message;
-      message << "contact solver failed at t = " << t_next << " s: residual " << stats.residual << " after "
+    if (!(stats.residual <= failure_residual))
+      failure << "contact solver failed at t = " << t_next << " s: residual " << stats.residual << " after "
               << stats.iterations << " iterations (failure threshold contact_solver.failure_residual = "
               << failure_residual << ")";
-      throw RunError(t_next, message.str());
-    }
   }
   const int d = problem.dimension;
   for (std::size_t i = 0; i < active.size(); ++i) {
     active[i].impulse.head(d) = r.segment(d * i, d);
     active[i].status = status.empty() ? ContactStatus::open : status[i];
   }
+  return failure.str();
 }
 
 }  // namespace csim

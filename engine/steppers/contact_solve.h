@@ -1,11 +1,12 @@
 // The parts of a step's frictional contact solve that every stepper shares: the warm start from the
 // last step's impulses (matched by contact key), the projected Gauss–Seidel solve with its counters,
-// and the failure policy (a solve left above contact_solver.failure_residual stops the run).
+// and the failure message (a solve left above contact_solver.failure_residual stops the run).
 #pragma once
 
 #include "contact/pgs_solver.h"
 #include "engine/state.h"
 
+#include <string>
 #include <vector>
 
 namespace csim {
@@ -14,9 +15,12 @@ namespace csim {
 void warm_start(const std::vector<ActiveContact>& previous, const std::vector<ActiveContact>& active,
                 int dimension, int size, Vector& r);
 
-// Solves, accounts in state.counters, throws RunError past the failure threshold, and copies the
-// impulses and statuses back into `active`. t_next: the time the step reaches (s).
-void solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
-                    double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& counters);
+// Solves, accounts in state.counters, and copies the impulses and statuses back into `active`.
+// Returns "" or, for a solve left above the failure threshold, the message that stops the run; the
+// caller throws it (Moreau–Jean at once; the quasi-static stepper only if it is the solve of the
+// Newton iterate it accepts). t_next: the time the step reaches (s).
+[[nodiscard]] std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem,
+                                         double failure_residual, double t_next, Vector& r,
+                                         std::vector<ActiveContact>& active, SolverCounters& counters);
 
 }  // namespace csim

@@ -288,8 +288,11 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
   // Newton's later iterations start from the last iteration's r_ (same contacts, same order).
   if (warm_from_state || r_.size() != problem_.size())
     warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
-  solve_contacts(pgs_, problem_, parameters_.failure_residual, state.t + parameters_.step, r_, active_,
-                 state.counters);
+  const double t_next = state.t + parameters_.step;
+  if (const std::string failure =
+          solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, state.counters);
+      !failure.empty())
+    throw RunError(t_next, failure);
 }
 
 void MoreauJean::update(State& state) {

@@ -51,6 +51,7 @@
 #include "engine/steppers/stepper.h"
 
 #include <Eigen/SparseCholesky>
+#include <string>
 
 namespace csim {
 
@@ -97,6 +98,7 @@ class QuasiStatic final : public Stepper {
   Vector z_, q_, f_, f_z_, dz_, r_, reactions_;
   Vector contact_force_;       // Hᵀ r of the last solve (N, N·m), in velocity components
   Vector previous_dz_;         // the last Newton step, to detect oscillation
+  std::string contact_failure_;  // the last iterate's contact solve failure message, or ""
   Vector step_increment_;      // q_j ⊖ q_k in velocity components (m, rad): the slip rows' argument
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;

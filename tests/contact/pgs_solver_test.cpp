@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <vector>
 
@@ -421,6 +422,50 @@ TEST(PgsSolver, ActiveSetIterationFindsStickOnOneCornerAndSlipOnTheOther) {
   plain.polish = false;
   Eigen::VectorXd r_plain;
   EXPECT_FALSE(PgsSolver(plain).solve(problem, r_plain).converged);
+}
+
+TEST(PgsSolver, PolishFindsTheLateralSlipOfANodeHeldAcrossTheGround) {
+  // Met in scenes/rolling-ring-3d on the benchmark's 34 x 5 mesh: a plane-strain HEXA8 ring (z held on
+  // every node) under a cornering ground, 10 contacts. The ground slides laterally under the nodes
+  // near x = 0 at 1e-7 of the step's rolling motion, and W's t2 column is zero there (nothing can move
+  // them along z), so they must slip with u_t2 = q_t2 and a lateral friction of most of their cone.
+  // The hub's free spin couples every t1 row (W_t1t1 = 100, nearly rank one), and Gauss–Seidel on
+  // those steep slip laws stalls. The polish used to run Newton from the active set's result, which
+  // had put these contacts in stick with r_t2 = 0 (its W_cc-weighted residual blind to r_t2): the
+  // solve ended at 3.2e-7. From the Gauss–Seidel iterate Newton converges in a few steps.
+  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/ring_cornering_lateral_slip_3d.txt");
+  ASSERT_TRUE(file.good());
+  const FrictionContactProblem problem = read_problem(file);
+  std::vector<int> held_across;  // contacts with a zero t2 column of W and a lateral free velocity
+  for (int c = 0; c < problem.contacts; ++c)
+    if (problem.W.col(3 * c + 2).norm() == 0.0 && problem.q(3 * c + 2) != 0.0) held_across.push_back(c);
+  ASSERT_GE(held_across.size(), 2u);
+
+  PgsParameters plain;
+  plain.polish = false;
+  plain.tolerance = 1e-10;
+  plain.max_iterations = 20000;
+  Eigen::VectorXd r_plain;
+  EXPECT_GT(PgsSolver(plain).solve(problem, r_plain).residual, 1e-6);
+
+  PgsParameters polished = plain;
+  polished.polish = true;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(polished).solve(problem, r);
+  ASSERT_TRUE(statistics.converged) << statistics.residual;
+  EXPECT_LE(statistics.iterations, 200);
+  // Coulomb's slip law on the held contacts: r_t = −μ r_n u_t/|u_t|, with a lateral share of the cone.
+  const Eigen::VectorXd u = problem.W * r + problem.q;
+  int sliding_sideways = 0;
+  for (const int c : held_across) {
+    const double r_n = r(3 * c), mu = problem.mu[c](0);
+    if (!(r_n > 1e-9 * r.maxCoeff())) continue;  // open (a round-off impulse)
+    const Eigen::Vector2d u_t = u.segment<2>(3 * c + 1), r_t = r.segment<2>(3 * c + 1);
+    EXPECT_EQ(u_t(1), problem.q(3 * c + 2));
+    EXPECT_LE((r_t + mu * r_n * u_t.normalized()).norm(), 1e-6 * mu * r_n) << "contact " << c;
+    if (std::abs(r_t(1)) > 0.5 * mu * r_n) ++sliding_sideways;
+  }
+  EXPECT_GE(sliding_sideways, 1);
 }
 
 }  // namespace
