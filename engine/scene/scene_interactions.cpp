@@ -65,10 +65,13 @@ void read_loads(const SceneNode& root, World& world) {
       load.force = node.vector("force", d, d);
     }
     if (node.has("ramp") && node.has("table")) node.fail("give either ramp or table, not both");
-    load.multiplier.ramp_time = node.non_negative("ramp", 0.0);
+    // Read ramp (and so record its default in the tree) only without a table: a default ramp next to
+    // the file's table would make the tree that --set on a default key re-reads contradict itself.
     if (node.has("table")) {
       read_table_rows(node.child("table"), load.multiplier.table);
       if (load.multiplier.table.empty()) node.fail_at("table", "must not be empty");
+    } else {
+      load.multiplier.ramp_time = node.non_negative("ramp", 0.0);
     }
     world.loads.push_back(load);
   }
