@@ -389,8 +389,8 @@ bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& r
   const Eigen::VectorXd iterate = r;
   bool improved = active_set_polish<D>(problem, r, residual, false);
   if (residual > tolerance) improved = active_set_polish<D>(problem, r, residual, true) || improved;
-  // Newton from the iterate, then from the active set's result if it differs (the better start
-  // before this order was chosen; kept for the problems where it still is).
+  // Newton from the iterate, then from the active set's result if it differs (the former start, kept
+  // second so that no problem the former order solved is lost).
   const Eigen::VectorXd active_set_result = r;
   const bool active_set_moved = improved;
   for (const Eigen::VectorXd* start : {&iterate, &active_set_result}) {
