@@ -371,6 +371,25 @@ bool active_set_polish(const FrictionContactProblem& problem, Eigen::VectorXd& r
 // Newton steps per polish; each costs a dense LU of the problem's size.
 constexpr int kNewtonIterations = 30;
 
+// Alart–Curnier Newton from `start` at each ρ scale in turn, until the residual reaches the tolerance;
+// a result replaces r only if its full residual is smaller. True if r was replaced.
+bool newton_polish(const FrictionContactProblem& problem, const Eigen::VectorXd& start, Eigen::VectorXd& r,
+                   double& residual, double tolerance) {
+  bool improved = false;
+  for (const double rho_scale : {1.0, 1e3}) {
+    if (residual <= tolerance) break;
+    Eigen::VectorXd candidate = start;
+    if (!alart_curnier_newton(problem, candidate, kNewtonIterations, 1e-3 * tolerance, nullptr, rho_scale)) break;
+    const double candidate_residual = relative_residual(problem, candidate);
+    if (candidate_residual < residual) {
+      r = candidate;
+      residual = candidate_residual;
+      improved = true;
+    }
+  }
+  return improved;
+}
+
 // The polish: the active-set iteration from the iterate's statuses, then from "every closed contact in
 // stick" (the usual state of a pressed interface, which a slowly converging iterate misclassifies at
 // the cone's edge), then the semismooth Newton method (alart_curnier.h), which also finds slip
@@ -387,27 +406,15 @@ constexpr int kNewtonIterations = 30;
 template <int D>
 bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual, double tolerance) {
   const Eigen::VectorXd iterate = r;
-  bool improved = active_set_polish<D>(problem, r, residual, false);
-  if (residual > tolerance) improved = active_set_polish<D>(problem, r, residual, true) || improved;
+  bool moved_by_active_set = active_set_polish<D>(problem, r, residual, false);
+  if (residual > tolerance)
+    moved_by_active_set = active_set_polish<D>(problem, r, residual, true) || moved_by_active_set;
   // Newton from the iterate, then from the active set's result if it differs (the former start, kept
   // second so that no problem the former order solved is lost).
   const Eigen::VectorXd active_set_result = r;
-  const bool active_set_moved = improved;
-  for (const Eigen::VectorXd* start : {&iterate, &active_set_result}) {
-    if (start == &active_set_result && !active_set_moved) break;
-    for (const double rho_scale : {1.0, 1e3}) {
-      if (residual <= tolerance) return improved;
-      Eigen::VectorXd candidate = *start;
-      if (!alart_curnier_newton(problem, candidate, kNewtonIterations, 1e-3 * tolerance, nullptr, rho_scale))
-        return improved;
-      const double candidate_residual = relative_residual(problem, candidate);
-      if (candidate_residual < residual) {
-        r = candidate;
-        residual = candidate_residual;
-        improved = true;
-      }
-    }
-  }
+  bool improved = newton_polish(problem, iterate, r, residual, tolerance) || moved_by_active_set;
+  if (moved_by_active_set)
+    improved = newton_polish(problem, active_set_result, r, residual, tolerance) || improved;
   return improved;
 }
 

@@ -28,19 +28,18 @@ std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& p
   c.max_iterations = std::max(c.max_iterations, stats.iterations);
   c.max_residual = std::max(c.max_residual, stats.residual);
   c.rejected_local_solutions += stats.rejected_local_solutions;
-  std::ostringstream failure;
-  if (!stats.converged) {
-    if (c.not_converged++ == 0) c.first_not_converged_time = t_next;
-    if (!(stats.residual <= failure_residual))
-      failure << "contact solver failed at t = " << t_next << " s: residual " << stats.residual << " after "
-              << stats.iterations << " iterations (failure threshold contact_solver.failure_residual = "
-              << failure_residual << ")";
-  }
   const int d = problem.dimension;
   for (std::size_t i = 0; i < active.size(); ++i) {
     active[i].impulse.head(d) = r.segment(d * i, d);
     active[i].status = status.empty() ? ContactStatus::open : status[i];
   }
+  if (stats.converged) return "";
+  if (c.not_converged++ == 0) c.first_not_converged_time = t_next;
+  if (stats.residual <= failure_residual) return "";
+  std::ostringstream failure;
+  failure << "contact solver failed at t = " << t_next << " s: residual " << stats.residual << " after "
+          << stats.iterations << " iterations (failure threshold contact_solver.failure_residual = "
+          << failure_residual << ")";
   return failure.str();
 }
 
