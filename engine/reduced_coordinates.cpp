@@ -272,6 +272,11 @@ void ReducedCoordinates::reduce_stiffness(const SparseMatrix& K, const SparseMat
     return;
   }
   K_z = SparseMatrix(T.transpose() * K * T);
+  SparseMatrix G;
+  if (geometric_stiffness(q, f, G)) K_z += G;
+}
+
+bool ReducedCoordinates::geometric_stiffness(const Vector& q, const Vector& f, SparseMatrix& G) const {
   Triplets geometric;
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
@@ -280,6 +285,7 @@ void ReducedCoordinates::reduce_stiffness(const SparseMatrix& K, const SparseMat
     const Eigen::Matrix3d& R = pose.linear();
     const Eigen::Vector3d s = R.transpose() * (node_position(node, q) - pose.translation());  // body-frame arm
     const Eigen::Vector3d force = node_force(node, f);
+    if (force.isZero(0.0)) continue;
     for (const auto& [ci, ei] : hub.axes) {
       const int ui = unknown_of_[rigid.velocity_offset + ci];
       if (ui < 0) continue;
@@ -297,11 +303,10 @@ void ReducedCoordinates::reduce_stiffness(const SparseMatrix& K, const SparseMat
       }
     }
   }
-  if (!geometric.empty()) {
-    SparseMatrix G(unknown_count_, unknown_count_);
-    G.setFromTriplets(geometric.begin(), geometric.end());
-    K_z += G;
-  }
+  if (geometric.empty()) return false;
+  G.resize(unknown_count_, unknown_count_);
+  G.setFromTriplets(geometric.begin(), geometric.end());
+  return true;
 }
 
 }  // namespace csim

@@ -68,6 +68,8 @@ class ReducedCoordinates {
   // K_z = Tᵀ K T − Σ f_i ∂²Φ_i/∂z² (T from tangent(q), f the generalized force at q).
   void reduce_stiffness(const SparseMatrix& K, const SparseMatrix& T, const Vector& q, const Vector& f,
                         SparseMatrix& K_z) const;
+  // G = −Σ f_i ∂²Φ_i/∂z² alone (nz × nz); false, G untouched, when it is zero (no hub turns).
+  bool geometric_stiffness(const Vector& q, const Vector& f, SparseMatrix& G) const;
 
  private:
   // A rigid body carrying tied nodes.

@@ -189,6 +189,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
         .value("mean_per_step", c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0)
         .value("max_per_step", c.max_newton_iterations)
         .value("regularized_iterations", c.newton_regularized)
+        .value("contact_held_iterations", c.newton_held)
         .end_object();
   json.begin_object("contacts")
       .value("max_active", c.max_contact_points)

@@ -36,6 +36,7 @@ struct SolverCounters {
   long newton_iterations = 0;     // Newton iterations (quasi-static; Moreau–Jean with finite-strain bodies), summed over steps
   int max_newton_iterations = 0;  // the most in one step
   long newton_regularized = 0;    // iterations whose tangent needed a proximal term to be positive definite
+  long newton_held = 0;           // iterations whose tangent was held by its contacts' rows instead (quasi_static.h)
 };
 
 // Energy bookkeeping (J), accumulated from t = 0. The discrete balance of the θ-method,

@@ -230,8 +230,9 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
     std::printf("  warning: the contact solver stayed above its tolerance in %ld of %ld solves (first at t = %g s)\n",
                 c.not_converged, c.solves, c.first_not_converged_time);
   if (scene.run.integrator == "quasi-static" || c.newton_iterations > 0)
-    std::printf("  Newton: %ld iterations, %.2f a step on average, %d at most, %ld regularized\n", c.newton_iterations,
-                c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0, c.max_newton_iterations, c.newton_regularized);
+    std::printf("  Newton: %ld iterations, %.2f a step on average, %d at most, %ld regularized, %ld held by contacts\n",
+                c.newton_iterations, c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0, c.max_newton_iterations,
+                c.newton_regularized, c.newton_held);
   const csim::EnergyBalance& e = report.state.energy;
   if (scene.run.integrator == "quasi-static") {  // no inertia: the balance of work is not tracked
     std::printf("  energy: elastic %.6g J (the quasi-static stepper keeps no balance of work)\n", e.elastic);

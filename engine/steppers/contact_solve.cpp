@@ -7,14 +7,17 @@
 namespace csim {
 
 void warm_start(const std::vector<ActiveContact>& previous, const std::vector<ActiveContact>& active,
-                int dimension, int size, Vector& r) {
+                int dimension, int size, Vector& r, std::vector<ContactStatus>* status) {
   r.setZero(size);
+  if (status) status->assign(active.size(), ContactStatus::open);
   std::size_t j = 0;  // both lists are sorted by key
   for (std::size_t i = 0; i < active.size(); ++i) {
     const ContactKey& key = active[i].point.key;
     while (j < previous.size() && previous[j].point.key < key) ++j;
-    if (j < previous.size() && previous[j].point.key == key)
+    if (j < previous.size() && previous[j].point.key == key) {
       r.segment(dimension * i, dimension) = previous[j].impulse.head(dimension);
+      if (status) (*status)[i] = previous[j].status;
+    }
   }
 }
 

@@ -11,9 +11,10 @@
 
 namespace csim {
 
-// r (size problem.size()) gets the previous impulses of the contacts with the same key, zeros elsewhere.
+// r (size problem.size()) gets the previous impulses of the contacts with the same key, zeros elsewhere;
+// status, when given, their previous statuses (open for a new contact).
 void warm_start(const std::vector<ActiveContact>& previous, const std::vector<ActiveContact>& active,
-                int dimension, int size, Vector& r);
+                int dimension, int size, Vector& r, std::vector<ContactStatus>* status = nullptr);
 
 // Solves, accounts in state.counters, and copies the impulses and statuses back into `active`.
 // Returns "" or, for a solve left above the failure threshold, the message that stops the run; the

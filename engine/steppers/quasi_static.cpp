@@ -14,6 +14,7 @@ namespace csim {
 namespace {
 
 constexpr double kHubProximal = 1e-4;  // ε / max diag(K_z) on hub unknowns (see the header)
+constexpr double kFirstHeld = 1e-4;    // the held rows' first ρ / max diag(K_z)
 
 ReducedCoordinates reduce(const World& world, double t) {
   try {
@@ -65,46 +66,90 @@ void QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) {
   }
 }
 
-// K_z from the bodies' tangent (in triplets_, from generalized_force) and the springs', factored.
+// K_z from the bodies' tangent (in triplets_, from generalized_force) and the springs'; factored by
+// factor_stiffness once the contacts and their warm start are known.
 void QuasiStatic::assemble_stiffness(const Vector& q) {
   if (!needs_tangent()) return;
   const int n = world_.velocity_size;
   forces_.add_spring_stiffness(q, triplets_);
   K_.resize(n, n);
   K_.setFromTriplets(triplets_.begin(), triplets_.end());
-  reduced_.tangent(q, T_);
-  // The frame's geometric stiffness with the loads and internal forces only. With the contact forces
-  // too (the exact Hessian at fixed forces) the rigid rotation of a pressed wheel gets −N (R − δ),
-  // which the contact's own curvature (not in H) would balance: K_z turned indefinite and the proximal
-  // term needed to hold it slowed Newton (factor 0.8 a step at the start of the friction ramp).
+  // The frame's geometric stiffness with the loads and internal forces; the contact forces' part is
+  // added by factor_stiffness when held rows balance it (see the header).
   reduced_.reduce_stiffness(K_, T_, q, f_, K_z_);
-  // Proximal terms (see the header): ε on the hub unknowns; then, when K_z is still not positive
-  // definite, a term on every unknown grown tenfold until it is.
-  const double largest = K_z_.diagonal().cwiseAbs().maxCoeff();
-  for (int i : reduced_.hub_unknowns()) K_z_.coeffRef(i, i) += kHubProximal * largest;
-  auto positive_definite = [&] {
-    factor_.compute(K_z_);
-    return factor_.info() == Eigen::Success && (factor_.vectorD().array() > 0.0).all();
-  };
-  if (!positive_definite()) {
-    if (linear_)
-      throw RunError(t_, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held by "
-                         "springs, ties, prescribed components or fixed degrees of freedom)");
-    double added = 0.0;
-    const bool held = grow_proximal_term(largest, [&](double epsilon) {
-      for (int i = 0; i < K_z_.rows(); ++i) K_z_.coeffRef(i, i) += epsilon - added;
-      added = epsilon;
-      return positive_definite();
-    });
-    if (!held)
-      throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
-                         "material instability)");
-    ++counters_->newton_regularized;
-  }
-  factored_ = true;
 }
 
-void QuasiStatic::assemble_contacts(const State& state, double t_next) {
+// Factors K_z, made positive definite when it is not or, with a hub, cannot be (see the header): by the
+// rows the warm start holds, else by proximal terms. Sets f_aug_, the load that goes with the factored
+// matrix (Tᵀ f, less ρ H_Aᵀ c_A with held rows).
+void QuasiStatic::factor_stiffness() {
+  f_aug_ = f_z_;
+  if (!needs_tangent()) return;
+  factored_ = true;
+  auto positive_definite = [&](const SparseMatrix& A) {
+    factor_.compute(A);
+    return factor_.info() == Eigen::Success && (factor_.vectorD().array() > 0.0).all();
+  };
+  const bool hub = !reduced_.hub_unknowns().empty();
+  if (!hub && positive_definite(K_z_)) return;
+  if (linear_)
+    throw RunError(t_, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held by "
+                       "springs, ties, prescribed components or fixed degrees of freedom)");
+  const double largest = K_z_.diagonal().cwiseAbs().maxCoeff();
+  // The rows held at the warm start.
+  Triplets augmented;
+  Vector load = Vector::Zero(f_z_.size());
+  std::vector<int> nonzero;
+  bool sticking = false;
+  for (int i = 0; i < problem_.contacts; ++i) {
+    if (!(r_(d_ * i) > 0.0)) continue;
+    const bool stick = held_[i] == ContactStatus::stick;
+    sticking = sticking || stick;
+    for (int a = d_ * i; a < d_ * (i + 1) && (a == d_ * i || stick); ++a) {
+      nonzero.clear();
+      for (int k = 0; k < H_.cols(); ++k)
+        if (H_(a, k) != 0.0) nonzero.push_back(k);
+      for (int k : nonzero) {
+        for (int l : nonzero) augmented.emplace_back(k, l, H_(a, k) * H_(a, l));
+        load(k) += H_(a, k) * offset_(a);
+      }
+    }
+  }
+  // A hub needs a sticking contact to hold its spin; without, its proximal term.
+  if (!augmented.empty() && (!hub || sticking)) {
+    SparseMatrix HtH(K_z_.rows(), K_z_.cols());
+    HtH.setFromTriplets(augmented.begin(), augmented.end());
+    SparseMatrix base = K_z_;
+    if (hub) {
+      contact_force_.setZero(f_.size());
+      for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), contact_force_);
+      SparseMatrix G;
+      if (reduced_.geometric_stiffness(q_, contact_force_, G)) base += G;
+    }
+    for (double rho = kFirstHeld * largest; rho <= 10.0 * largest; rho *= 10.0) {
+      if (positive_definite(base + rho * HtH)) {
+        f_aug_ = f_z_ - rho * load;
+        ++counters_->newton_held;
+        return;
+      }
+    }
+  }
+  for (int i : reduced_.hub_unknowns()) K_z_.coeffRef(i, i) += kHubProximal * largest;
+  if (positive_definite(K_z_)) return;
+  double added = 0.0;
+  const bool held = grow_proximal_term(largest, [&](double epsilon) {
+    for (int i = 0; i < K_z_.rows(); ++i) K_z_.coeffRef(i, i) += epsilon - added;
+    added = epsilon;
+    return positive_definite(K_z_);
+  });
+  if (!held)
+    throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
+                       "material instability)");
+  ++counters_->newton_regularized;
+}
+
+// The candidate contacts at q_j, their rows over z (H_z = H T) and offsets c (gap, slip since q_k).
+void QuasiStatic::detect_contacts(const State& state, double t_next) {
   detector_.detect(q_, contact_distance_, candidates_, rows_);
   const int nc = static_cast<int>(candidates_.size());
   active_ = candidates_;
@@ -123,32 +168,43 @@ void QuasiStatic::assemble_contacts(const State& state, double t_next) {
         H_(a, it.col()) += row.value[k] * it.value();
   }
   for (int i = 0; i < nc; ++i) problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t_next);
+  offset_.setZero(m);
+  if (m == 0) return;
+  world_.position_difference(q_, state.q, step_increment_);
+  for (int i = 0; i < nc; ++i) {
+    offset_(d_ * i) = active_[i].point.gap;
+    // The slip since the step start: the rows over q, before T.
+    for (int k = 1; k < d_; ++k) offset_(d_ * i + k) = rows_[d_ * i + k].dot(step_increment_);
+  }
+}
+
+// u = W r + b with the factored stiffness: W = H_z K⁻¹ H_zᵀ, b = H_z K⁻¹ f_aug + c.
+void QuasiStatic::assemble_problem() {
+  const int m = problem_.size();
   problem_.W.resize(m, m);
   problem_.q.resize(m);
   if (m == 0) return;
   X_ = factor_.solve(Matrix(H_.transpose()));
   problem_.W.noalias() = H_ * X_;
-  problem_.q.noalias() = H_ * factor_.solve(f_z_);
-  world_.position_difference(q_, state.q, step_increment_);
-  for (int i = 0; i < nc; ++i) {
-    problem_.q(d_ * i) += active_[i].point.gap;
-    // The slip since the step start: the rows over q, before T.
-    for (int k = 1; k < d_; ++k) problem_.q(d_ * i + k) += rows_[d_ * i + k].dot(step_increment_);
-  }
+  problem_.q.noalias() = H_ * factor_.solve(f_aug_);
+  problem_.q += offset_;
 }
 
 double QuasiStatic::iterate(const State& state, double t_next) {
   t_ = t_next;
   generalized_force(q_, t_next, f_);
-  assemble_stiffness(q_);
+  if (needs_tangent()) reduced_.tangent(q_, T_);
   f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
-  assemble_contacts(state, t_next);
-  warm_start(previous_, active_, d_, problem_.size(), r_);
+  detect_contacts(state, t_next);
+  warm_start(previous_, active_, d_, problem_.size(), r_, &held_);
+  assemble_stiffness(q_);
+  factor_stiffness();
+  assemble_problem();
   // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
   // gaps of −0.14) need not stop the run: the next iterate solves again. The accepted iterate's must
   // not fail (step()).
   contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
-  dz_ = factor_.solve(f_z_);
+  dz_ = factor_.solve(f_aug_);
   if (problem_.size() > 0) dz_.noalias() += X_ * r_;
   // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
   contact_force_.setZero(f_.size());

@@ -7,7 +7,7 @@
 // z_k with the prescribed components at t_{k+1}, Newton's method solves the equilibrium
 //   Tᵀ (f(q) + Hᵀ r) = 0,   f = loads − internal forces (N),  r the contact forces (N),
 // each iteration j being a linearized frictional contact problem at q_j:
-//   stiffness  K_z = Tᵀ K_T(q_j) T + ties' geometric term (+ ε on hub unknowns, see below);
+//   stiffness  K_z = Tᵀ K_T(q_j) T + ties' geometric term (held positive definite, see below);
 //   detect     contacts whose gap is ≤ integrator.contact_distance at q_j, their frames and rows H
 //              (H_z = H T);
 //   problem    u = W r + b,  W = H_z K_z⁻¹ H_zᵀ,  b = H_z K_z⁻¹ Tᵀ f + c:
@@ -23,21 +23,31 @@
 // geometry linearized at q_k (small displacements), as the stepper always did; the others stop the run
 // (exit 2) when Newton has not converged in newton_max_iterations.
 //
-// Proximal terms. The Delassus operator needs K_z positive definite, which the equilibrium with its
-// contacts does not guarantee:
+// Holding K_z positive definite. The Delassus operator needs K_z positive definite, which the
+// equilibrium with its contacts does not guarantee:
 //   a rigid body carrying a tied ring (a hub) free to turn has no stiffness of its own: the ring's
-//   rigid rotation is held only by friction (and by nothing in a frictionless press). K_z gets
-//   ε = 1e-4 · max diag(K_z) on the hub's unknowns;
-//   a stressed body held by contacts can have an indefinite tangent on its own (a compressed block's
-//   sway and tilt: the initial-stress term; the contact's geometric stiffness, which would balance it,
-//   is not in K_z). Then every unknown gets ε, from 1e-6 · max diag(K_z), grown tenfold until K_z is
-//   positive definite (counted in the summary as regularized iterations).
-// Both are proximal terms of the iteration (springs from the last iterate, not from a fixed point):
-// they vanish at convergence (Δz = 0), so the converged state is unbiased; they slow Newton to a
-// linear rate along the modes they hold (measured on the rolling ring: 7 to 12 iterations a step).
-// The hub's term is a fixed fraction: 1e-6 left the contact solves ill-conditioned (PGS stalled at a
-// residual of 1e-2 on the elastic ring), 1e-2 slowed Newton past 30 iterations at the start of the
-// friction ramp.
+//   rigid rotation is held only by friction (and by nothing in a frictionless press);
+//   a stressed body held by contacts can have an indefinite tangent on its own (a compressed ring's
+//   sway: the initial-stress term, which the contacts balance).
+// First remedy, the held rows: the contacts the warm start holds (closed: r_n > 0; sticking: their
+// tangential rows too) give A = K_z + ρ H_Aᵀ H_A, with the load Tᵀf − ρ H_Aᵀ c_A. Both sides gain
+// ρ H_Aᵀ (H_A Δz + c_A) = ρ H_Aᵀ u_A, zero while those rows stay held (u_n = 0, u_t = 0), so the
+// iteration is Newton's own; a row that lets go costs an iteration, not the converged state (A is the
+// last iterate's set, so a fixed point holds its rows). ρ = 1e-4, 1e-3, … × max diag(K_z) until A is
+// positive definite. With a hub, this needs a sticking contact, and the frame's geometric stiffness then
+// takes the contact forces too (the exact Hessian): Newton converges quadratically while rolling.
+// Measured on the thin Mooney–Rivlin ring (r_i 1.7, δ 0.1, 68 × 10): 10 iterations a step with the
+// proximal terms below, 4 with the held rows (1563 in the run against 3605; 11 s against 21 s).
+// Otherwise (no contact sticks: the whole patch slips in the spin-up), the proximal terms: ε =
+// 1e-4 · max diag(K_z) on the hub's unknowns, and, when K_z is still not positive definite, ε on every
+// unknown from 1e-6 · max diag(K_z), grown tenfold until it is (counted in the summary as regularized
+// iterations; the held rows' as contact_held). Proximal terms are springs from the last iterate: they
+// vanish at convergence (Δz = 0), so the converged state is unbiased, but they slow Newton to a linear
+// rate along the modes they hold. The hub's term is a fixed fraction: 1e-6 left the contact solves
+// ill-conditioned (PGS stalled at a residual of 1e-2 on the elastic ring), 1e-2 slowed Newton past 30
+// iterations at the start of the friction ramp. Without the held rows, the frame's geometric stiffness
+// takes the loads and internal forces only: with the contact forces, the rigid rotation of a pressed
+// wheel gets −N (R − δ) (its nodes leave the ground), which nothing then balances.
 //
 // Outputs: state velocities hold Δq / h, impulses r·h (so that contact-force probes read r);
 // state.reactions the generalized force each prescription exerts (N, N·m); Newton's counters.
@@ -76,7 +86,9 @@ class QuasiStatic final : public Stepper {
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
   void assemble_stiffness(const Vector& q);
-  void assemble_contacts(const State& state, double t_next);
+  void factor_stiffness();
+  void detect_contacts(const State& state, double t_next);
+  void assemble_problem();
   void generalized_force(const Vector& q, double t, Vector& f);
   bool needs_tangent() const { return !(linear_ && factored_); }  // a linear World's is factored once
 
@@ -95,13 +107,15 @@ class QuasiStatic final : public Stepper {
   double t_ = 0.0;  // the time the current step reaches (s), for messages
   int d_;
 
-  Vector z_, q_, f_, f_z_, dz_, r_, reactions_;
+  Vector z_, q_, f_, f_z_, f_aug_, dz_, r_, reactions_;
+  Vector offset_;              // c: the contacts' gaps (normal rows) and slips since q_k (tangential rows)
   Vector contact_force_;       // Hᵀ r of the last solve (N, N·m), in velocity components
   Vector previous_dz_;         // the last Newton step, to detect oscillation
   std::string contact_failure_;  // the last iterate's contact solve failure message, or ""
   Vector step_increment_;      // q_j ⊖ q_k in velocity components (m, rad): the slip rows' argument
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
+  std::vector<ContactStatus> held_;  // the warm start's statuses of active_
   std::vector<SparseRow> rows_;
   Matrix H_, X_;
   FrictionContactProblem problem_;
