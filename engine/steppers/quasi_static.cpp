@@ -15,6 +15,7 @@ namespace {
 
 constexpr double kHubProximal = 1e-4;  // ε / max diag(K_z) on hub unknowns (see the header)
 constexpr double kFirstHeld = 1e-4;    // the held rows' first ρ / max diag(K_z)
+constexpr int kHeldRounds = 4;         // solves again after dropping let-go rows, at most
 
 ReducedCoordinates reduce(const World& world, double t) {
   try {
@@ -80,32 +81,30 @@ void QuasiStatic::assemble_stiffness(const Vector& q) {
 }
 
 // Factors K_z, made positive definite when it is not or, with a hub, cannot be (see the header): by the
-// rows the warm start holds, else by proximal terms. Sets f_aug_, the load that goes with the factored
-// matrix (Tᵀ f, less ρ H_Aᵀ c_A with held rows).
-void QuasiStatic::factor_stiffness() {
+// held rows (hold_), else by proximal terms. Sets f_aug_, the load that goes with the factored matrix
+// (Tᵀ f, less ρ H_Aᵀ c_A with held rows). Returns whether held rows were used.
+bool QuasiStatic::factor_stiffness() {
   f_aug_ = f_z_;
-  if (!needs_tangent()) return;
+  if (!needs_tangent()) return false;
   factored_ = true;
   auto positive_definite = [&](const SparseMatrix& A) {
     factor_.compute(A);
     return factor_.info() == Eigen::Success && (factor_.vectorD().array() > 0.0).all();
   };
   const bool hub = !reduced_.hub_unknowns().empty();
-  if (!hub && positive_definite(K_z_)) return;
+  if (!hub && positive_definite(K_z_)) return false;
   if (linear_)
     throw RunError(t_, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held by "
                        "springs, ties, prescribed components or fixed degrees of freedom)");
   const double largest = K_z_.diagonal().cwiseAbs().maxCoeff();
-  // The rows held at the warm start.
   Triplets augmented;
   Vector load = Vector::Zero(f_z_.size());
   std::vector<int> nonzero;
   bool sticking = false;
   for (int i = 0; i < problem_.contacts; ++i) {
-    if (!(r_(d_ * i) > 0.0)) continue;
-    const bool stick = held_[i] == ContactStatus::stick;
-    sticking = sticking || stick;
-    for (int a = d_ * i; a < d_ * (i + 1) && (a == d_ * i || stick); ++a) {
+    sticking = sticking || hold_[i] == kHoldStick;
+    const int rows = hold_[i] == kHoldStick ? d_ : hold_[i] == kHoldNormal ? 1 : 0;
+    for (int a = d_ * i; a < d_ * i + rows; ++a) {
       nonzero.clear();
       for (int k = 0; k < H_.cols(); ++k)
         if (H_(a, k) != 0.0) nonzero.push_back(k);
@@ -129,23 +128,39 @@ void QuasiStatic::factor_stiffness() {
     for (double rho = kFirstHeld * largest; rho <= 10.0 * largest; rho *= 10.0) {
       if (positive_definite(base + rho * HtH)) {
         f_aug_ = f_z_ - rho * load;
-        ++counters_->newton_held;
-        return;
+        return true;
       }
     }
   }
-  for (int i : reduced_.hub_unknowns()) K_z_.coeffRef(i, i) += kHubProximal * largest;
-  if (positive_definite(K_z_)) return;
+  SparseMatrix proximal = K_z_;
+  for (int i : reduced_.hub_unknowns()) proximal.coeffRef(i, i) += kHubProximal * largest;
+  if (positive_definite(proximal)) return false;
   double added = 0.0;
   const bool held = grow_proximal_term(largest, [&](double epsilon) {
-    for (int i = 0; i < K_z_.rows(); ++i) K_z_.coeffRef(i, i) += epsilon - added;
+    for (int i = 0; i < proximal.rows(); ++i) proximal.coeffRef(i, i) += epsilon - added;
     added = epsilon;
-    return positive_definite(K_z_);
+    return positive_definite(proximal);
   });
   if (!held)
     throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
                        "material instability)");
   ++counters_->newton_regularized;
+  return false;
+}
+
+// Drops from hold_ the rows the last solve let go (an opened contact, a sticking one that slips);
+// false when every held row stayed held, so that the step was Newton's own.
+bool QuasiStatic::release_let_go_rows() {
+  bool released = false;
+  for (int i = 0; i < problem_.contacts; ++i) {
+    const ContactStatus status = active_[i].status;
+    const int keep = status == ContactStatus::open ? kHoldNone : status == ContactStatus::slip ? kHoldNormal : kHoldStick;
+    if (hold_[i] > keep) {
+      hold_[i] = keep;
+      released = true;
+    }
+  }
+  return released;
 }
 
 // The candidate contacts at q_j, their rows over z (H_z = H T) and offsets c (gap, slip since q_k).
@@ -196,14 +211,23 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   if (needs_tangent()) reduced_.tangent(q_, T_);
   f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
   detect_contacts(state, t_next);
-  warm_start(previous_, active_, d_, problem_.size(), r_, &held_);
+  warm_start(previous_, active_, d_, problem_.size(), r_, &warm_status_);
+  hold_.assign(problem_.contacts, kHoldNone);
+  for (int i = 0; i < problem_.contacts; ++i)
+    if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? kHoldStick : kHoldNormal;
   assemble_stiffness(q_);
-  factor_stiffness();
-  assemble_problem();
-  // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
-  // gaps of −0.14) need not stop the run: the next iterate solves again. The accepted iterate's must
-  // not fail (step()).
-  contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+  // Held rows that the solve lets go would make the step another than Newton's (see the header): the
+  // rows are dropped and the problem solved again, a few times at most.
+  for (int round = 0;; ++round) {
+    const bool held = factor_stiffness();
+    if (held && round == 0) ++counters_->newton_held;
+    assemble_problem();
+    // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
+    // gaps of −0.14) need not stop the run: the next iterate solves again. The accepted iterate's must
+    // not fail (step()).
+    contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+    if (!held || round == kHeldRounds || !release_let_go_rows()) break;
+  }
   dz_ = factor_.solve(f_aug_);
   if (problem_.size() > 0) dz_.noalias() += X_ * r_;
   // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.

@@ -31,13 +31,16 @@
 //   sway: the initial-stress term, which the contacts balance).
 // First remedy, the held rows: the contacts the warm start holds (closed: r_n > 0; sticking: their
 // tangential rows too) give A = K_z + ρ H_Aᵀ H_A, with the load Tᵀf − ρ H_Aᵀ c_A. Both sides gain
-// ρ H_Aᵀ (H_A Δz + c_A) = ρ H_Aᵀ u_A, zero while those rows stay held (u_n = 0, u_t = 0), so the
-// iteration is Newton's own; a row that lets go costs an iteration, not the converged state (A is the
-// last iterate's set, so a fixed point holds its rows). ρ = 1e-4, 1e-3, … × max diag(K_z) until A is
-// positive definite. With a hub, this needs a sticking contact, and the frame's geometric stiffness then
-// takes the contact forces too (the exact Hessian): Newton converges quadratically while rolling.
-// Measured on the thin Mooney–Rivlin ring (r_i 1.7, δ 0.1, 68 × 10): 10 iterations a step with the
-// proximal terms below, 4 with the held rows (1563 in the run against 3605; 11 s against 21 s).
+// ρ H_Aᵀ (H_A Δz + c_A) = ρ H_Aᵀ u_A, zero while those rows stay held (u_n = 0, u_t = 0), so the step is
+// Newton's own. A row that the solve lets go (a contact that opens, or slips) is dropped and the
+// problem solved again (at most 4 times; the rare step still inexact costs an iteration, not the
+// converged state, since a fixed point holds its rows). Without that, the smoothed ring (many rows
+// that come and go) diverged at the first step where a held row slipped. ρ = 1e-4, 1e-3, … ×
+// max diag(K_z) until A is positive definite. With a hub, the held rows need a sticking contact, and the
+// frame's geometric stiffness then takes the contact forces too (the exact Hessian): Newton converges
+// quadratically while rolling. Measured on the thin Mooney–Rivlin ring (r_i 1.7, δ 0.1, 68 × 10):
+// 3605 iterations, 10 a step while rolling, with the proximal terms below; 1520, at most 4 a step,
+// with the held rows (11 s against 21 s), the same spin to 2e-7.
 // Otherwise (no contact sticks: the whole patch slips in the spin-up), the proximal terms: ε =
 // 1e-4 · max diag(K_z) on the hub's unknowns, and, when K_z is still not positive definite, ε on every
 // unknown from 1e-6 · max diag(K_z), grown tenfold until it is (counted in the summary as regularized
@@ -86,7 +89,8 @@ class QuasiStatic final : public Stepper {
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
   void assemble_stiffness(const Vector& q);
-  void factor_stiffness();
+  bool factor_stiffness();
+  bool release_let_go_rows();
   void detect_contacts(const State& state, double t_next);
   void assemble_problem();
   void generalized_force(const Vector& q, double t, Vector& f);
@@ -115,7 +119,10 @@ class QuasiStatic final : public Stepper {
   Vector step_increment_;      // q_j ⊖ q_k in velocity components (m, rad): the slip rows' argument
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
-  std::vector<ContactStatus> held_;  // the warm start's statuses of active_
+  std::vector<ContactStatus> warm_status_;  // the warm start's statuses of active_
+  // Per contact of active_, the rows held (quasi_static.h): none, the normal, or all (sticking).
+  enum Hold { kHoldNone = 0, kHoldNormal = 1, kHoldStick = 2 };
+  std::vector<int> hold_;
   std::vector<SparseRow> rows_;
   Matrix H_, X_;
   FrictionContactProblem problem_;

@@ -266,7 +266,9 @@ TEST(RollingRing3d, HeldInZItRollsLikeThePlaneRing) {
   };
   const double plane_spin = spin(*plane, a), space_spin = spin(*space, b);
   ASSERT_GT(plane_spin, 0.5);  // rolling (v / R = 1)
-  EXPECT_NEAR(space_spin, plane_spin, 1e-7 * plane_spin);
+  // Both are Newton iterates within the tolerance 1e-9 · R = 2e-9 of the same equilibrium, whose spin
+  // is Δθ / h with h = 0.01: they may differ by 2 · 2e-9 / 0.01 = 4e-7 (v / R = 1).
+  EXPECT_NEAR(space_spin, plane_spin, 4e-7);
 }
 
 }  // namespace
