@@ -120,8 +120,7 @@ bool QuasiStatic::factor_stiffness() {
     HtH.setFromTriplets(augmented.begin(), augmented.end());
     SparseMatrix base = K_z_;
     if (hub) {
-      contact_force_.setZero(f_.size());
-      for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), contact_force_);
+      update_contact_force();  // the warm start's, or the last round's
       SparseMatrix G;
       if (reduced_.geometric_stiffness(q_, contact_force_, G)) base += G;
     }
@@ -148,13 +147,18 @@ bool QuasiStatic::factor_stiffness() {
   return false;
 }
 
+void QuasiStatic::update_contact_force() {
+  contact_force_.setZero(f_.size());
+  for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), contact_force_);
+}
+
 // Drops from hold_ the rows the last solve let go (an opened contact, a sticking one that slips);
 // false when every held row stayed held, so that the step was Newton's own.
 bool QuasiStatic::release_let_go_rows() {
   bool released = false;
   for (int i = 0; i < problem_.contacts; ++i) {
     const ContactStatus status = active_[i].status;
-    const int keep = status == ContactStatus::open ? kHoldNone : status == ContactStatus::slip ? kHoldNormal : kHoldStick;
+    const Hold keep = status == ContactStatus::open ? kHoldNone : status == ContactStatus::slip ? kHoldNormal : kHoldStick;
     if (hold_[i] > keep) {
       hold_[i] = keep;
       released = true;
@@ -231,12 +235,12 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   dz_ = factor_.solve(f_aug_);
   if (problem_.size() > 0) dz_.noalias() += X_ * r_;
   // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
-  contact_force_.setZero(f_.size());
-  for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), contact_force_);
+  update_contact_force();
   reduced_.prescribed_forces(q_, f_ + contact_force_, reactions_);
   reactions_ = -reactions_;
-  // An oscillating iteration (each step reversing most of the last: the contact's own geometric
-  // stiffness, not in K_z, makes Newton's model too soft along the hub's spin) is under-relaxed by
+  // An oscillating iteration (each step reversing most of the last: on the proximal terms' path the
+  // contact's own geometric stiffness is not in K_z, which makes Newton's model too soft along the hub's
+  // spin) is under-relaxed by
   // the secant estimate of the right step: with Δz_j ≈ ρ Δz_{j−1}, ρ < −½, the step ω = 1/(1 − ρ) of
   // the scalar model. Measured: the elastic ring r_i = 0.2, δ = 0.1 diverged with ρ = −1.44.
   double relaxation = 1.0;

@@ -91,6 +91,7 @@ class QuasiStatic final : public Stepper {
   void assemble_stiffness(const Vector& q);
   bool factor_stiffness();
   bool release_let_go_rows();
+  void update_contact_force();  // contact_force_ ← Hᵀ r_
   void detect_contacts(const State& state, double t_next);
   void assemble_problem();
   void generalized_force(const Vector& q, double t, Vector& f);
@@ -113,7 +114,7 @@ class QuasiStatic final : public Stepper {
 
   Vector z_, q_, f_, f_z_, f_aug_, dz_, r_, reactions_;
   Vector offset_;              // c: the contacts' gaps (normal rows) and slips since q_k (tangential rows)
-  Vector contact_force_;       // Hᵀ r of the last solve (N, N·m), in velocity components
+  Vector contact_force_;       // Hᵀ r_ (N, N·m), in velocity components
   Vector previous_dz_;         // the last Newton step, to detect oscillation
   std::string contact_failure_;  // the last iterate's contact solve failure message, or ""
   Vector step_increment_;      // q_j ⊖ q_k in velocity components (m, rad): the slip rows' argument
@@ -122,7 +123,7 @@ class QuasiStatic final : public Stepper {
   std::vector<ContactStatus> warm_status_;  // the warm start's statuses of active_
   // Per contact of active_, the rows held (quasi_static.h): none, the normal, or all (sticking).
   enum Hold { kHoldNone = 0, kHoldNormal = 1, kHoldStick = 2 };
-  std::vector<int> hold_;
+  std::vector<Hold> hold_;
   std::vector<SparseRow> rows_;
   Matrix H_, X_;
   FrictionContactProblem problem_;
