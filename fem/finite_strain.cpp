@@ -47,7 +47,9 @@ struct Reference {
   std::array<Eigen::Vector3d, E::points> natural;
   std::array<double, E::points> weight;
   std::array<typename E::Gradients, E::points> derivatives;
-  typename E::Gradients centroid;
+  std::array<Eigen::Matrix<double, E::nodes, 1>, E::points> values;  // N_a
+  typename E::Gradients centroid;                                     // ∂N_a/∂ξ at ξ = 0
+  Eigen::Matrix<double, E::nodes, 1> centre;                          // N_a at ξ = 0
 };
 
 template <class E>
@@ -58,11 +60,13 @@ const Reference<E>& reference() {
     for (int g = 0; g < E::points; ++g) {
       r.natural[g] = rule[g].natural;
       r.weight[g] = rule[g].weight;
-      r.derivatives[g] =
-          shape_functions(E::type, rule[g].natural).derivatives.leftCols(E::dimension);
+      const ShapeFunctions shape = shape_functions(E::type, rule[g].natural);
+      r.derivatives[g] = shape.derivatives.leftCols(E::dimension);
+      r.values[g] = shape.values;
     }
-    r.centroid =
-        shape_functions(E::type, Eigen::Vector3d::Zero()).derivatives.leftCols(E::dimension);
+    const ShapeFunctions centre = shape_functions(E::type, Eigen::Vector3d::Zero());
+    r.centroid = centre.derivatives.leftCols(E::dimension);
+    r.centre = centre.values;
     return r;
   }();
   return data;
@@ -142,32 +146,114 @@ struct KernelOutput {
   typename E::Matrix tangent;
 };
 
+// The element's dilatation field θ(X) = φ(X)·c, the L² projection of J onto the span of φ:
+// φ = 1 (mean dilatation, Modes = 1) or φ = (1, (X − X̄)/ℓ) (linear dilatation, Modes = D + 1),
+// X the reference position, X̄ the element's centroid and ℓ = (V_e/scale)^(1/D) its size (which
+// keeps the projection's matrix near the identity). With M = ∫ φ φᵀ dV:
+//   c = M⁻¹ ∫ φ J dV,  Π_vol = ∫ U(θ) dV,  pressure p(X) = φ(X)·p̂, p̂ = M⁻¹ ∫ U'(θ) φ dV,
+//   f_vol = ∫ p Bᵀ ∂J/∂F dV = G p̂ with G = ∫ Bᵀ ∂J/∂F φᵀ dV,
+//   K_vol = G M⁻¹ (∫ U''(θ) φ φᵀ dV) M⁻¹ Gᵀ + ∫ p Bᵀ (∂²J/∂F∂F) B dV.
+// With Modes = 1 this is θ = J̄, p = U'(J̄) and K_vol's first term U''(J̄)/V_e g gᵀ (finite_strain.h).
+template <int Modes>
+struct Dilatation {
+  using Basis = Eigen::Matrix<double, Modes, 1>;
+  using Gram = Eigen::Matrix<double, Modes, Modes>;
+  double energy = 0.0;   // Π_vol, J
+  Basis pressure;        // p̂, Pa
+  Gram inverse_gram;     // M⁻¹, 1/m³
+  Gram stiffness;        // ∫ U''(θ) φ φᵀ dV, J
+};
+
+// φ at the reference position x (m) of an element with centroid X̄ and size ℓ.
+template <int Modes, class Point>
+Eigen::Matrix<double, Modes, 1> dilatation_basis(const Point& x, const Point& centroid,
+                                                 double size) {
+  Eigen::Matrix<double, Modes, 1> phi;
+  phi(0) = 1.0;
+  if constexpr (Modes > 1) phi.template tail<Modes - 1>() = (x - centroid) / size;
+  return phi;
+}
+
 template <class E>
-void evaluate(const typename E::Gradients& X, const typename E::Nodal& u, const KernelInput& in,
-              bool with_tangent, KernelOutput<E>& out) {
-  constexpr int D = E::dimension;
+struct ElementPoints {
+  std::array<PointKinematics<E>, E::points> kinematics;
+  std::array<Eigen::Matrix<double, E::dimension, 1>, E::points> position;  // X at the point, m
+  Eigen::Matrix<double, E::dimension, 1> centroid;                         // X̄, m
+  double volume = 0.0;                                                     // V_e, m³
+  double size = 1.0;                                                       // ℓ, m
+};
+
+template <class E>
+ElementPoints<E> element_points(const typename E::Gradients& X, const typename E::Nodal& u,
+                                const KernelInput& in) {
   const Reference<E>& ref = reference<E>();
-  std::array<PointKinematics<E>, E::points> points;
-  double current_volume = 0.0, reference_volume = 0.0;
+  ElementPoints<E> points;
+  points.centroid.setZero();
   for (int g = 0; g < E::points; ++g) {
-    points[g] = kinematics<E>(X, u, ref.derivatives[g], ref.weight[g], in.scale, in.element,
-                              ref.natural[g]);
-    current_volume += points[g].J * points[g].volume;
-    reference_volume += points[g].volume;
+    points.kinematics[g] = kinematics<E>(X, u, ref.derivatives[g], ref.weight[g], in.scale,
+                                         in.element, ref.natural[g]);
+    points.position[g] = X.transpose() * ref.values[g];
+    points.volume += points.kinematics[g].volume;
+    points.centroid += points.kinematics[g].volume * points.position[g];
   }
-  const bool mean_dilatation = in.formulation == FiniteStrainFormulation::mean_dilatation;
-  VolumetricResponse volumetric;
-  if (mean_dilatation)
-    volumetric = volumetric_response(in.material, current_volume / reference_volume);
+  points.centroid /= points.volume;
+  points.size = std::pow(points.volume / in.scale, 1.0 / E::dimension);
+  return points;
+}
+
+template <class E, int Modes>
+Dilatation<Modes> project_dilatation(const ElementPoints<E>& points, const KernelInput& in) {
+  const Reference<E>& ref = reference<E>();
+  using D = Dilatation<Modes>;
+  typename D::Gram gram = D::Gram::Zero();
+  typename D::Basis volume_change = D::Basis::Zero();
+  std::array<typename D::Basis, E::points> phi;
+  for (int g = 0; g < E::points; ++g) {
+    const PointKinematics<E>& p = points.kinematics[g];
+    phi[g] = dilatation_basis<Modes>(points.position[g], points.centroid, points.size);
+    gram.noalias() += p.volume * phi[g] * phi[g].transpose();
+    volume_change += p.volume * p.J * phi[g];
+  }
+  D d;
+  d.inverse_gram = gram.inverse();
+  const typename D::Basis c = d.inverse_gram * volume_change;
+  typename D::Basis mean_stress = D::Basis::Zero();
+  d.stiffness.setZero();
+  for (int g = 0; g < E::points; ++g) {
+    const double theta = phi[g].dot(c);
+    if (!(theta > 0.0) || !std::isfinite(theta))
+      throw_at(in.element, " is inverted: its projected volume ratio θ = ", theta, ref.natural[g]);
+    const VolumetricResponse v = volumetric_response(in.material, theta);
+    const double dV = points.kinematics[g].volume;
+    d.energy += dV * v.energy;
+    mean_stress += dV * v.mean_stress * phi[g];
+    d.stiffness.noalias() += dV * v.stiffness * phi[g] * phi[g].transpose();
+  }
+  d.pressure = d.inverse_gram * mean_stress;
+  return d;
+}
+
+// Modes = 0: the standard element; otherwise W_iso at the points and U on the projected
+// dilatation of Modes modes.
+template <class E, int Modes>
+void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
+                   const KernelInput& in, bool with_tangent, KernelOutput<E>& out) {
+  constexpr int D = E::dimension;
+  constexpr bool split = Modes > 0;
+  constexpr int M = split ? Modes : 1;
+  const ElementPoints<E> points = element_points<E>(X, u, in);
+  Dilatation<M> dilatation;
+  if constexpr (split) dilatation = project_dilatation<E, M>(points, in);
 
   Eigen::Matrix<double, D, E::nodes> force = Eigen::Matrix<double, D, E::nodes>::Zero();
-  typename E::Vector volume_gradient = E::Vector::Zero();  // g = ∂v_e/∂u_e, m²
-  out.energy = mean_dilatation ? reference_volume * volumetric.energy : 0.0;
+  Eigen::Matrix<double, E::dofs, M> volume_gradient;  // G, m³ per m and mode
+  volume_gradient.setZero();
+  out.energy = dilatation.energy;
   if (with_tangent) out.tangent.setZero();
-  for (const PointKinematics<E>& p : points) {
-    HyperelasticResponse response = mean_dilatation
-                                        ? isochoric_response(in.material, p.F, with_tangent)
-                                        : hyperelastic_response(in.material, p.F, with_tangent);
+  for (int g = 0; g < E::points; ++g) {
+    const PointKinematics<E>& p = points.kinematics[g];
+    HyperelasticResponse response = split ? isochoric_response(in.material, p.F, with_tangent)
+                                          : hyperelastic_response(in.material, p.F, with_tangent);
     typename E::Square P = response.stress.template topLeftCorner<D, D>();
     typename E::Tangent A;
     typename E::GradientMap B;
@@ -175,10 +261,13 @@ void evaluate(const typename E::Gradients& X, const typename E::Nodal& u, const 
       A = restrict_tangent<E>(response.tangent);
       B = gradient_map<E>(p.gradients);
     }
-    if (mean_dilatation) {
-      // U'(J̄) ∂J/∂F and U'(J̄) ∂²J/∂F∂F, ∂J/∂F = J H, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ).
+    if constexpr (split) {
+      // p ∂J/∂F and p ∂²J/∂F∂F, ∂J/∂F = J H, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ).
+      const Eigen::Matrix<double, M, 1> phi =
+          dilatation_basis<M>(points.position[g], points.centroid, points.size);
+      const double pressure = phi.dot(dilatation.pressure);
       const typename E::Square H = p.F.template topLeftCorner<D, D>().inverse().transpose();
-      P += volumetric.mean_stress * p.J * H;
+      P += pressure * p.J * H;
       if (with_tangent) {
         Eigen::Matrix<double, E::gradient, 1> dJ;
         for (int i = 0; i < D; ++i)
@@ -186,10 +275,9 @@ void evaluate(const typename E::Gradients& X, const typename E::Nodal& u, const 
             dJ(D * i + J) = p.J * H(i, J);
             for (int k = 0; k < D; ++k)
               for (int L = 0; L < D; ++L)
-                A(D * i + J, D * k + L) +=
-                    volumetric.mean_stress * p.J * (H(i, J) * H(k, L) - H(i, L) * H(k, J));
+                A(D * i + J, D * k + L) += pressure * p.J * (H(i, J) * H(k, L) - H(i, L) * H(k, J));
           }
-        volume_gradient.noalias() += p.volume * (B.transpose() * dJ);
+        volume_gradient.noalias() += p.volume * ((B.transpose() * dJ) * phi.transpose());
       }
     }
     out.energy += p.volume * response.energy;
@@ -198,11 +286,35 @@ void evaluate(const typename E::Gradients& X, const typename E::Nodal& u, const 
   }
   out.force = Eigen::Map<const typename E::Vector>(force.data());
   if (!with_tangent) return;
-  if (mean_dilatation)
-    out.tangent.noalias() +=
-        (volumetric.stiffness / reference_volume) * (volume_gradient * volume_gradient.transpose());
+  if constexpr (split) {
+    const Eigen::Matrix<double, M, M> volumetric =
+        dilatation.inverse_gram * dilatation.stiffness * dilatation.inverse_gram;
+    out.tangent.noalias() += volume_gradient * (volumetric * volume_gradient.transpose());
+  }
   // Exactly symmetric (round-off in Bᵀ(AB) is not), as symmetric factorizations assume.
   out.tangent = 0.5 * (out.tangent + out.tangent.transpose()).eval();
+}
+
+template <class E>
+void evaluate(const typename E::Gradients& X, const typename E::Nodal& u, const KernelInput& in,
+              bool with_tangent, KernelOutput<E>& out) {
+  switch (in.formulation) {
+    case FiniteStrainFormulation::standard: return evaluate_with<E, 0>(X, u, in, with_tangent, out);
+    case FiniteStrainFormulation::mean_dilatation:
+      return evaluate_with<E, 1>(X, u, in, with_tangent, out);
+    case FiniteStrainFormulation::linear_dilatation:
+      return evaluate_with<E, E::dimension + 1>(X, u, in, with_tangent, out);
+  }
+}
+
+// The volumetric part of the centroid stress: U'(J) at the point, or the projected pressure.
+template <class E, int Modes>
+double centroid_pressure(const typename E::Gradients& X, const typename E::Nodal& u,
+                         const KernelInput& in) {
+  const ElementPoints<E> points = element_points<E>(X, u, in);
+  const Dilatation<Modes> d = project_dilatation<E, Modes>(points, in);
+  const Eigen::Matrix<double, E::dimension, 1> centre = X.transpose() * reference<E>().centre;
+  return dilatation_basis<Modes>(centre, points.centroid, points.size).dot(d.pressure);
 }
 
 template <class E>
@@ -212,25 +324,27 @@ Stress centroid_stress(const typename E::Gradients& X, const typename E::Nodal& 
   const PointKinematics<E> centre =
       kinematics<E>(X, u, ref.centroid, 1.0, 1.0, in.element, Eigen::Vector3d::Zero());
   Eigen::Matrix3d sigma;
-  if (in.formulation == FiniteStrainFormulation::mean_dilatation) {
-    double current_volume = 0.0, reference_volume = 0.0;
-    for (int g = 0; g < E::points; ++g) {
-      const PointKinematics<E> p =
-          kinematics<E>(X, u, ref.derivatives[g], ref.weight[g], 1.0, in.element, ref.natural[g]);
-      current_volume += p.J * p.volume;
-      reference_volume += p.volume;
-    }
-    const double mean_stress =
-        volumetric_response(in.material, current_volume / reference_volume).mean_stress;
-    const HyperelasticResponse r = isochoric_response(in.material, centre.F, false);
-    sigma = r.stress * centre.F.transpose() / centre.J + mean_stress * Eigen::Matrix3d::Identity();
-  } else {
+  if (in.formulation == FiniteStrainFormulation::standard) {
     const HyperelasticResponse r = hyperelastic_response(in.material, centre.F, false);
     sigma = r.stress * centre.F.transpose() / centre.J;
+  } else {
+    const double pressure = in.formulation == FiniteStrainFormulation::mean_dilatation
+                                ? centroid_pressure<E, 1>(X, u, in)
+                                : centroid_pressure<E, E::dimension + 1>(X, u, in);
+    const HyperelasticResponse r = isochoric_response(in.material, centre.F, false);
+    sigma = r.stress * centre.F.transpose() / centre.J + pressure * Eigen::Matrix3d::Identity();
   }
   Stress stress;
   stress << sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(0, 2);
   return stress;
+}
+
+// A linear dilatation constrains D + 1 modes per element: more than quad4 and hexa8 have
+// displacement modes per element on a large mesh (about D), so they would lock.
+void check_formulation(ElementType type, FiniteStrainFormulation formulation) {
+  if (formulation == FiniteStrainFormulation::linear_dilatation && type != ElementType::quad8)
+    throw FemError(std::string("the linear_dilatation formulation (Q2/P1) needs quad8 elements, not ") +
+                   to_string(type) + " (a linear pressure locks a linear element; use mean_dilatation)");
 }
 
 double checked_scale(ElementType type, double thickness, int element) {
@@ -270,6 +384,7 @@ double assemble(const FiniteStrainModel& model, const Eigen::VectorXd& displacem
     message << "thickness = " << model.thickness << " m must be > 0 for a plane-strain mesh";
     throw FemError(message.str());
   }
+  check_formulation(mesh.element_type, model.formulation);
   const double scale = mesh.dimension() == 2 ? model.thickness : 1.0;
   if (force) force->setZero(mesh.dof_count());
   if (triplets) triplets->clear();
@@ -309,6 +424,7 @@ const char* to_string(FiniteStrainFormulation formulation) {
   switch (formulation) {
     case FiniteStrainFormulation::standard: return "standard";
     case FiniteStrainFormulation::mean_dilatation: return "mean_dilatation";
+    case FiniteStrainFormulation::linear_dilatation: return "linear_dilatation";
   }
   return "unknown";
 }
@@ -320,6 +436,7 @@ FiniteStrainElementResult finite_strain_element(const ElementGeometry& element,
                                                 const ElementVector& displacement,
                                                 FiniteStrainOutput output) {
   check_hyperelastic(material);
+  check_formulation(element.type, formulation);
   const double scale = checked_scale(element.type, thickness, element.index);
   return dispatch(element.type, [&](auto kind) {
     using E = decltype(kind);
@@ -342,6 +459,7 @@ Stress finite_strain_centroid_stress(const ElementGeometry& element,
                                      FiniteStrainFormulation formulation,
                                      const ElementVector& displacement) {
   check_hyperelastic(material);
+  check_formulation(element.type, formulation);
   return dispatch(element.type, [&](auto kind) {
     using E = decltype(kind);
     check_size(element.index, "the displacement", displacement.size(), E::dofs);

@@ -27,10 +27,22 @@
 //   coarse quad8 meshes too flexible in bending (nearly incompressible cantilever, L/H = 10, tip
 //   deflection: +21 % with 2 elements through the depth, +3.6 % with 4, −0.1 % with 8, see
 //   tests/fem/finite_strain_test.cpp); Q1/P0 converges from below without locking.
+//   linear_dilatation  (quad8 only: Q2/P1, the pair of Abaqus' hybrid CPE8H) the same with J̄
+//                    replaced by θ(X), the L² projection of J onto the linear functions on the
+//                    element (3 modes; discontinuous between elements):
+//                    Π_e = ∫ W_iso(F) dV + ∫ U(θ) dV, f and K_T as above with the pressure
+//                    p(X) = the projection of U'(θ) in place of U'(J̄) (finite_strain.cpp). With
+//                    U quadratic (Mooney–Rivlin) this is the Hu–Washizu element with a linear
+//                    pressure and dilatation condensed per element (Simo, Taylor & Pister 1985).
+//                    It constrains what Q2/P0 leaves free: the cantilever above converges from
+//                    below to the 2D limit (≈ 0.985 of Timoshenko): −3.9 % with 1 element through
+//                    the depth (Q2/P0: ×3.8, a spurious bending mode), −1.8 % with 2, −0.35 % with
+//                    8. On quad4 and hexa8 it would lock: refused.
 // Errors (FemError): an inverted or degenerate reference element ("element N has a non-positive
 // Jacobian"), a current det F ≤ 0 at a Gauss point ("element N is inverted: det F = …"), a
-// displacement of the wrong size, a thickness ≤ 0 for plane elements, and the material's
-// check_hyperelastic errors.
+// displacement of the wrong size, a thickness ≤ 0 for plane elements, a projected volume ratio θ ≤ 0
+// ("element N is inverted: its projected volume ratio θ = …"), linear_dilatation on an element
+// other than quad8, and the material's check_hyperelastic errors.
 #pragma once
 
 #include "fem/elements.h"
@@ -43,7 +55,7 @@
 
 namespace csim {
 
-enum class FiniteStrainFormulation { standard, mean_dilatation };
+enum class FiniteStrainFormulation { standard, mean_dilatation, linear_dilatation };
 const char* to_string(FiniteStrainFormulation formulation);
 
 // What an element evaluation computes: the tangent is the costly part, skipped in energy and
@@ -64,8 +76,8 @@ FiniteStrainElementResult finite_strain_element(
     FiniteStrainOutput output = FiniteStrainOutput::energy_force_and_tangent);
 
 // Cauchy stress σ = J⁻¹ P Fᵀ at the element centroid ξ = 0 (Pa, Voigt order of elements.h's Stress,
-// tension positive); mean_dilatation replaces the volumetric part by U'(J̄) I, the element's
-// constant pressure. Plane strain: σzz is the stress that keeps F33 = 1.
+// tension positive); mean_dilatation and linear_dilatation replace the volumetric part by p I, the
+// element's (projected) pressure at the centroid. Plane strain: σzz is the stress that keeps F33 = 1.
 Stress finite_strain_centroid_stress(const ElementGeometry& element,
                                      const HyperelasticMaterial& material,
                                      FiniteStrainFormulation formulation,

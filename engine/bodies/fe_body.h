@@ -67,6 +67,8 @@ class FeBody final : public Body {
   const Mesh& mesh() const { return mesh_; }
   const ElasticMaterial& material() const { return material_; }
   double thickness() const { return thickness_; }
+  // The finite-strain law and formulation, or nullopt for a linear body.
+  const std::optional<FiniteStrainLaw>& finite_strain_law() const { return finite_strain_; }
   int dofs_per_node() const { return mesh_.dofs_per_node(); }
   // Index of a node's displacement component among the free dofs, or −1 when it is fixed.
   int free_index(int node, int component) const { return free_of_dof_[dofs_per_node() * node + component]; }

@@ -12,8 +12,9 @@
 //     law (total Lagrangian, fem/finite_strain.h; the body is then nonlinear):
 //       {law: saint-venant-kirchhoff | neo-hookean, young, poisson, density, formulation}
 //       {law: mooney-rivlin, c10, c01 (Pa), bulk (Pa), density, formulation}
-//     formulation: standard | mean-dilatation (default: mean-dilatation for mooney-rivlin, which is
-//     nearly incompressible, standard otherwise); or the name of an entry of the scene's top-level
+//     formulation: standard | mean-dilatation | linear-dilatation (quad8 only, Q2/P1) (default for
+//     mooney-rivlin, which is nearly incompressible: linear-dilatation on quad8, mean-dilatation on
+//     quad4 and hexa8; standard otherwise); or the name of an entry of the scene's top-level
 //     `materials` map (e.g. material: =material with a text parameter);
 //   thickness (m, plane strain, default 1);
 //   mass: consistent | lumped; fixed: {SET: [x, y(, z)]}: the components held at zero on a node set
@@ -111,7 +112,7 @@ SceneNode material_definition(const SceneNode& body) {
   return root.child("materials").child(name);
 }
 
-FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string& law) {
+FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string& law, ElementType element) {
   FiniteStrainLaw result;
   try {
     if (law == "saint-venant-kirchhoff" || law == "neo-hookean") {
@@ -132,10 +133,18 @@ FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string&
   } catch (const FemError& e) {
     node.fail(e.what());
   }
-  const std::string formulation =
-      node.string("formulation", law == "mooney-rivlin" ? "mean-dilatation" : "standard");
-  if (formulation == "mean-dilatation") result.formulation = FiniteStrainFormulation::mean_dilatation;
-  else if (formulation != "standard") node.fail_at("formulation", "expected standard or mean-dilatation");
+  const char* mixed = element == ElementType::quad8 ? "linear-dilatation" : "mean-dilatation";
+  const std::string formulation = node.string("formulation", law == "mooney-rivlin" ? mixed : "standard");
+  if (formulation == "mean-dilatation") {
+    result.formulation = FiniteStrainFormulation::mean_dilatation;
+  } else if (formulation == "linear-dilatation") {
+    if (element != ElementType::quad8)
+      node.fail_at("formulation", std::string("linear-dilatation (Q2/P1) needs quad8 elements, not ") +
+                                      to_string(element) + " (a linear pressure locks them; use mean-dilatation)");
+    result.formulation = FiniteStrainFormulation::linear_dilatation;
+  } else if (formulation != "standard") {
+    node.fail_at("formulation", "expected standard, mean-dilatation or linear-dilatation");
+  }
   return result;
 }
 
@@ -196,7 +205,7 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
     material.poisson = material_node.number("poisson", 0.0);
     material.density = material_node.number("density");
   } else {
-    finite_strain = read_finite_strain_law(material_node, law);
+    finite_strain = read_finite_strain_law(material_node, law, mesh.element_type);
   }
   const double thickness = node.has("thickness") ? node.positive("thickness") : 1.0;
   const std::string mass = node.string("mass", "consistent");

@@ -1,6 +1,7 @@
 // Scene-loader errors: each bad input gives a SceneError whose message names the file, the key path
 // and (where the key is in the file) its line.
 #include "engine/scene/scene.h"
+#include "engine/bodies/fe_body.h"
 
 #include <gtest/gtest.h>
 
@@ -229,6 +230,31 @@ TEST(SceneLoaderOverrides, OverrideOnADefaultKeepsPrescribedUntil) {
   }
   EXPECT_TRUE(released);  // the hub's spin is held during the press only
   EXPECT_EQ(dump_config(*plain), dump_config(*overridden));
+}
+
+// Mooney–Rivlin rings take their element's mixed formulation unless told: Q2/P1 on quad8, Q1/P0 on
+// quad4; a linear pressure on quad4 (which locks) is refused with the key and its line.
+TEST(SceneLoaderFormulation, MooneyRivlinDefaultsToTheElementsMixedPair) {
+  const std::string ring = CSIM_SOURCE_DIR "/scenes/rolling-ring/scene.yaml";
+  auto formulation_of = [](const Scene& scene) {
+    const auto& ring_body = static_cast<const FeBody&>(*scene.world.bodies[scene.world.body_index("ring")].body);
+    return ring_body.finite_strain_law()->formulation;
+  };
+  EXPECT_EQ(formulation_of(*load_scene(ring, {})), FiniteStrainFormulation::mean_dilatation);
+  EXPECT_EQ(formulation_of(*load_scene(ring, {"parameters.element=quad8", "parameters.divisions_circumferential=18",
+                                              "parameters.divisions_radial=3"})),
+            FiniteStrainFormulation::linear_dilatation);
+  EXPECT_EQ(formulation_of(*load_scene(ring, {"parameters.element=quad8", "materials.mooney-rivlin.formulation=mean-dilatation"})),
+            FiniteStrainFormulation::mean_dilatation);
+  try {
+    load_scene(ring, {"materials.mooney-rivlin.formulation=linear-dilatation"});
+    ADD_FAILURE() << "linear-dilatation on quad4 loaded";
+  } catch (const SceneError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("scene.yaml"), std::string::npos) << message;
+    EXPECT_NE(message.find("formulation"), std::string::npos) << message;
+    EXPECT_NE(message.find("needs quad8 elements, not quad4"), std::string::npos) << message;
+  }
 }
 
 }  // namespace
