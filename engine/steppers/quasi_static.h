@@ -121,6 +121,7 @@ class QuasiStatic final : public Stepper {
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
   std::vector<ContactStatus> warm_status_;  // the warm start's statuses of active_
+  double hub_proximal_ = 0.0;  // ε / max diag(K_z) on the hub's unknowns this iteration
   // Per contact of active_, the rows held (quasi_static.h): none, the normal, or all (sticking).
   enum Hold { kHoldNone = 0, kHoldNormal = 1, kHoldStick = 2 };
   std::vector<Hold> hold_;
