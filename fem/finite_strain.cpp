@@ -154,14 +154,15 @@ struct KernelOutput {
 //   f_vol = ∫ p Bᵀ ∂J/∂F dV = G p̂ with G = ∫ Bᵀ ∂J/∂F φᵀ dV,
 //   K_vol = G M⁻¹ (∫ U''(θ) φ φᵀ dV) M⁻¹ Gᵀ + ∫ p Bᵀ (∂²J/∂F∂F) B dV.
 // With Modes = 1 this is θ = J̄, p = U'(J̄) and K_vol's first term U''(J̄)/V_e g gᵀ (finite_strain.h).
-template <int Modes>
+template <int Points, int Modes>
 struct Dilatation {
   using Basis = Eigen::Matrix<double, Modes, 1>;
   using Gram = Eigen::Matrix<double, Modes, Modes>;
-  double energy = 0.0;   // Π_vol, J
-  Basis pressure;        // p̂, Pa
-  Gram inverse_gram;     // M⁻¹, 1/m³
-  Gram stiffness;        // ∫ U''(θ) φ φᵀ dV, J
+  std::array<Basis, Points> basis;  // φ at the Gauss points
+  double energy = 0.0;              // Π_vol, J
+  Basis pressure;                   // p̂, Pa
+  Gram inverse_gram;                // M⁻¹, 1/m³
+  Gram stiffness;                   // ∫ U''(θ) φ φᵀ dV, J
 };
 
 // φ at the reference position x (m) of an element with centroid X̄ and size ℓ.
@@ -202,19 +203,19 @@ ElementPoints<E> element_points(const typename E::Gradients& X, const typename E
 }
 
 template <class E, int Modes>
-Dilatation<Modes> project_dilatation(const ElementPoints<E>& points, const KernelInput& in) {
+Dilatation<E::points, Modes> project_dilatation(const ElementPoints<E>& points, const KernelInput& in) {
   const Reference<E>& ref = reference<E>();
-  using D = Dilatation<Modes>;
+  using D = Dilatation<E::points, Modes>;
+  D d;
   typename D::Gram gram = D::Gram::Zero();
   typename D::Basis volume_change = D::Basis::Zero();
-  std::array<typename D::Basis, E::points> phi;
+  std::array<typename D::Basis, E::points>& phi = d.basis;
   for (int g = 0; g < E::points; ++g) {
     const PointKinematics<E>& p = points.kinematics[g];
     phi[g] = dilatation_basis<Modes>(points.position[g], points.centroid, points.size);
     gram.noalias() += p.volume * phi[g] * phi[g].transpose();
     volume_change += p.volume * p.J * phi[g];
   }
-  D d;
   d.inverse_gram = gram.inverse();
   const typename D::Basis c = d.inverse_gram * volume_change;
   typename D::Basis mean_stress = D::Basis::Zero();
@@ -242,7 +243,7 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
   constexpr bool split = Modes > 0;
   constexpr int M = split ? Modes : 1;
   const ElementPoints<E> points = element_points<E>(X, u, in);
-  Dilatation<M> dilatation;
+  Dilatation<E::points, M> dilatation;
   if constexpr (split) dilatation = project_dilatation<E, M>(points, in);
 
   Eigen::Matrix<double, D, E::nodes> force = Eigen::Matrix<double, D, E::nodes>::Zero();
@@ -263,8 +264,7 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
     }
     if constexpr (split) {
       // p ∂J/∂F and p ∂²J/∂F∂F, ∂J/∂F = J H, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ).
-      const Eigen::Matrix<double, M, 1> phi =
-          dilatation_basis<M>(points.position[g], points.centroid, points.size);
+      const Eigen::Matrix<double, M, 1>& phi = dilatation.basis[g];
       const double pressure = phi.dot(dilatation.pressure);
       const typename E::Square H = p.F.template topLeftCorner<D, D>().inverse().transpose();
       P += pressure * p.J * H;
@@ -312,7 +312,7 @@ template <class E, int Modes>
 double centroid_pressure(const typename E::Gradients& X, const typename E::Nodal& u,
                          const KernelInput& in) {
   const ElementPoints<E> points = element_points<E>(X, u, in);
-  const Dilatation<Modes> d = project_dilatation<E, Modes>(points, in);
+  const Dilatation<E::points, Modes> d = project_dilatation<E, Modes>(points, in);
   const Eigen::Matrix<double, E::dimension, 1> centre = X.transpose() * reference<E>().centre;
   return dilatation_basis<Modes>(centre, points.centroid, points.size).dot(d.pressure);
 }
@@ -337,14 +337,6 @@ Stress centroid_stress(const typename E::Gradients& X, const typename E::Nodal& 
   Stress stress;
   stress << sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(0, 2);
   return stress;
-}
-
-// A linear dilatation constrains D + 1 modes per element: more than quad4 and hexa8 have
-// displacement modes per element on a large mesh (about D), so they would lock.
-void check_formulation(ElementType type, FiniteStrainFormulation formulation) {
-  if (formulation == FiniteStrainFormulation::linear_dilatation && type != ElementType::quad8)
-    throw FemError(std::string("the linear_dilatation formulation (Q2/P1) needs quad8 elements, not ") +
-                   to_string(type) + " (a linear pressure locks a linear element; use mean_dilatation)");
 }
 
 double checked_scale(ElementType type, double thickness, int element) {
@@ -427,6 +419,14 @@ const char* to_string(FiniteStrainFormulation formulation) {
     case FiniteStrainFormulation::linear_dilatation: return "linear_dilatation";
   }
   return "unknown";
+}
+
+// A linear dilatation constrains D + 1 modes per element: more than quad4 and hexa8 have
+// displacement modes per element on a large mesh (about D), so they would lock.
+void check_formulation(ElementType type, FiniteStrainFormulation formulation) {
+  if (formulation == FiniteStrainFormulation::linear_dilatation && type != ElementType::quad8)
+    throw FemError(std::string("a linear dilatation (Q2/P1) needs quad8 elements, not ") + to_string(type) +
+                   " (a linear pressure locks a linear element; a mean dilatation does not)");
 }
 
 FiniteStrainElementResult finite_strain_element(const ElementGeometry& element,

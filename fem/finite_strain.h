@@ -58,6 +58,9 @@ namespace csim {
 enum class FiniteStrainFormulation { standard, mean_dilatation, linear_dilatation };
 const char* to_string(FiniteStrainFormulation formulation);
 
+// Throws FemError when the element type cannot take the formulation: linear_dilatation needs quad8.
+void check_formulation(ElementType type, FiniteStrainFormulation formulation);
+
 // What an element evaluation computes: the tangent is the costly part, skipped in energy and
 // force evaluations (line searches, explicit steps).
 enum class FiniteStrainOutput { energy_and_force, energy_force_and_tangent };

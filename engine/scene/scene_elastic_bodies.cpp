@@ -138,12 +138,14 @@ FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string&
   if (formulation == "mean-dilatation") {
     result.formulation = FiniteStrainFormulation::mean_dilatation;
   } else if (formulation == "linear-dilatation") {
-    if (element != ElementType::quad8)
-      node.fail_at("formulation", std::string("linear-dilatation (Q2/P1) needs quad8 elements, not ") +
-                                      to_string(element) + " (a linear pressure locks them; use mean-dilatation)");
     result.formulation = FiniteStrainFormulation::linear_dilatation;
   } else if (formulation != "standard") {
     node.fail_at("formulation", "expected standard, mean-dilatation or linear-dilatation");
+  }
+  try {
+    check_formulation(element, result.formulation);
+  } catch (const FemError& e) {
+    node.fail_at("formulation", e.what());
   }
   return result;
 }

@@ -81,9 +81,10 @@ void QuasiStatic::assemble_stiffness(const Vector& q) {
 }
 
 // Factors K_z, made positive definite when it is not or, with a hub, cannot be (see the header): by the
-// held rows (hold_), else by proximal terms. Sets f_aug_, the load that goes with the factored matrix
-// (Tᵀ f, less ρ H_Aᵀ c_A with held rows). Returns whether held rows were used.
-bool QuasiStatic::factor_stiffness() {
+// held rows (hold_), else by proximal terms (first hub_proximal · max diag on the hub's unknowns). Sets
+// f_aug_, the load that goes with the factored matrix (Tᵀ f, less ρ H_Aᵀ c_A with held rows). Returns
+// whether held rows were used.
+bool QuasiStatic::factor_stiffness(double hub_proximal) {
   f_aug_ = f_z_;
   if (!needs_tangent()) return false;
   factored_ = true;
@@ -132,7 +133,7 @@ bool QuasiStatic::factor_stiffness() {
     }
   }
   SparseMatrix proximal = K_z_;
-  for (int i : reduced_.hub_unknowns()) proximal.coeffRef(i, i) += hub_proximal_ * largest;
+  for (int i : reduced_.hub_unknowns()) proximal.coeffRef(i, i) += hub_proximal * largest;
   if (positive_definite(proximal)) return false;
   double added = 0.0;
   const bool held = grow_proximal_term(largest, [&](double epsilon) {
@@ -217,14 +218,14 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   detect_contacts(state, t_next);
   warm_start(previous_, active_, d_, problem_.size(), r_, &warm_status_);
   hold_.assign(problem_.contacts, kHoldNone);
-  hub_proximal_ = kHubProximal;
   for (int i = 0; i < problem_.contacts; ++i)
     if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? kHoldStick : kHoldNormal;
   assemble_stiffness(q_);
   // Held rows that the solve lets go would make the step another than Newton's (see the header): the
   // rows are dropped and the problem solved again, a few times at most.
+  double hub_proximal = kHubProximal;
   for (int round = 0;; ++round) {
-    const bool held = factor_stiffness();
+    const bool held = factor_stiffness(hub_proximal);
     if (held && round == 0) ++counters_->newton_held;
     assemble_problem();
     // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
@@ -239,8 +240,8 @@ double QuasiStatic::iterate(const State& state, double t_next) {
       // t = 1.64: the contact next to the bottom has W_nn = 0.0315 and μ|W_nt| = 0.0316; residual 1.6e-3
       // after 20000 sweeps). A stiffer hub (×100, up to max diag) makes it well posed; the iterate
       // then only moves the spin less far.
-      if (contact_failure_.empty() || reduced_.hub_unknowns().empty() || hub_proximal_ >= 1.0) break;
-      hub_proximal_ *= 100.0;
+      if (contact_failure_.empty() || reduced_.hub_unknowns().empty() || hub_proximal >= 1.0) break;
+      hub_proximal *= 100.0;
       continue;
     }
     if (round == kHeldRounds || !release_let_go_rows()) break;

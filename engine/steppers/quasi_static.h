@@ -89,7 +89,7 @@ class QuasiStatic final : public Stepper {
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
   void assemble_stiffness(const Vector& q);
-  bool factor_stiffness();
+  bool factor_stiffness(double hub_proximal);
   bool release_let_go_rows();
   void update_contact_force();  // contact_force_ ← Hᵀ r_
   void detect_contacts(const State& state, double t_next);
@@ -121,7 +121,6 @@ class QuasiStatic final : public Stepper {
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
   std::vector<ContactStatus> warm_status_;  // the warm start's statuses of active_
-  double hub_proximal_ = 0.0;  // ε / max diag(K_z) on the hub's unknowns this iteration
   // Per contact of active_, the rows held (quasi_static.h): none, the normal, or all (sticking).
   enum Hold { kHoldNone = 0, kHoldNormal = 1, kHoldStick = 2 };
   std::vector<Hold> hold_;

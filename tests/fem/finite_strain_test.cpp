@@ -350,7 +350,7 @@ TEST(FiniteStrainElement, InvertedElementsAndBadInputsThrow) {
       const FiniteStrainModel q1p1{mesh, kMooneyRivlin, kThickness,
                                    FiniteStrainFormulation::linear_dilatation};
       expect_error([&] { strain_energy(q1p1, Eigen::VectorXd::Zero(mesh.dof_count())); },
-                   "linear_dilatation formulation (Q2/P1) needs quad8 elements, not quad4");
+                   "a linear dilatation (Q2/P1) needs quad8 elements, not quad4");
     }
     HyperelasticMaterial bad = kMooneyRivlin;
     bad.bulk = -1.0;
