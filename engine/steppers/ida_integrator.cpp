@@ -67,7 +67,7 @@ IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters
   for (const BodyInstance& b : world.bodies)
     if (b.body->nonlinear()) throw RunError(0.0, "ida: body '" + b.name + "' is hyperelastic (not taken by ida yet)");
   if (!world.prescribed.empty() || !world.ties.empty())
-    throw RunError(0.0, "ida: prescribed components and ties are only taken by the quasi-static stepper so far");
+    throw RunError(0.0, "ida: prescribed components and ties are taken by the quasi-static and Moreau-Jean steppers, not yet by IDA");
   for (const ContactLaw& law : world.contact_laws)
     if (law.mu_ramp_end > law.mu_ramp_start)
       throw RunError(0.0, "ida: contact law '" + law.name + "' has a mu_ramp (not taken by ida)");

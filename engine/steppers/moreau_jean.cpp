@@ -27,10 +27,8 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
       pgs_(parameters.solver),
       detector_(world),
       contact_dimension_(detector_.dimension()),
-      length_(world.length_scale()) {
-  if (!world.ties.empty())
-    throw RunError(0.0, "moreau-jean: ties (an elastic body's nodes on a rigid hub) are only taken by the quasi-static "
-                        "stepper so far");
+      length_(world.length_scale()),
+      ties_(world) {
   build_equalities(parameters_.step);
 }
 
@@ -66,6 +64,31 @@ void MoreauJean::build_equalities(double t) {
     equality_terms_[nw + i].emplace_back(position_of(index), 1.0);
   }
   constraint_columns_.clear();  // W_it⁻¹ Cᵀ: recomputed for the new rows
+}
+
+// The ties' targets at the iterate v_j: with q_j = q_k + h v_θ(v_j), C (v_{k+1} − v_j) = −g(q_j) / (hθ)
+// closes the gaps to first order, so that g(q_{k+1}) = 0 at Newton's convergence (the linear scheme,
+// one iterate from v_0 = v_k, leaves O(h² |ω|² r) a step, which the next step closes). The rows C are
+// taken at the middle of the step, q_k + ½ h v_θ, not at q_j: there C h v_θ is the change of g over
+// the step to O(h³) (the chord of a turn seen from its middle), so that the ties' impulses do no work
+// (with C(q_j) they would exchange O(h) of the energy over a run); Newton still converges, its
+// Jacobian being off by O(h |ω|).
+void MoreauJean::linearize_ties(const State& state, const Vector& v_iterate) {
+  if (ties_.empty()) return;
+  const double h = parameters_.step, theta = parameters_.theta;
+  v_theta_ = (1.0 - theta) * state.v + theta * v_iterate;
+  integrate_positions(state.q, v_theta_, q_iterate_);
+  ties_.compute_gaps(q_iterate_, tie_targets_);
+  work_ = 0.5 * v_theta_;
+  integrate_positions(state.q, work_, q_tie_rows_);
+  ties_.linearize(q_tie_rows_);
+  for (int i = 0; i < ties_.size(); ++i)
+    tie_targets_(i) = ties_.rows()[i].dot(v_iterate) - tie_targets_(i) / (h * theta);
+}
+
+double MoreauJean::equality_dot(int e, const Vector& v) const {
+  const int nw = static_cast<int>(constraint_rows_.rows());
+  return e < nw ? constraint_rows_.row(e).dot(v) : ties_.rows()[e - nw].dot(v);
 }
 
 MoreauJean::~MoreauJean() = default;
@@ -186,12 +209,13 @@ void MoreauJean::gather_columns() {
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
   const int ne = static_cast<int>(constraint_rows_.rows());
+  const int nt = ties_.size();
   if (operators_.factorizations() != cache_factorization_) {
     column_cache_.clear();
     constraint_columns_.clear();
     cache_factorization_ = operators_.factorizations();
   }
-  columns_.resize(d * nc + ne);
+  columns_.resize(d * nc + ne + nt);
   if (!operators_.sparse()) {
     // A small dense system: a column costs less than a cache look-up.
     direct_columns_.resize(d * nc);
@@ -225,6 +249,13 @@ void MoreauJean::gather_columns() {
     }
   }
   for (int e = 0; e < ne; ++e) columns_[d * nc + e] = &constraint_columns_[e];
+  tie_columns_.resize(nt);  // new rows at every iterate
+  for (int i = 0; i < nt; ++i) {
+    tie_columns_[i].setZero(n);
+    ties_.rows()[i].scatter(1.0, tie_columns_[i]);
+    operators_.solve_in_place(tie_columns_[i]);
+    columns_[d * nc + ne + i] = &tie_columns_[i];
+  }
 }
 
 void MoreauJean::assemble(const State& state) {
@@ -232,12 +263,12 @@ void MoreauJean::assemble(const State& state) {
   const int nc = static_cast<int>(active_.size());
   const int ne = static_cast<int>(constraint_rows_.rows());
   const int nw = static_cast<int>(world_.constraints.size());
-  const int m = d * nc + ne;
+  const int m = d * nc + ne + ties_.size();
   const double h = parameters_.step, theta = parameters_.theta;
 
   problem_.dimension = d;
   problem_.contacts = nc;
-  problem_.equalities = ne;
+  problem_.equalities = ne + ties_.size();
   problem_.mu.resize(nc);
   rows_.resize(d * nc);
   for (int i = 0; i < nc; ++i) {
@@ -250,8 +281,8 @@ void MoreauJean::assemble(const State& state) {
   problem_.q.resize(m);
   for (int a = 0; a < m; ++a) {
     for (int b = 0; b < m; ++b)
-      problem_.W(a, b) = a < d * nc ? rows_[a].dot(*columns_[b]) : constraint_rows_.row(a - d * nc).dot(*columns_[b]);
-    problem_.q(a) = a < d * nc ? rows_[a].dot(v_free_) : constraint_rows_.row(a - d * nc).dot(v_free_);
+      problem_.W(a, b) = a < d * nc ? rows_[a].dot(*columns_[b]) : equality_dot(a - d * nc, *columns_[b]);
+    problem_.q(a) = a < d * nc ? rows_[a].dot(v_free_) : equality_dot(a - d * nc, v_free_);
   }
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
@@ -282,6 +313,7 @@ void MoreauJean::assemble(const State& state) {
     }
     problem_.q(d * nc + e) -= target;
   }
+  for (int i = 0; i < ties_.size(); ++i) problem_.q(d * nc + ne + i) -= tie_targets_(i);
 }
 
 void MoreauJean::solve(State& state, bool warm_from_state) {
@@ -304,7 +336,9 @@ void MoreauJean::update(State& state) {
     // One solve W_it⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
     work_.setZero(world_.velocity_size);
     for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(r_(a), work_);
-    for (int e = contact_rows; e < rows; ++e) work_ += r_(e) * constraint_rows_.row(e - contact_rows).transpose();
+    const int ne = static_cast<int>(constraint_rows_.rows());
+    for (int e = 0; e < ne; ++e) work_ += r_(contact_rows + e) * constraint_rows_.row(e).transpose();
+    for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(r_(contact_rows + ne + i), work_);
     operators_.solve_in_place(work_);
     v_next_ += work_;
   } else {
@@ -330,12 +364,13 @@ void MoreauJean::account_energy(State& state) {
   e.work_of_loads += h * f_loads_.dot(v_theta_);
   const int contact_rows = static_cast<int>(rows_.size());
   for (int a = 0; a < static_cast<int>(r_.size()); ++a)
-    e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a].dot(v_theta_)
-                                                        : constraint_rows_.row(a - contact_rows).dot(v_theta_));
+    e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a].dot(v_theta_) : equality_dot(a - contact_rows, v_theta_));
   dv_ = v_next_ - state.v;
   operators_.apply_mass(dv_, work_);
   double numerical = dv_.dot(work_);
-  if (operators_.has_stiffness()) {
+  if (operators_.nonlinear()) {  // −Δq·(f(q_{k+1}) − f(q_k)), f at Newton's last iterate (see the header)
+    numerical -= h * v_theta_.dot(f_iterate_ - f_start_);
+  } else if (operators_.has_stiffness()) {
     operators_.apply_stiffness(v_theta_, work_);
     numerical += h * h * v_theta_.dot(work_);
   }
@@ -366,6 +401,7 @@ void MoreauJean::step_newton(State& state) {
       throw RunError(state.t + h, "moreau-jean Newton iteration " + std::to_string(iteration) + ": " + e.what());
     }
     if (iteration == 1) detect(state);
+    linearize_ties(state, v_iterate_);
     assemble(state);
     solve(state, iteration == 1);
     update(state);
@@ -412,6 +448,7 @@ void MoreauJean::step(State& state) {
     lap(state.timers.free_velocity);
     detect(state);
     lap(state.timers.detection);
+    linearize_ties(state, state.v);
     assemble(state);
     lap(state.timers.assembly);
     solve(state);

@@ -33,13 +33,16 @@
 //
 // Energy: with v_θ = (1−θ)v_k + θv_{k+1} and Δq = h v_θ, multiplying the step by v_θ gives exactly
 //   ΔE_kin + ΔE_el = h f_loads·v_θ + rᵀ H v_θ − (θ−½)(|Δv|²_M + |Δq|²_K)
-// for linear springs, so the bookkeeping in State closes to solver tolerance; θ > ½ dissipates.
+// for linear springs, so the bookkeeping in State closes to solver tolerance; θ > ½ dissipates. For a
+// nonlinear force f the same product gives (θ−½)(|Δv|²_M − Δq·(f(q_{k+1}) − f(q_k))) in place of the
+// last term, with ΔE_el taken by the trapezoidal rule: the balance closes to that rule's error.
 #pragma once
 
 #include "contact/pgs_solver.h"
 #include "engine/contact_detector.h"
 #include "engine/forces.h"
 #include "engine/structural_operators.h"
+#include "engine/tie_rows.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
 
@@ -68,6 +71,9 @@ class MoreauJean final : public Stepper {
 
  private:
   void build_equalities(double t);
+  void linearize_ties(const State& state, const Vector& v_iterate);
+  int equality_count() const { return static_cast<int>(constraint_rows_.rows()) + ties_.size(); }
+  double equality_dot(int e, const Vector& v) const;  // row e of the equalities (constraints, then ties) · v
   void compute_loads(const State& state);
   void compute_free_velocity(const State& state);
   void compute_newton_free_velocity(const State& state, const Vector& v_iterate);
@@ -116,6 +122,11 @@ class MoreauJean final : public Stepper {
   std::vector<int> active_prescriptions_;  // index in world.prescribed of each prescription row
   // Each equality row's terms: (position index, or −1 for a velocity only, coefficient).
   std::vector<std::vector<std::pair<int, double>>> equality_terms_;
+  // The ties' rows after the constraints', linearized at each iterate, their W_it⁻¹ tᵀ recomputed
+  // with them; tie_targets_: the velocities C v_{k+1} that close their gaps at t_{k+1}.
+  TieRows ties_;
+  std::vector<Vector> tie_columns_;
+  Vector tie_targets_, q_tie_rows_;
 };
 
 }  // namespace csim
