@@ -10,7 +10,8 @@
 //   3. assemble        u = H v, Delassus W = H W_it⁻¹ Hᵀ, q = H v_free + e·u_n(v_k) on normal rows
 //                      (Newton impact law), plus the rows of the linear constraints and of the
 //                      prescribed components (world.h; their force, impulse / h, is state.reactions),
-//                      whose target makes them hold exactly in position at t_{k+1}. H is sparse (a few entries a
+//                      whose target makes them hold exactly in position at t_{k+1}, and those of the
+//                      ties (tie_rows.h), linearized at each iterate, which hold at Newton's convergence. H is sparse (a few entries a
 //                      row), and the columns W_it⁻¹ hᵀ are cached by contact key while W_it and the row
 //                      do not change (a node sliding on a plane keeps its column), so that a step costs
 //                      O(unknowns + contacts²) once W_it is factored;

@@ -116,6 +116,7 @@ class QuasiStatic final : public Stepper {
   Vector offset_;              // c: the contacts' gaps (normal rows) and slips since q_k (tangential rows)
   Vector contact_force_;       // Hᵀ r_ (N, N·m), in velocity components
   Vector previous_dz_;         // the last Newton step, to detect oscillation
+  double hub_proximal_ = 0.0;  // the hub's proximal weight this step's iterates start from (/ max diag)
   std::string contact_failure_;  // the last iterate's contact solve failure message, or ""
   Vector step_increment_;      // q_j ⊖ q_k in velocity components (m, rad): the slip rows' argument
   SolverCounters* counters_ = nullptr;
