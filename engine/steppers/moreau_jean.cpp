@@ -263,12 +263,12 @@ void MoreauJean::assemble(const State& state) {
   const int nc = static_cast<int>(active_.size());
   const int ne = static_cast<int>(constraint_rows_.rows());
   const int nw = static_cast<int>(world_.constraints.size());
-  const int m = d * nc + ne + ties_.size();
+  const int m = d * nc + equality_count();
   const double h = parameters_.step, theta = parameters_.theta;
 
   problem_.dimension = d;
   problem_.contacts = nc;
-  problem_.equalities = ne + ties_.size();
+  problem_.equalities = equality_count();
   problem_.mu.resize(nc);
   rows_.resize(d * nc);
   for (int i = 0; i < nc; ++i) {

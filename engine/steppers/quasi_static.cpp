@@ -223,9 +223,8 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   assemble_stiffness(q_);
   // Held rows that the solve lets go would make the step another than Newton's (see the header): the
   // rows are dropped and the problem solved again, a few times at most.
-  double hub_proximal = hub_proximal_;
   for (int round = 0;; ++round) {
-    const bool held = factor_stiffness(hub_proximal);
+    const bool held = factor_stiffness(hub_proximal_);
     if (held && round == 0) ++counters_->newton_held;
     assemble_problem();
     // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
@@ -239,12 +238,10 @@ double QuasiStatic::iterate(const State& state, double t_next) {
       // Painlevé-like problem that no contact solver finishes (3D elastic ring r_i 1, δ 0.1 on 34 × 5 at
       // t = 1.64: the contact next to the bottom has W_nn = 0.0315 and μ|W_nt| = 0.0316; residual 1.6e-3
       // after 20000 sweeps). A stiffer hub (×100, up to max diag) makes it well posed; the iterate
-      // then only moves the spin less far.
-      // The step's later iterates start from the weight that worked: the problem stays ill posed at
-      // the small weight for the rest of the step, and each failed solve costs max_iterations sweeps.
-      if (contact_failure_.empty() || reduced_.hub_unknowns().empty() || hub_proximal >= 1.0) break;
-      hub_proximal *= 100.0;
-      hub_proximal_ = hub_proximal;
+      // then only moves the spin less far. The raised weight stays for the step's later iterates: the
+      // problem stays ill posed at the small one, and each failed solve costs max_iterations sweeps.
+      if (contact_failure_.empty() || reduced_.hub_unknowns().empty() || hub_proximal_ >= 1.0) break;
+      hub_proximal_ *= 100.0;
       continue;
     }
     if (round == kHeldRounds || !release_let_go_rows()) break;

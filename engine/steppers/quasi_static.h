@@ -46,9 +46,11 @@
 // unknown from 1e-6 · max diag(K_z), grown tenfold until it is (counted in the summary as regularized
 // iterations; the held rows' as contact_held). Proximal terms are springs from the last iterate: they
 // vanish at convergence (Δz = 0), so the converged state is unbiased, but they slow Newton to a linear
-// rate along the modes they hold. The hub's term is a fixed fraction: 1e-6 left the contact solves
+// rate along the modes they hold. The hub's term starts each step at 1e-4: 1e-6 left the contact solves
 // ill-conditioned (PGS stalled at a residual of 1e-2 on the elastic ring), 1e-2 slowed Newton past 30
-// iterations at the start of the friction ramp. Without the held rows, the frame's geometric stiffness
+// iterations at the start of the friction ramp. A contact solve that fails with it raises it ×100 (up
+// to max diag) for the rest of the step: with a nearly free spin the problem can have no solution
+// (quasi_static.cpp, iterate). Without the held rows, the frame's geometric stiffness
 // takes the loads and internal forces only: with the contact forces, the rigid rotation of a pressed
 // wheel gets −N (R − δ) (its nodes leave the ground), which nothing then balances.
 //
