@@ -18,7 +18,8 @@ Eigen::Vector3d component_direction(const SceneNode& node, int dimension) {
   node.fail_at("component", "expected x, y" + std::string(dimension == 3 ? " or z" : "") + " (or give a direction)");
 }
 
-ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const World& world) {
+ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const World& world,
+                           const RunSettings& run) {
   ProbeDefinition p;
   p.name = name;
   node.expect_map();
@@ -58,6 +59,12 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     if (!known)
       spec.fail("unknown energy term (expected kinetic, elastic, mechanical, work, contact_dissipation, "
                 "numerical_dissipation, damping_dissipation or balance)");
+    // The quasi-static stepper has no kinetic energy and does not account the work of prescribed
+    // motions or friction's dissipation: these terms would read 0 and the balance the elastic energy.
+    const bool stored = p.energy_term == "kinetic" || p.energy_term == "elastic" || p.energy_term == "mechanical";
+    if (run.integrator == "quasi-static" && !stored)
+      spec.fail("the quasi-static stepper accounts only the stored energy (elastic, kinetic = 0, mechanical), not '" +
+                p.energy_term + "'");
   } else if (kind == "contact_count") {
     spec.allow_only({"contact", "status"});
     p.kind = ProbeDefinition::Kind::contact_count;
@@ -160,7 +167,7 @@ CheckDefinition read_check(const std::string& name, const SceneNode& node, const
 void read_probes(const SceneNode& root, const World& world, RunSettings& run) {
   if (!root.has("probes")) return;
   for (const auto& [name, node] : root.child("probes").entries())
-    run.probes.push_back(read_probe(name, node, world));
+    run.probes.push_back(read_probe(name, node, world, run));
 }
 
 void read_checks(const SceneNode& root, RunSettings& run) {
