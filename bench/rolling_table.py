@@ -60,17 +60,22 @@ STUDIES = [
     (ROWS[12], "St Venant-Kirchhoff", ["--set", "parameters.elastic_law=saint-venant-kirchhoff"]),
     (ROWS[12], "step 0.005", ["--set", "parameters.step=0.005"]),
 ]
-def run(csim, row, config, extra):
+def scene_command(csim, row, config, out):
+    """csim's command line for one row of the table on one configuration, outputs in `out`."""
     material, delta, r_i, mu, faria = row[:5]
     _, element, circumferential, radial, surface = config
+    return [csim, "run", "scenes/rolling-ring", "--quiet", "--out", out,
+            "--set", f"parameters.material={material}", "--set", f"parameters.indentation={delta}",
+            "--set", f"parameters.inner_radius={r_i}", "--set", f"parameters.mu={mu}",
+            "--set", f"parameters.reference_spin={faria}", "--set", f"parameters.element={element}",
+            "--set", f"parameters.divisions_circumferential={circumferential}",
+            "--set", f"parameters.divisions_radial={radial}",
+            "--set", f"parameters.contact_surface={surface}"]
+
+
+def run(csim, row, config, extra):
     with tempfile.TemporaryDirectory() as out:
-        command = [csim, "run", "scenes/rolling-ring", "--quiet", "--out", out,
-                   "--set", f"parameters.material={material}", "--set", f"parameters.indentation={delta}",
-                   "--set", f"parameters.inner_radius={r_i}", "--set", f"parameters.mu={mu}",
-                   "--set", f"parameters.reference_spin={faria}", "--set", f"parameters.element={element}",
-                   "--set", f"parameters.divisions_circumferential={circumferential}",
-                   "--set", f"parameters.divisions_radial={radial}",
-                   "--set", f"parameters.contact_surface={surface}"] + extra
+        command = scene_command(csim, row, config, out) + extra
         start = time.perf_counter()
         process = subprocess.run(command, capture_output=True, text=True)
         wall = time.perf_counter() - start
