@@ -115,6 +115,9 @@ struct ContactLaw {
   SurfaceFeatures features = SurfaceFeatures::nodes;
   // μ ramped in linearly from 0 at mu_ramp_start to its value at mu_ramp_end (s); none when equal.
   double mu_ramp_start = 0.0, mu_ramp_end = 0.0;
+  // Penalty friction (quasi-static stepper only): the elastic slip γ (m) at which a sticking contact's
+  // tangential force reaches μ r_n (Abaqus' "allowable elastic slip"); 0: Coulomb's law, exact stick.
+  double elastic_slip = 0.0;
   bool isotropic() const { return mu(0) == mu(1); }
   Eigen::Vector2d mu_at(double t) const {
     if (mu_ramp_end <= mu_ramp_start || t >= mu_ramp_end) return mu;

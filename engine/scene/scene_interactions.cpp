@@ -108,7 +108,8 @@ void read_constraints(const SceneNode& root, World& world) {
 }
 
 // A contact law: {between: [A, B], mu: μ | [μ1, μ2], friction_direction, restitution, features,
-// mu_ramp: [start, end] (s; μ grows linearly from 0 over that window)}.
+// mu_ramp: [start, end] (s; μ grows linearly from 0 over that window), elastic_slip: γ (m, quasi-static
+// stepper only; 0 = exact stick)}.
 // features (with an elastic body): nodes (its boundary nodes on the other body's shapes, node-to-
 // surface), faces (the other body's sphere or box vertices on its boundary faces, so that a rigid body
 // can land on it), both, or smoothed (plane scenes: Gauss points on a smooth curve through its boundary
@@ -117,7 +118,8 @@ void read_constraints(const SceneNode& root, World& world) {
 void read_contacts(const SceneNode& root, World& world) {
   if (!root.has("contacts")) return;
   for (const auto& [name, node] : root.child("contacts").entries()) {
-    node.allow_only({"between", "mu", "friction_direction", "restitution", "features", "mu_ramp"});
+    node.allow_only({"between", "mu", "friction_direction", "restitution", "features", "mu_ramp",
+                     "elastic_slip"});
     ContactLaw law;
     law.name = name;
     const auto pair = node.child("between").items();
@@ -146,6 +148,7 @@ void read_contacts(const SceneNode& root, World& world) {
       law.mu_ramp_start = ramp(0);
       law.mu_ramp_end = ramp(1);
     }
+    law.elastic_slip = node.non_negative("elastic_slip", 0.0);
     if (node.has("friction_direction"))
       law.friction_direction = node.vector("friction_direction", world.dimension, world.dimension);
     law.restitution = node.number("restitution", 0.0);

@@ -119,6 +119,12 @@ void build_scene(Scene* scene) {
   scene_parts::read_contacts(root, world);
 
   read_time_and_integrator(root, scene->run);
+  // Penalty friction keeps a per-contact history that only the quasi-static stepper carries.
+  for (const ContactLaw& law : world.contact_laws)
+    if (law.elastic_slip > 0.0 && scene->run.integrator != "quasi-static")
+      root.child("contacts").child(law.name).fail_at(
+          "elastic_slip", "penalty friction is implemented by the quasi-static stepper only (integrator.type is '" +
+                              scene->run.integrator + "')");
   read_output(root, scene->run);
   scene_parts::read_probes(root, world, scene->run);
   scene_parts::read_checks(root, scene->run);

@@ -16,6 +16,8 @@ namespace {
 constexpr double kHubProximal = 1e-4;  // ε / max diag(K_z) on hub unknowns (see the header)
 constexpr double kFirstHeld = 1e-4;    // the held rows' first ρ / max diag(K_z)
 constexpr int kHeldRounds = 4;         // solves again after dropping let-go rows, at most
+constexpr int kCompliancePasses = 20;  // penalty friction: solves again at the new normal forces, at most
+constexpr double kComplianceTolerance = 1e-8;  // … until they change by less (over the largest)
 
 ReducedCoordinates reduce(const World& world, double t) {
   try {
@@ -43,6 +45,7 @@ QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parame
     if (!held && !driven)
       throw RunError(0.0, "quasi-static: body '" + b.name + "' is held by no stiffness (its K would be singular)");
   }
+  for (const ContactLaw& law : world.contact_laws) penalty_friction_ = penalty_friction_ || law.elastic_slip > 0.0;
   linear_ = !nonlinear && world.ties.empty() && forces_.constant_stiffness();
   length_ = world.length_scale();
   contact_distance_ = parameters.contact_distance > 0.0 ? parameters.contact_distance : 0.1 * length_;
@@ -111,7 +114,7 @@ bool QuasiStatic::factor_stiffness(double hub_proximal) {
         if (H_(a, k) != 0.0) nonzero.push_back(k);
       for (int k : nonzero) {
         for (int l : nonzero) augmented.emplace_back(k, l, H_(a, k) * H_(a, l));
-        load(k) += H_(a, k) * offset_(a);
+        load(k) += H_(a, k) * (offset_(a) + compliance_(a) * r_(a));  // ũ's offset: penalty friction
       }
     }
   }
@@ -198,6 +201,45 @@ void QuasiStatic::detect_contacts(const State& state, double t_next) {
   }
 }
 
+// Penalty friction's offset −γ φ_k on the tangential rows and its compliance at the warm start's normal
+// forces (see the header).
+void QuasiStatic::soften_friction(const State& state) {
+  compliance_.setZero(problem_.size());
+  if (!penalty_friction_) return;
+  friction_mu_ = problem_.mu;
+  compliance_normal_.setZero(problem_.contacts);
+  warm_start(state.contacts, active_, d_, problem_.size(), start_impulse_);
+  for (int i = 0; i < problem_.contacts; ++i) {
+    const ContactLaw& law = world_.contact_laws[active_[i].law];
+    const double start_normal = start_impulse_(d_ * i);
+    const Eigen::Vector2d start_mu = law.mu_at(state.t);
+    for (int k = 1; k < d_; ++k)  // φ_k from impulses: the step's h cancels in the ratio
+      if (law.elastic_slip > 0.0 && start_normal > 0.0 && start_mu(k - 1) > 0.0)
+        offset_(d_ * i + k) -= law.elastic_slip * start_impulse_(d_ * i + k) / (start_mu(k - 1) * start_normal);
+  }
+  set_compliance(r_);
+}
+
+// compliance_ ← γ/(μ r_n) at the normal forces of r (m/N); a contact without a normal force there gets no
+// friction. Returns the largest change of a normal force from the last call's, over the largest (0 when
+// the compliance is exact for r).
+double QuasiStatic::set_compliance(const Vector& r) {
+  double change = 0.0, largest = 0.0;
+  for (int i = 0; i < problem_.contacts; ++i) {
+    const double gamma = world_.contact_laws[active_[i].law].elastic_slip, normal = r(d_ * i);
+    if (gamma <= 0.0) continue;
+    largest = std::max(largest, normal);
+    change = std::max(change, std::abs(normal - compliance_normal_(i)));
+    compliance_normal_(i) = normal;
+    for (int k = 1; k < d_; ++k) {
+      const double mu = friction_mu_[i](k - 1);
+      problem_.mu[i](k - 1) = normal > 0.0 ? mu : 0.0;
+      compliance_(d_ * i + k) = normal > 0.0 && mu > 0.0 ? gamma / (mu * normal) : 0.0;
+    }
+  }
+  return largest > 0.0 ? change / largest : 0.0;
+}
+
 // u = W r + b with the factored stiffness: W = H_z K⁻¹ H_zᵀ, b = H_z K⁻¹ f_aug + c.
 void QuasiStatic::assemble_problem() {
   const int m = problem_.size();
@@ -208,6 +250,7 @@ void QuasiStatic::assemble_problem() {
   problem_.W.noalias() = H_ * X_;
   problem_.q.noalias() = H_ * factor_.solve(f_aug_);
   problem_.q += offset_;
+  problem_.W.diagonal() += compliance_;
 }
 
 double QuasiStatic::iterate(const State& state, double t_next) {
@@ -217,6 +260,7 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
   detect_contacts(state, t_next);
   warm_start(previous_, active_, d_, problem_.size(), r_, &warm_status_);
+  soften_friction(state);
   hold_.assign(problem_.contacts, kHoldNone);
   for (int i = 0; i < problem_.contacts; ++i)
     if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? kHoldStick : kHoldNormal;
@@ -231,6 +275,14 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     // gaps of −0.14) need not stop the run: the next iterate solves again. The accepted iterate's must
     // not fail (step()).
     contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+    // Penalty friction's compliance at the normal forces just found, to its fixed point (a linear World
+    // takes a single iterate: the warm start's, the last step's, would leave it a step behind).
+    for (int pass = 0; penalty_friction_ && pass < kCompliancePasses; ++pass) {
+      const Vector used = compliance_;
+      if (set_compliance(r_) <= kComplianceTolerance) break;
+      problem_.W.diagonal() += compliance_ - used;
+      contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+    }
     if (!held) {
       // On the proximal path the hub's spin is nearly free (ε = 1e-4 max diag), so a contact a
       // distance x from the bottom gets a normal compliance ~x²/ε and a coupling to its own tangent

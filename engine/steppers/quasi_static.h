@@ -54,6 +54,17 @@
 // takes the loads and internal forces only: with the contact forces, the rigid rotation of a pressed
 // wheel gets −N (R − δ) (its nodes leave the ground), which nothing then balances.
 //
+// Penalty friction (a contact law's elastic_slip γ > 0, Abaqus' "allowable elastic slip"). A sticking
+// contact may slip elastically by γ·φ, φ = r_t/(μ r_n) the mobilized fraction of its cone, so that
+// it reaches the friction limit after a slip γ, whatever its normal force (Abaqus scales the penalty
+// with the pressure the same way). Over a step from φ_k, stick becomes
+//   ũ_t = u_t + γ (r_t/(μ r_n) − φ_k) = 0,
+// and slip is Coulomb's law on ũ_t (the elastic part recovered, the rest dissipated): the same problem
+// with W_tt + γ/(μ r_n) on the diagonal and −γ φ_k in b, which PGS solves unchanged. r_n is first the
+// warm start's, then the solve's own: the problem is solved again at the new normal forces until they
+// settle (a few passes; a contact without a normal force gets no friction). Held sticking rows hold
+// ũ_t, not u_t (their offset takes γ/(μ r_n) r_t at the warm start), so a fixed point stays unbiased.
+//
 // Outputs: state velocities hold Δq / h, impulses r·h (so that contact-force probes read r);
 // state.reactions the generalized force each prescription exerts (N, N·m); Newton's counters.
 #pragma once
@@ -95,6 +106,8 @@ class QuasiStatic final : public Stepper {
   bool release_let_go_rows();
   void update_contact_force();  // contact_force_ ← Hᵀ r_
   void detect_contacts(const State& state, double t_next);
+  void soften_friction(const State& state);  // penalty friction's terms (see the header)
+  double set_compliance(const Vector& r);
   void assemble_problem();
   void generalized_force(const Vector& q, double t, Vector& f);
   bool needs_tangent() const { return !(linear_ && factored_); }  // a linear World's is factored once
@@ -116,6 +129,11 @@ class QuasiStatic final : public Stepper {
 
   Vector z_, q_, f_, f_z_, f_aug_, dz_, r_, reactions_;
   Vector offset_;              // c: the contacts' gaps (normal rows) and slips since q_k (tangential rows)
+  Vector compliance_;          // penalty friction: γ/(μ r_n) on tangential rows (m/N), else 0
+  Vector start_impulse_;       // the contacts' impulses at the step start (penalty friction's φ_k)
+  Vector compliance_normal_;   // the normal forces compliance_ was set at (N)
+  std::vector<Eigen::Vector2d> friction_mu_;  // the contacts' μ before penalty friction zeroes some
+  bool penalty_friction_ = false;
   Vector contact_force_;       // Hᵀ r_ (N, N·m), in velocity components
   Vector previous_dz_;         // the last Newton step, to detect oscillation
   double hub_proximal_ = 0.0;  // the hub's proximal weight this step's iterates start from (/ max diag)

@@ -47,5 +47,29 @@ TEST(QuasiStatic, HeldRowsThatTheSolveLetsGoAreReleased) {
   EXPECT_EQ(c.not_converged, 0);
 }
 
+// Penalty friction (a contact law's elastic_slip γ, quasi_static.h) on SSNV503's shoe made rigid
+// (E × 1e4, the plate level): every contact node slips elastically by the same s, so each carries
+// μ r_n s/γ and the shoe's equilibrium along the plate, F = k s + μ N s/γ, gives
+// s = F / (k + μ N/γ): F = 178.2 · 20 N, k = 2 · 2 N/mm, μ N = 0.3 · 12000 N, γ = 0.1 mm → 0.098989 mm.
+// With γ = 0 the shoe sticks (s = 0).
+TEST(QuasiStatic, PenaltyFrictionSlipsElasticallyBelowTheLimit) {
+  auto shift = [](double elastic_slip) {
+    auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/ssnv503-2d/scene.yaml",
+                            {"parameters.angle=0", "bodies.shoe.material.young=2.1e9",
+                             // the weak springs make |q| ~ 1e6 mm: a relative 1e-9 leaves slips of 1e-3
+                             "contact_solver.tolerance=1e-12",
+                             "contacts.shoe_on_plate.elastic_slip=" + std::to_string(elastic_slip)});
+    const RunReport result = run_scene(*scene, {});
+    for (const CheckResult& check : result.checks)
+      if (check.name == "dx_B") return check.value;
+    ADD_FAILURE() << "no check dx_B";
+    return 0.0;
+  };
+  const double stuck = shift(0.0), elastic = shift(0.1);
+  EXPECT_NEAR(stuck, 0.0, 1e-6);
+  const double expected = 178.2 * 20.0 / (2.0 * 2.0 + 0.3 * (300.0 * 40.0 - 2.0 * 0.005 * 2.0) / 0.1);
+  EXPECT_NEAR(elastic - stuck, expected, 1e-4 * expected) << elastic;
+}
+
 }  // namespace
 }  // namespace csim

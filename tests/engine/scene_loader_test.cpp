@@ -118,6 +118,17 @@ TEST_F(SceneLoaderTest, NegativeFrictionCoefficient) {
   EXPECT_NE(message.find(">= 0"), std::string::npos) << message;
 }
 
+TEST_F(SceneLoaderTest, ElasticSlipIsNonNegativeAndForTheQuasiStaticStepperOnly) {
+  std::string message = error_of(variant("mu: =mu}", "mu: =mu, elastic_slip: -0.01}"));
+  EXPECT_NE(message.find("contacts.block_on_ground.elastic_slip"), std::string::npos) << message;
+  EXPECT_NE(message.find(">= 0"), std::string::npos) << message;
+  // The valid scene runs Moreau–Jean, which keeps no penalty-friction history.
+  message = error_of(variant("mu: =mu}", "mu: =mu, elastic_slip: 0.01}"));
+  EXPECT_NE(message.find(".yaml:18: contacts.block_on_ground.elastic_slip"), std::string::npos) << message;
+  EXPECT_NE(message.find("quasi-static stepper only"), std::string::npos) << message;
+  EXPECT_EQ(error_of(variant("mu: =mu}", "mu: =mu, elastic_slip: 0}")), "");
+}
+
 TEST_F(SceneLoaderTest, NonPositiveStep) {
   for (const char* step : {"0", "-0.01"}) {
     const std::string message = error_of(variant("step: 0.01", std::string("step: ") + step));
