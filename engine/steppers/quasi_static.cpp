@@ -206,7 +206,6 @@ void QuasiStatic::detect_contacts(const State& state, double t_next) {
 void QuasiStatic::soften_friction(const State& state) {
   compliance_.setZero(problem_.size());
   if (!penalty_friction_) return;
-  friction_mu_ = problem_.mu;
   compliance_normal_.setZero(problem_.contacts);
   warm_start(state.contacts, active_, d_, problem_.size(), start_impulse_);
   for (int i = 0; i < problem_.contacts; ++i) {
@@ -226,15 +225,16 @@ void QuasiStatic::soften_friction(const State& state) {
 double QuasiStatic::set_compliance(const Vector& r) {
   double change = 0.0, largest = 0.0;
   for (int i = 0; i < problem_.contacts; ++i) {
-    const double gamma = world_.contact_laws[active_[i].law].elastic_slip, normal = r(d_ * i);
+    const ContactLaw& law = world_.contact_laws[active_[i].law];
+    const double gamma = law.elastic_slip, normal = r(d_ * i);
     if (gamma <= 0.0) continue;
+    const Eigen::Vector2d mu = law.mu_at(t_);  // detect_contacts' μ, which this may have zeroed
     largest = std::max(largest, normal);
     change = std::max(change, std::abs(normal - compliance_normal_(i)));
     compliance_normal_(i) = normal;
     for (int k = 1; k < d_; ++k) {
-      const double mu = friction_mu_[i](k - 1);
-      problem_.mu[i](k - 1) = normal > 0.0 ? mu : 0.0;
-      compliance_(d_ * i + k) = normal > 0.0 && mu > 0.0 ? gamma / (mu * normal) : 0.0;
+      problem_.mu[i](k - 1) = normal > 0.0 ? mu(k - 1) : 0.0;
+      compliance_(d_ * i + k) = normal > 0.0 && mu(k - 1) > 0.0 ? gamma / (mu(k - 1) * normal) : 0.0;
     }
   }
   return largest > 0.0 ? change / largest : 0.0;

@@ -132,7 +132,6 @@ class QuasiStatic final : public Stepper {
   Vector compliance_;          // penalty friction: γ/(μ r_n) on tangential rows (m/N), else 0
   Vector start_impulse_;       // the contacts' impulses at the step start (penalty friction's φ_k)
   Vector compliance_normal_;   // the normal forces compliance_ was set at (N)
-  std::vector<Eigen::Vector2d> friction_mu_;  // the contacts' μ before penalty friction zeroes some
   bool penalty_friction_ = false;
   Vector contact_force_;       // Hᵀ r_ (N, N·m), in velocity components
   Vector previous_dz_;         // the last Newton step, to detect oscillation
