@@ -190,6 +190,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
         .value("max_per_step", c.max_newton_iterations)
         .value("regularized_iterations", c.newton_regularized)
         .value("contact_held_iterations", c.newton_held)
+        .value("cutbacks", c.cutbacks)
         .end_object();
   json.begin_object("contacts")
       .value("max_active", c.max_contact_points)

@@ -37,6 +37,7 @@ struct SolverCounters {
   int max_newton_iterations = 0;  // the most in one step
   long newton_regularized = 0;    // iterations whose tangent needed a proximal term to be positive definite
   long newton_held = 0;           // iterations whose tangent was held by its contacts' rows instead (quasi_static.h)
+  long cutbacks = 0;              // quasi-static load steps taken again as two halves after Newton failed
 };
 
 // Energy bookkeeping (J), accumulated from t = 0. The discrete balance of the θ-method,

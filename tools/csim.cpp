@@ -233,6 +233,9 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
     std::printf("  Newton: %ld iterations, %.2f a step on average, %d at most, %ld regularized, %ld held by contacts\n",
                 c.newton_iterations, c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0, c.max_newton_iterations,
                 c.newton_regularized, c.newton_held);
+  if (c.cutbacks > 0)
+    std::printf("  note: %ld load steps were taken again as two halves after Newton failed (integrator.max_cutbacks)\n",
+                c.cutbacks);
   const csim::EnergyBalance& e = report.state.energy;
   if (scene.run.integrator == "quasi-static") {  // no inertia: the balance of work is not tracked
     std::printf("  energy: elastic %.6g J (the quasi-static stepper keeps no balance of work)\n", e.elastic);

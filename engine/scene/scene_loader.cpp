@@ -23,7 +23,7 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   const SceneNode integrator = root.section("integrator");
   integrator.allow_only({"type", "theta", "rtol", "atol", "penalty_stiffness", "penalty_damping", "epsilon",
                          "linear_solver", "max_step", "max_steps", "contact_distance", "newton_tolerance",
-                         "newton_max_iterations"});
+                         "newton_max_iterations", "max_cutbacks"});
   run.integrator = integrator.string("type", "moreau-jean");
   if (run.integrator != "moreau-jean" && run.integrator != "ida" && run.integrator != "ida-events" &&
       run.integrator != "quasi-static")
@@ -52,6 +52,10 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   if (newton_iterations < 1 || newton_iterations != static_cast<int>(newton_iterations))
     integrator.fail_at("newton_max_iterations", "must be a whole number >= 1");
   run.quasi_static.newton_max_iterations = static_cast<int>(newton_iterations);
+  const double cutbacks = integrator.number("max_cutbacks", 4);
+  if (cutbacks < 0 || cutbacks > 30 || cutbacks != static_cast<int>(cutbacks))
+    integrator.fail_at("max_cutbacks", "must be a whole number in [0, 30]");
+  run.quasi_static.max_cutbacks = static_cast<int>(cutbacks);
   mj.newton_tolerance = run.quasi_static.newton_tolerance;  // Moreau–Jean's Newton (finite-strain bodies)
   mj.newton_max_iterations = run.quasi_static.newton_max_iterations;
   ida.max_step = integrator.non_negative("max_step", 0.0);

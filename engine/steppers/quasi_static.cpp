@@ -327,30 +327,72 @@ void QuasiStatic::step(State& state) {
   const double h = parameters_.step;
   const double t_next = static_cast<double>(state.counters.steps + 1) * h;
   counters_ = &state.counters;
-  if (world_.releases_prescription(state.t, t_next)) {  // new unknowns: the released components
+  const Vector q_start = state.q;
+  advance(state, t_next, 0);
+  SolverCounters& c = state.counters;
+  world_.position_difference(state.q, q_start, state.v);
+  state.v /= h;
+  ++c.steps;
+  c.contact_points += static_cast<long>(state.contacts.size());
+  c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
+  state.energy.elastic = forces_.elastic_energy(state.q);
+}
+
+// Brings state to t_next; when Newton fails, as two halves, each of which may be halved again, down
+// to max_cutbacks halvings (the loading path is a function of t, so any t in between is a load step).
+void QuasiStatic::advance(State& state, double t_next, int halvings) {
+  const std::string failure = solve_increment(state, t_next);
+  if (failure.empty()) {
+    accept(state, t_next);
+    return;
+  }
+  if (linear_ || halvings >= parameters_.max_cutbacks) {
+    std::ostringstream message;
+    message << failure;
+    if (halvings > 0)
+      message << " (step halved " << halvings << " times, to " << t_next - state.t
+              << " s; integrator.max_cutbacks)";
+    throw RunError(t_next, message.str());
+  }
+  ++state.counters.cutbacks;
+  const double t_half = 0.5 * (state.t + t_next);
+  advance(state, t_half, halvings + 1);
+  advance(state, t_next, halvings + 1);
+}
+
+// Newton's iterations from state to t_next into q_, active_ and reactions_; state is not touched. Returns
+// "" when they converged, else why not.
+std::string QuasiStatic::solve_increment(const State& state, double t_next) {
+  // The prescriptions in force at t_next (a cutback can step back across a release).
+  if (world_.releases_prescription(reduced_time_, t_next) || world_.releases_prescription(t_next, reduced_time_)) {
     reduced_ = reduce(world_, t_next);
+    reduced_time_ = t_next;
     factored_ = false;
   }
   reduced_.gather(state.q, state.t, z_);
   reduced_.expand(z_, t_next, q_);
-  // The warm start: the last step's forces (its impulses are forces × h).
+  // The warm start: the last increment's forces (state's impulses are forces × h, see accept).
   previous_ = state.contacts;
-  for (ActiveContact& c : previous_) c.impulse /= h;
+  for (ActiveContact& c : previous_) c.impulse /= parameters_.step;
 
+  SolverCounters& c = *counters_;
   int iterations = 0;
   double increment = 0.0;
   previous_dz_.resize(0);  // no oscillation to detect at a step's first iteration
   hub_proximal_ = kHubProximal;
+  std::string failure;
   for (;;) {
     try {
       increment = iterate(state, t_next);
-    } catch (const FemError& e) {
-      throw RunError(t_next, std::string("quasi-static Newton iteration ") + std::to_string(iterations + 1) +
-                                 ": " + e.what());
+    } catch (const FemError& e) {  // an element inverted at this iterate: a shorter increment may not
+      failure = "quasi-static Newton iteration " + std::to_string(iterations + 1) + ": " + e.what();
+    } catch (const RunError& e) {  // a non-finite or indefinite iterate
+      failure = e.what();
     }
     ++iterations;
+    if (!failure.empty()) break;
     if (linear_ || increment <= parameters_.newton_tolerance * length_) {
-      if (!contact_failure_.empty()) throw RunError(t_next, contact_failure_);
+      failure = contact_failure_;
       break;
     }
     if (iterations >= parameters_.newton_max_iterations) {
@@ -359,26 +401,26 @@ void QuasiStatic::step(State& state) {
               << " after " << iterations << " iterations (tolerance " << parameters_.newton_tolerance * length_
               << "; integrator.newton_max_iterations, or a smaller time.step)";
       if (!contact_failure_.empty()) message << "; its last " << contact_failure_;
-      throw RunError(t_next, message.str());
+      failure = message.str();
+      break;
     }
   }
-  SolverCounters& c = state.counters;
   c.newton_iterations += iterations;
   c.max_newton_iterations = std::max(c.max_newton_iterations, iterations);
-  for (ActiveContact& contact : active_) contact.impulse *= h;
+  return failure;
+}
 
-  world_.position_difference(q_, state.q, state.v);
-  state.v /= h;
+// state ← the converged increment to t_next. Impulses are the forces × the whole step h, whatever the
+// increment's length, so that contact-force probes read forces (state.h).
+void QuasiStatic::accept(State& state, double t_next) {
   state.q = q_;
   state.reactions = reactions_;
-  ++c.steps;
   state.t = t_next;
   state.contacts.clear();
-  for (const ActiveContact& contact : active_)
+  for (ActiveContact& contact : active_) {
+    contact.impulse *= parameters_.step;
     if (contact.impulse(0) > 0.0) state.contacts.push_back(contact);  // open candidates are not contacts
-  c.contact_points += static_cast<long>(state.contacts.size());
-  c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
-  state.energy.elastic = forces_.elastic_energy(state.q);
+  }
 }
 
 }  // namespace csim

@@ -20,8 +20,12 @@
 //              ω_j = 1 unless the iteration oscillates (then a secant under-relaxation, see the code);
 // until |Δz|∞ ≤ newton_tolerance · L (L: the largest body's bounding radius, m; angles count as
 // lengths on a unit arm). A World of linear bodies without ties takes one iteration, its contact
-// geometry linearized at q_k (small displacements), as the stepper always did; the others stop the run
-// (exit 2) when Newton has not converged in newton_max_iterations.
+// geometry linearized at q_k (small displacements), as the stepper always did. For the others, a step
+// whose Newton does not converge in newton_max_iterations (or meets an inverted element, or ends on a
+// failed contact solve) is taken again as two half steps, each halved again if it fails, down to
+// max_cutbacks halvings (counted in the summary); only then does the run stop (exit 2). The
+// loading path being a function of t, a half step is a load step like any other; the step's outputs
+// (velocities Δq/h, impulses) stay those of the whole step.
 //
 // Holding K_z positive definite. The Delassus operator needs K_z positive definite, which the
 // equilibrium with its contacts does not guarantee:
@@ -88,6 +92,7 @@ struct QuasiStaticParameters {
   double failure_residual = 1e-6;
   double newton_tolerance = 1e-10;  // on |Δz|∞ / L
   int newton_max_iterations = 30;
+  int max_cutbacks = 4;             // halvings of a load step whose Newton fails, at most (h / 16)
 };
 
 class QuasiStatic final : public Stepper {
@@ -99,6 +104,9 @@ class QuasiStatic final : public Stepper {
   double time_step() const override { return parameters_.step; }
 
  private:
+  void advance(State& state, double t_next, int halvings);
+  std::string solve_increment(const State& state, double t_next);
+  void accept(State& state, double t_next);
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
   void assemble_stiffness(const Vector& q);
@@ -117,6 +125,7 @@ class QuasiStatic final : public Stepper {
   ForceModel forces_;
   ContactDetector detector_;
   ReducedCoordinates reduced_;
+  double reduced_time_ = 0.0;  // s, the time whose prescriptions reduced_ holds
   PgsSolver pgs_;
   bool linear_;                 // constant K, no ties: one iteration, one factorization
   bool factored_ = false;

@@ -47,6 +47,40 @@ TEST(QuasiStatic, HeldRowsThatTheSolveLetsGoAreReleased) {
   EXPECT_EQ(c.not_converged, 0);
 }
 
+// A load step whose Newton fails is taken again as two halves (quasi_static.h). The benchmark's ring
+// (34 × 5, the default row) needs 5 to 8 iterations in a few steps of the press: with at most 4, two
+// steps are halved, and since the press is frictionless and the spin held there, the load path's
+// resolution there cannot change the rolling that follows: the same spin to the Newton tolerance.
+// Without cutbacks the same setting stops the run.
+TEST(QuasiStatic, AStepWhoseNewtonFailsIsTakenAgainAsTwoHalves) {
+  auto run = [](std::vector<std::string> settings) {
+    settings.insert(settings.end(), {"parameters.divisions_circumferential=34", "parameters.divisions_radial=5"});
+    auto scene = load_scene(kRing, settings);
+    return run_scene(*scene, {});
+  };
+  const RunReport plain = run({}), halved = run({"integrator.newton_max_iterations=4"});
+  EXPECT_EQ(plain.state.counters.cutbacks, 0);
+  EXPECT_GT(halved.state.counters.cutbacks, 0);
+  EXPECT_LE(halved.state.counters.max_newton_iterations, 4);
+  EXPECT_EQ(halved.state.counters.steps, plain.state.counters.steps);  // whole steps, as the probes see them
+  ASSERT_EQ(halved.checks.size(), plain.checks.size());
+  for (std::size_t i = 0; i < plain.checks.size(); ++i)
+    EXPECT_NEAR(halved.checks[i].value, plain.checks[i].value, 1e-6) << plain.checks[i].name;
+  try {
+    run({"integrator.newton_max_iterations=4", "integrator.max_cutbacks=0"});
+    ADD_FAILURE() << "no RunError";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("Newton did not converge"), std::string::npos) << e.what();
+  }
+  try {  // one iteration converges only where nothing moves: the press fails at a last halving, and says so
+    run({"integrator.newton_max_iterations=1", "integrator.max_cutbacks=2"});
+    ADD_FAILURE() << "no RunError";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find("(step halved 2 times, to 0.0025 s; integrator.max_cutbacks)"),
+              std::string::npos) << e.what();
+  }
+}
+
 // Penalty friction (a contact law's elastic_slip γ, quasi_static.h) on SSNV503's shoe made rigid
 // (E × 1e4, the plate level): every contact node slips elastically by the same s, so each carries
 // μ r_n s/γ and the shoe's equilibrium along the plate, F = k s + μ N s/γ, gives
