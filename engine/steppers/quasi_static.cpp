@@ -128,7 +128,7 @@ bool QuasiStatic::factor_stiffness(double hub_proximal) {
       SparseMatrix G;
       if (reduced_.geometric_stiffness(q_, contact_force_, G)) base += G;
     }
-    for (double rho = kFirstHeld * largest; rho <= 10.0 * largest; rho *= 10.0) {
+    for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
       if (positive_definite(base + rho * HtH)) {
         f_aug_ = f_z_ - rho * load;
         return true;
@@ -296,6 +296,11 @@ double QuasiStatic::iterate(const State& state, double t_next) {
       hub_proximal_ *= 100.0;
       continue;
     }
+    // A failed solve on held rows: a stiffer hold (the step stays Newton's while the rows stay held).
+    if (!contact_failure_.empty() && held_weight_ < 1.0) {
+      held_weight_ *= 100.0;
+      continue;
+    }
     if (round == kHeldRounds || !release_let_go_rows()) break;
   }
   dz_ = factor_.solve(f_aug_);
@@ -380,6 +385,7 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next) {
   double increment = 0.0;
   previous_dz_.resize(0);  // no oscillation to detect at a step's first iteration
   hub_proximal_ = kHubProximal;
+  held_weight_ = kFirstHeld;
   std::string failure;
   for (;;) {
     try {

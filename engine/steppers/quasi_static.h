@@ -40,7 +40,10 @@
 // problem solved again (at most 4 times; the rare step still inexact costs an iteration, not the
 // converged state, since a fixed point holds its rows). Without that, the smoothed ring (many rows
 // that come and go) diverged at the first step where a held row slipped. ρ = 1e-4, 1e-3, … ×
-// max diag(K_z) until A is positive definite. With a hub, the held rows need a sticking contact, and the
+// max diag(K_z) until A is positive definite; a contact solve that fails on held rows is solved again
+// with ρ from 100 times more (up to max diag, kept for the step's later iterates): the held rows' sticking
+// contacts can be coupled to the nearly free spin so that μ|W_nt| ≈ W_nn, which Gauss–Seidel does not
+// finish, and a stiffer hold shrinks W along those rows without changing the step while they stay held. With a hub, the held rows need a sticking contact, and the
 // frame's geometric stiffness then takes the contact forces too (the exact Hessian): Newton converges
 // quadratically while rolling. Measured on the thin Mooney–Rivlin ring (r_i 1.7, δ 0.1, 68 × 10):
 // 3605 iterations, 10 a step while rolling, with the proximal terms below; 1520, at most 4 a step,
@@ -144,6 +147,7 @@ class QuasiStatic final : public Stepper {
   bool penalty_friction_ = false;
   Vector contact_force_;       // Hᵀ r_ (N, N·m), in velocity components
   Vector previous_dz_;         // the last Newton step, to detect oscillation
+  double held_weight_ = 0.0;   // the held rows' least ρ this step's iterates start from (/ max diag)
   double hub_proximal_ = 0.0;  // the hub's proximal weight this step's iterates start from (/ max diag)
   std::string contact_failure_;  // the last iterate's contact solve failure message, or ""
   Vector step_increment_;      // q_j ⊖ q_k in velocity components (m, rad): the slip rows' argument
