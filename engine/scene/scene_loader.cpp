@@ -48,30 +48,18 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   run.quasi_static.contact_distance = integrator.non_negative("contact_distance", 0.0);
   run.quasi_static.newton_tolerance = integrator.number("newton_tolerance", 1e-10);
   if (!(run.quasi_static.newton_tolerance > 0.0)) integrator.fail_at("newton_tolerance", "must be > 0");
-  const double newton_iterations = integrator.number("newton_max_iterations", 30);
-  if (newton_iterations < 1 || newton_iterations != static_cast<int>(newton_iterations))
-    integrator.fail_at("newton_max_iterations", "must be a whole number >= 1");
-  run.quasi_static.newton_max_iterations = static_cast<int>(newton_iterations);
-  const double cutbacks = integrator.number("max_cutbacks", 4);
-  if (cutbacks < 0 || cutbacks > 30 || cutbacks != static_cast<int>(cutbacks))
-    integrator.fail_at("max_cutbacks", "must be a whole number in [0, 30]");
-  run.quasi_static.max_cutbacks = static_cast<int>(cutbacks);
+  run.quasi_static.newton_max_iterations = static_cast<int>(integrator.whole_number("newton_max_iterations", 30, 1));
+  run.quasi_static.max_cutbacks = static_cast<int>(integrator.whole_number("max_cutbacks", 4, 0, 30));
   mj.newton_tolerance = run.quasi_static.newton_tolerance;  // Moreau–Jean's Newton (finite-strain bodies)
   mj.newton_max_iterations = run.quasi_static.newton_max_iterations;
   ida.max_step = integrator.non_negative("max_step", 0.0);
-  const double max_steps = integrator.number("max_steps", 1000000);
-  if (max_steps < 1 || max_steps != static_cast<long>(max_steps))
-    integrator.fail_at("max_steps", "must be a whole number >= 1");
-  ida.max_steps = static_cast<long>(max_steps);
+  ida.max_steps = integrator.whole_number("max_steps", 1000000, 1, std::numeric_limits<long>::max());
 
   const SceneNode solver = root.section("contact_solver");
   solver.allow_only({"tolerance", "max_iterations", "omega", "failure_residual"});
   mj.solver.tolerance = solver.number("tolerance", 1e-12);
   if (!(mj.solver.tolerance > 0.0)) solver.fail_at("tolerance", "must be > 0");
-  const double iterations = solver.number("max_iterations", 1000);
-  if (iterations < 1 || iterations != static_cast<int>(iterations))
-    solver.fail_at("max_iterations", "must be a whole number >= 1");
-  mj.solver.max_iterations = static_cast<int>(iterations);
+  mj.solver.max_iterations = static_cast<int>(solver.whole_number("max_iterations", 1000, 1));
   mj.solver.omega = solver.number("omega", 1.0);
   if (!(mj.solver.omega > 0.0 && mj.solver.omega < 2.0)) solver.fail_at("omega", "must lie in (0, 2)");
   mj.failure_residual = solver.number("failure_residual", 1e-6);

@@ -107,11 +107,7 @@ CheckDefinition read_check(const std::string& name, const SceneNode& node, const
   if (c.probe < 0) node.fail_at("probe", "no probe named '" + probe + "'");
 
   int modes = 0;
-  auto index_of = [&](const char* key) {
-    const double value = node.number(key);
-    if (value < 1 || value != static_cast<int>(value)) node.fail_at(key, "must be a whole number >= 1");
-    return static_cast<int>(value);
-  };
+  auto index_of = [&](const char* key) { return static_cast<int>(node.whole_number(key, std::nullopt, 1)); };
   if (node.has("at")) { ++modes; c.mode = CheckDefinition::Mode::at; c.time = node.number("at");
     if (c.time < 0 || c.time > run.end_time) node.fail_at("at", "must lie in the time window"); }
   if (node.has("extremum")) { ++modes; c.mode = CheckDefinition::Mode::extremum; c.index = index_of("extremum"); }

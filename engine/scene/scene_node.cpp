@@ -188,6 +188,16 @@ double SceneNode::non_negative(const std::string& key, double default_value) con
   return value;
 }
 
+long SceneNode::whole_number(const std::string& key, std::optional<long> default_value, long least,
+                             long most) const {
+  const double value = default_value ? number(key, static_cast<double>(*default_value)) : number(key);
+  if (!(value >= static_cast<double>(least) && value <= static_cast<double>(most)) || value != std::floor(value))
+    fail_at(key, most >= std::numeric_limits<int>::max()
+                     ? "must be a whole number >= " + std::to_string(least)
+                     : "must be a whole number in [" + std::to_string(least) + ", " + std::to_string(most) + "]");
+  return static_cast<long>(value);
+}
+
 SceneDocument load_scene_document(const std::string& file) {
   SceneDocument document;
   document.file = file;

@@ -17,6 +17,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <initializer_list>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -81,6 +82,9 @@ class SceneNode {
   // Value checks that fail with the key's location.
   double positive(const std::string& key) const;
   double non_negative(const std::string& key, double default_value) const;
+  // A whole number in [least, most] (counts: iterations, steps), required when default_value is empty.
+  long whole_number(const std::string& key, std::optional<long> default_value, long least,
+                    long most = std::numeric_limits<int>::max()) const;
 
  private:
   mutable YAML::Node node_;  // mutable: reading a default writes it back (effective configuration)
