@@ -84,10 +84,10 @@ void QuasiStatic::assemble_stiffness(const Vector& q) {
 }
 
 // Factors K_z, made positive definite when it is not or, with a hub, cannot be (see the header): by the
-// held rows (hold_), else by proximal terms (first hub_proximal · max diag on the hub's unknowns). Sets
-// f_aug_, the load that goes with the factored matrix (Tᵀ f, less ρ H_Aᵀ c_A with held rows). Returns
-// whether held rows were used.
-bool QuasiStatic::factor_stiffness(double hub_proximal) {
+// held rows (hold_; ρ from held_weight_ · max diag), else by proximal terms (first hub_proximal_ · max diag
+// on the hub's unknowns). Sets f_aug_, the load that goes with the factored matrix (Tᵀ f, less ρ H_Aᵀ c_A
+// with held rows). Returns whether held rows were used.
+bool QuasiStatic::factor_stiffness() {
   f_aug_ = f_z_;
   if (!needs_tangent()) return false;
   factored_ = true;
@@ -136,7 +136,7 @@ bool QuasiStatic::factor_stiffness(double hub_proximal) {
     }
   }
   SparseMatrix proximal = K_z_;
-  for (int i : reduced_.hub_unknowns()) proximal.coeffRef(i, i) += hub_proximal * largest;
+  for (int i : reduced_.hub_unknowns()) proximal.coeffRef(i, i) += hub_proximal_ * largest;
   if (positive_definite(proximal)) return false;
   double added = 0.0;
   const bool held = grow_proximal_term(largest, [&](double epsilon) {
@@ -268,12 +268,12 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   // Held rows that the solve lets go would make the step another than Newton's (see the header): the
   // rows are dropped and the problem solved again, a few times at most.
   for (int round = 0;; ++round) {
-    const bool held = factor_stiffness(hub_proximal_);
+    const bool held = factor_stiffness();
     if (held && round == 0) ++counters_->newton_held;
     assemble_problem();
     // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
     // gaps of −0.14) need not stop the run: the next iterate solves again. The accepted iterate's must
-    // not fail (step()).
+    // not fail (solve_increment).
     contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
     // Penalty friction's compliance at the normal forces just found, to its fixed point (a linear World
     // takes a single iterate: the warm start's, the last step's, would leave it a step behind).
@@ -283,25 +283,22 @@ double QuasiStatic::iterate(const State& state, double t_next) {
       problem_.W.diagonal() += compliance_ - used;
       contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
     }
-    if (!held) {
-      // On the proximal path the hub's spin is nearly free (ε = 1e-4 max diag), so a contact a
-      // distance x from the bottom gets a normal compliance ~x²/ε and a coupling to its own tangent
-      // ~R x/ε: for |x| < μR, friction makes the effective normal compliance of a slip negative, a
-      // Painlevé-like problem that no contact solver finishes (3D elastic ring r_i 1, δ 0.1 on 34 × 5 at
-      // t = 1.64: the contact next to the bottom has W_nn = 0.0315 and μ|W_nt| = 0.0316; residual 1.6e-3
-      // after 20000 sweeps). A stiffer hub (×100, up to max diag) makes it well posed; the iterate
-      // then only moves the spin less far. The raised weight stays for the step's later iterates: the
-      // problem stays ill posed at the small one, and each failed solve costs max_iterations sweeps.
-      if (contact_failure_.empty() || reduced_.hub_unknowns().empty() || hub_proximal_ >= 1.0) break;
-      hub_proximal_ *= 100.0;
+    // A failed solve is taken again with a stiffer hold of the rows or the hub (×100, up to max diag),
+    // kept for the step's later iterates: each failed solve costs max_iterations sweeps.
+    // On the proximal path the hub's spin is nearly free (ε = 1e-4 max diag), so a contact a
+    // distance x from the bottom gets a normal compliance ~x²/ε and a coupling to its own tangent
+    // ~R x/ε: for |x| < μR, friction makes the effective normal compliance of a slip negative, a
+    // Painlevé-like problem that no contact solver finishes (3D elastic ring r_i 1, δ 0.1 on 34 × 5 at
+    // t = 1.64: the contact next to the bottom has W_nn = 0.0315 and μ|W_nt| = 0.0316; residual 1.6e-3
+    // after 20000 sweeps). A stiffer hub makes it well posed; the iterate then only moves the spin less
+    // far. On held rows, sticking contacts coupled to the nearly free spin meet the same μ|W_nt| ≈ W_nn;
+    // a larger ρ shrinks W along the rows and leaves the step Newton's while they stay held.
+    double& weight = held ? held_weight_ : hub_proximal_;
+    if (!contact_failure_.empty() && (held || !reduced_.hub_unknowns().empty()) && weight < 1.0) {
+      weight *= 100.0;
       continue;
     }
-    // A failed solve on held rows: a stiffer hold (the step stays Newton's while the rows stay held).
-    if (!contact_failure_.empty() && held_weight_ < 1.0) {
-      held_weight_ *= 100.0;
-      continue;
-    }
-    if (round == kHeldRounds || !release_let_go_rows()) break;
+    if (!held || round == kHeldRounds || !release_let_go_rows()) break;
   }
   dz_ = factor_.solve(f_aug_);
   if (problem_.size() > 0) dz_.noalias() += X_ * r_;

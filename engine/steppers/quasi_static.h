@@ -113,7 +113,7 @@ class QuasiStatic final : public Stepper {
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
   void assemble_stiffness(const Vector& q);
-  bool factor_stiffness(double hub_proximal);
+  bool factor_stiffness();
   bool release_let_go_rows();
   void update_contact_force();  // contact_force_ ← Hᵀ r_
   void detect_contacts(const State& state, double t_next);
