@@ -95,6 +95,30 @@ TEST(QuasiStatic, AStepWhoseNewtonFailsIsTakenAgainAsTwoHalves) {
   }
 }
 
+// A Newton iteration that creeps at a steady linear rate is extrapolated (quasi_static.cpp,
+// secant_relaxation). The benchmark's quad8 mesh (18 × 3), Mooney–Rivlin δ 0.05, r_i 0.2: one or two
+// nodes touch the ground, both slip as friction comes in, and the 18-gon locks, sliding without turning
+// (docs/rolling.md). The spin that the hub's proximal term holds converged at ρ = 0.965 an iteration:
+// 100 iterations did not reach the tolerance at t = 1.22, at any of 4 halvings. Extrapolated, the run
+// reaches its end with no halving; the ring rolls to t = 1.55, then locks, and over the two last windows
+// (t = 1.6 to 2.2) it does not turn.
+TEST(QuasiStatic, ANewtonThatCreepsAtASteadyRateIsExtrapolated) {
+  auto scene = load_scene(kRing, {"parameters.element=quad8", "parameters.divisions_circumferential=18",
+                                  "parameters.divisions_radial=3", "parameters.indentation=0.05",
+                                  "parameters.inner_radius=0.2", "parameters.roll_time=1.0",
+                                  "parameters.window=0.3", "integrator.max_cutbacks=0"});
+  const RunReport report = run_scene(*scene, {});
+  const SolverCounters& c = report.state.counters;
+  EXPECT_EQ(c.steps, 220);  // to t = 2.2
+  EXPECT_LE(c.max_newton_iterations, 40);
+  EXPECT_EQ(c.not_converged, 0);
+  ASSERT_FALSE(report.checks.empty());
+  for (const CheckResult& check : report.checks) {
+    if (check.name.rfind("free_rolling_spin", 0) != 0) continue;
+    EXPECT_NEAR(check.value, 0.0, 1e-5) << check.name;  // in v/R: 0.98 while it rolled, to t = 1.55
+  }
+}
+
 // Penalty friction (a contact law's elastic_slip γ, quasi_static.h) on SSNV503's shoe made rigid
 // (E × 1e4, the plate level): every contact node slips elastically by the same s, so each carries
 // μ r_n s/γ and the shoe's equilibrium along the plate, F = k s + μ N s/γ, gives
