@@ -406,9 +406,7 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next) {
   SolverCounters& c = *counters_;
   int iterations = 0;
   double increment = 0.0;
-  previous_dz_.resize(0);  // no rate to measure at a step's first iteration
-  previous_ratio_ = 0.0;
-  previous_relaxation_ = 1.0;
+  previous_dz_.resize(0);  // no rate to measure at a step's first iteration (which resets ρ and ω)
   hub_proximal_ = kHubProximal;
   held_weight_ = kFirstHeld;
   std::string failure;
