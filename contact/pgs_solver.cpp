@@ -12,8 +12,8 @@
 // - W is symmetric (friction_contact_problem.h), so the coupling of contact c with the others is read
 //   from W's columns, which are contiguous in Eigen's column-major storage, rather than from its rows.
 // - Per-contact work is templated on the contact dimension and uses fixed-size Eigen objects: a solve
-//   without equality rows does not allocate at all; with equalities it allocates the LDLT of W_ee and
-//   one right-hand side, once per solve.
+//   without equality rows does not allocate at all; with equalities it allocates the condensed problem
+//   once per solve (condense, below).
 
 namespace csim {
 namespace {
@@ -126,15 +126,9 @@ struct SweepResult {
   bool contacts_fixed = true;
 };
 
-// Equality block: u_e = W_ec r_c + W_ee r_e + q_e = 0 solved for r_e exactly, contacts frozen.
-struct EqualityBlock {
-  Eigen::LDLT<Eigen::MatrixXd> W_ee;
-  Eigen::VectorXd rhs;
-};
-
 template <int D>
-SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& parameters,
-                  EqualityBlock* equalities, Eigen::VectorXd& r, int& rejected) {
+SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& parameters, Eigen::VectorXd& r,
+                  int& rejected) {
   SweepResult result;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
@@ -161,25 +155,6 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
     r.template segment<D>(first) = r_new;
   }
 
-  if (equalities != nullptr) {
-    const Eigen::Index first = static_cast<Eigen::Index>(D) * problem.contacts;
-    const Eigen::Index count = problem.equalities;
-    Eigen::VectorXd& rhs = equalities->rhs;
-    rhs = problem.q.tail(count);
-    if (first > 0) rhs.noalias() += problem.W.block(first, 0, count, first) * r.head(first);
-    rhs = -equalities->W_ee.solve(rhs);
-    if (!rhs.allFinite()) {
-      ++rejected;
-    } else {
-      result.increment_squared += problem.W.diagonal()
-                                      .tail(count)
-                                      .cwiseProduct(rhs - r.tail(count))
-                                      .squaredNorm();
-      r.tail(count) = rhs;
-    }
-    // With u_e = 0 solved for, (W r)_e = −q_e.
-    result.Wr_squared += problem.q.tail(count).squaredNorm();
-  }
   return result;
 }
 
@@ -223,11 +198,11 @@ double relative_residual(const FrictionContactProblem& problem, const Eigen::Vec
 }
 
 // Active-set polish: with the statuses of the contacts taken as known, the law reduces to a square
-// linear system (stick: u = 0; slip: u_n = 0 with r_t = r_n times a given ratio; open: r = 0;
-// equalities: u = 0), solved directly. Gauss–Seidel converges slowly when W mixes very different
-// scales (a body held by weak springs: rigid-mode entries 1e7 times the elastic ones; a rigid body on
-// two points of a stiff elastic one, whose Delassus has an eigenvalue 1e-5 of the others), and stalls
-// at a residual of about that ratio times the round-off; the direct solve does not.
+// linear system (stick: u = 0; slip: u_n = 0 with r_t = r_n times a given ratio; open: r = 0; equality
+// rows are condensed out before), solved directly. Gauss–Seidel converges slowly when W mixes very
+// different scales (a body held by weak springs: rigid-mode entries 1e7 times the elastic ones; a rigid
+// body on two points of a stiff elastic one, whose Delassus has an eigenvalue 1e-5 of the others), and
+// stalls at a residual of about that ratio times the round-off; the direct solve does not.
 // The statuses are then corrected from the solution and the solve repeated (a primal–dual active-set
 // iteration, as in Hüeber, Stadler & Wohlmuth, SIAM J. Sci. Comput. 30, 2008): an open contact that
 // would penetrate closes in stick, a closed one pulling (r_n < 0) opens, a stick one outside its cone
@@ -270,11 +245,6 @@ bool solve_statuses(const FrictionContactProblem& problem, const std::vector<Pol
       unknowns.push_back({row + k, unit});
       equations.push_back(row + k);
     }
-  }
-  for (int e = 0; e < problem.equalities; ++e) {
-    const Eigen::Index row = static_cast<Eigen::Index>(D) * problem.contacts + e;
-    unknowns.push_back({row, unit});
-    equations.push_back(row);
   }
   const Eigen::Index k = static_cast<Eigen::Index>(unknowns.size());
   if (k == 0) return false;
@@ -422,20 +392,12 @@ template <int D>
 PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsParameters& parameters,
                               Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
   PgsStatistics statistics;
-  EqualityBlock equality_block;
-  EqualityBlock* equalities = nullptr;
-  if (problem.equalities > 0) {
-    const Eigen::Index first = static_cast<Eigen::Index>(D) * problem.contacts;
-    equality_block.W_ee.compute(problem.W.block(first, first, problem.equalities, problem.equalities));
-    equality_block.rhs.resize(problem.equalities);
-    equalities = &equality_block;
-  }
 
   const double norm_q = problem.q.norm();
   bool residual_is_current = false;
   for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
     const SweepResult swept =
-        sweep<D>(problem, parameters, equalities, r, statistics.rejected_local_solutions);
+        sweep<D>(problem, parameters, r, statistics.rejected_local_solutions);
     statistics.iterations = iteration;
     residual_is_current = false;
     // A stalled iteration: try the active-set polish every kPolishInterval sweeps.
@@ -478,6 +440,87 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
   return statistics;
 }
 
+PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const PgsParameters& parameters,
+                                 Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+  if (problem.contacts == 0) {
+    if (status != nullptr) status->clear();
+    PgsStatistics statistics;
+    statistics.converged = true;
+    return statistics;
+  }
+  return problem.dimension == 2 ? solve_dimension<2>(problem, parameters, r, status)
+                                : solve_dimension<3>(problem, parameters, r, status);
+}
+
+// Relative size, against the full problem's entries, below which a condensed entry is round-off: the
+// cancellation leaves about eps · cond(W_ee) of them (cond(W_ee) ≈ 2e4 on a ring tied to a light hub).
+constexpr double kCondensationRoundOff = 1e-11;
+
+// The bilateral rows condensed out (see the header): for given contact impulses r_c the equality rows
+// u_e = W_ec r_c + W_ee r_e + q_e = 0 give r_e = −W_ee⁺ (q_e + W_ec r_c), so the contacts see the Schur
+// complement W_cc − W_ce W_ee⁺ W_ec and the free velocity q_c − W_ce W_ee⁺ q_e. (W_ee⁺: the LDLT's
+// solve, which skips zero pivots, so redundant but consistent rows are allowed.)
+struct Condensed {
+  FrictionContactProblem contacts;  // the contact rows only
+  Eigen::LDLT<Eigen::MatrixXd> W_ee;
+  Eigen::MatrixXd X;                // W_ee⁺ W_ec
+  Eigen::VectorXd x_q;              // W_ee⁺ q_e
+};
+
+Condensed condense(const FrictionContactProblem& problem) {
+  const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
+  const Eigen::Index m_e = problem.equalities;
+  Condensed condensed;
+  condensed.W_ee.compute(problem.W.bottomRightCorner(m_e, m_e));
+  condensed.X = condensed.W_ee.solve(problem.W.bottomLeftCorner(m_e, m_c));
+  condensed.x_q = condensed.W_ee.solve(problem.q.tail(m_e));
+  FrictionContactProblem& contacts = condensed.contacts;
+  contacts.dimension = problem.dimension;
+  contacts.contacts = problem.contacts;
+  contacts.mu = problem.mu;
+  contacts.W = problem.W.topLeftCorner(m_c, m_c);
+  contacts.W.noalias() -= problem.W.topRightCorner(m_c, m_e) * condensed.X;
+  // Symmetric up to round-off; made exactly so, since the sweeps read the coupling from W's columns.
+  contacts.W = (0.5 * (contacts.W + contacts.W.transpose())).eval();
+  // The difference cancels the entries the ties make rigid: a node held across the ground by the
+  // body's constraints has a zero column once condensed, which comes out as round-off of the full
+  // entries (3e-16 of them on the tied 3D ring). Such a column must be exactly zero: on round-off the
+  // polish's direct solves put unbounded impulses along it that the condensed residual (which weighs
+  // them by that column) does not see, and the full problem does (1e14 on that ring).
+  const Eigen::VectorXd full_diagonal = problem.W.diagonal().head(m_c).cwiseAbs();
+  for (Eigen::Index j = 0; j < m_c; ++j)
+    for (Eigen::Index i = 0; i < m_c; ++i)
+      if (std::abs(contacts.W(i, j)) <= kCondensationRoundOff * std::sqrt(full_diagonal(i) * full_diagonal(j)))
+        contacts.W(i, j) = 0.0;
+  contacts.q = problem.q.head(m_c) - problem.W.topRightCorner(m_c, m_e) * condensed.x_q;
+  return condensed;
+}
+
+// Gauss–Seidel on the condensed contact rows, then r_e from r_c, with one step of refinement on the
+// equality rows (W_ee's condition number reaches 1e5 on a ring tied to a light hub). Converged is
+// decided on the full problem's residual.
+PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const PgsParameters& parameters,
+                                    Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+  const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
+  const Eigen::Index m_e = problem.equalities;
+  const Condensed condensed = condense(problem);
+  Eigen::VectorXd r_c = r.head(m_c);
+  PgsStatistics statistics = solve_contact_rows(condensed.contacts, parameters, r_c, status);
+  Eigen::VectorXd r_e = -(condensed.x_q + condensed.X * r_c);
+  const Eigen::VectorXd u_e = problem.W.bottomLeftCorner(m_e, m_c) * r_c +
+                              problem.W.bottomRightCorner(m_e, m_e) * r_e + problem.q.tail(m_e);
+  r_e -= condensed.W_ee.solve(u_e);
+  if (!r_c.allFinite() || !r_e.allFinite()) {  // a singular W_ee with inconsistent rows
+    ++statistics.rejected_local_solutions;
+    r_e.setZero();
+  }
+  r.head(m_c) = r_c;
+  r.tail(m_e) = r_e;
+  statistics.residual = relative_residual(problem, r);
+  statistics.converged = statistics.residual <= parameters.tolerance;
+  return statistics;
+}
+
 }  // namespace
 
 PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::VectorXd& r,
@@ -485,14 +528,8 @@ PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::Vec
   check_problem(problem);
   // A warm start of the wrong size, or one carrying NaN/inf from an earlier failure, is worthless.
   if (r.size() != problem.size() || !r.allFinite()) r = Eigen::VectorXd::Zero(problem.size());
-  if (problem.size() == 0) {
-    if (status != nullptr) status->clear();
-    PgsStatistics statistics;
-    statistics.converged = true;
-    return statistics;
-  }
-  return problem.dimension == 2 ? solve_dimension<2>(problem, parameters_, r, status)
-                                : solve_dimension<3>(problem, parameters_, r, status);
+  if (problem.equalities > 0) return solve_with_equalities(problem, parameters_, r, status);
+  return solve_contact_rows(problem, parameters_, r, status);
 }
 
 double PgsSolver::residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {

@@ -2,8 +2,16 @@
 // solve per contact (coulomb_local.h) and an exact block solve of the bilateral rows.
 //
 // One sweep visits contacts in row order, solving each contact's local problem with the others'
-// impulses frozen (relaxed by omega), then the block of equality rows at once (an LDLT of W_ee
-// factored once per solve).
+// impulses frozen (relaxed by omega).
+//
+// Equality rows are condensed out before the sweeps: r_e = −W_ee⁺ (q_e + W_ec r_c) is exact for any
+// contact impulses, so Gauss–Seidel runs on the contacts' Schur complement W_cc − W_ce W_ee⁺ W_ec, and
+// r_e is recovered at the end (one step of refinement). Alternating between contacts and the equality
+// block instead contracts by W_ce W_ee⁻¹ W_ec / W_cc a sweep, about 1 − 1e-5 for a light ring tied to a
+// hub (W_cc 1e7, condensed 270: the 3D Moreau–Jean ring on 68 × 10 ended at 2.7e-5 after 20000 sweeps,
+// and converges in 67 condensed). Condensed entries at round-off of the full ones are set to zero
+// (pgs_solver.cpp, condense). Convergence is decided on the full problem's residual, whose floor is
+// about 1e-16 · W_cc / (condensed W): the ties' cancellation.
 //
 // Convergence (Siconos-style: cheap test first, full residual to confirm):
 //   cheap   : ‖Δr‖ of a sweep, scaled to velocity units by the Delassus diagonal, relative to
@@ -36,7 +44,8 @@
 //   - status: open if r_n ≤ 0, stick if the elliptic radius of r_t is below (1 − 1e-9) r_n, slip
 //     otherwise (a frictionless closed contact is slip);
 //   - an inconsistent problem (sizes, dimension) throws std::invalid_argument;
-//   - no heap allocation without equality rows; with them, the LDLT and one vector per solve.
+//   - no heap allocation without equality rows; with them, the condensed problem (W_ee's LDLT,
+//     W_ee⁺ W_ec and the Schur complement), once per solve.
 #pragma once
 
 #include "contact/coulomb_local.h"

@@ -201,6 +201,56 @@ TEST(PgsSolver, BilateralConstraintWithUnidirectionalFriction) {
   EXPECT_NEAR(r(3), 0.5 * mu1 * m * kGravity * kStep, 1e-12);
 }
 
+TEST(PgsSolver, ALightNodeTiedToAHeavyBodySlidesWithItInOneSweep) {
+  // A particle (mass m) on the ground, tied by three equality rows (v_p − v_B = 0) to a body of mass
+  // M = 1e6 m; both slide at V and fall at g h in the step. Rows: contact n = y, t1 = x, t2 = z on the
+  // particle; equalities H_e = [I, −I], whose impulse pushes the particle by r_e and the body by −r_e.
+  // By hand, the pair slides as one mass: r_n = (m + M) g h, r_t1 = −μ r_n, both end at
+  // (V − μ g h, 0, 0), and r_e = M (μ g h, −g h, 0). Alternating between the contact (W_cc = 1/m) and
+  // the equality block (W_ee = 1/m + 1/M) contracts by M / (m + M) = 1 − 1e-6 a sweep; with the
+  // equality rows condensed out the contact sees 1/(m + M) and one sweep solves it, no polish needed.
+  // Tolerances: the velocities u = W r + q sum terms of 1/m · r_n ≈ 1e6 |q| to about |q|, so no r has
+  // a full residual much below 1e-16 · 1e6 (7e-12 here), nor impulses closer than about 1e-10.
+  const double m = 1e-6, M = 1.0, V = 2.0, mu = 0.3;
+  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+  H(0, 1) = 1;  // n = y
+  H(1, 0) = 1;  // t1 = x
+  H(2, 2) = 1;  // t2 = z
+  H.bottomLeftCorner<3, 3>().setIdentity();
+  H.bottomRightCorner<3, 3>() = -Eigen::Matrix3d::Identity();
+  Eigen::Matrix<double, 6, 1> M_inverse;
+  M_inverse << 1 / m, 1 / m, 1 / m, 1 / M, 1 / M, 1 / M;
+  Eigen::Matrix<double, 6, 1> v_free;
+  v_free << V, -kGravity * kStep, 0, V, -kGravity * kStep, 0;
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.contacts = 1;
+  problem.equalities = 3;
+  problem.W = H * M_inverse.asDiagonal() * H.transpose();
+  problem.q = H * v_free;
+  problem.mu = {Eigen::Vector2d(mu, mu)};
+
+  PgsParameters parameters;
+  parameters.polish = false;
+  parameters.max_iterations = 100;
+  parameters.tolerance = 1e-10;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  ASSERT_TRUE(statistics.converged) << statistics.residual;
+  EXPECT_LE(statistics.iterations, 3);
+  const double r_n = (m + M) * kGravity * kStep, accuracy = 1e-9 * r_n;
+  EXPECT_NEAR(r(0), r_n, accuracy);
+  EXPECT_NEAR(r(1), -mu * r_n, accuracy);
+  EXPECT_NEAR(r(2), 0.0, accuracy);
+  EXPECT_NEAR(r(3), M * mu * kGravity * kStep, accuracy);
+  EXPECT_NEAR(r(4), -M * kGravity * kStep, accuracy);
+  EXPECT_NEAR(r(5), 0.0, accuracy);
+  const Eigen::Matrix<double, 6, 1> v = v_free + M_inverse.asDiagonal() * (H.transpose() * r);
+  EXPECT_NEAR(v(0), V - mu * kGravity * kStep, 1e-9);
+  EXPECT_NEAR(v(3), V - mu * kGravity * kStep, 1e-9);
+  EXPECT_NEAR(v(4), 0.0, 1e-9);
+}
+
 TEST(PgsSolver, EqualitiesOnlyAreSolvedInOneSweep) {
   FrictionContactProblem problem;
   problem.dimension = 3;
