@@ -510,7 +510,9 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
   const Eigen::VectorXd u_e = problem.W.bottomLeftCorner(m_e, m_c) * r_c +
                               problem.W.bottomRightCorner(m_e, m_e) * r_e + problem.q.tail(m_e);
   r_e -= condensed.W_ee.solve(u_e);
-  if (!r_c.allFinite() || !r_e.allFinite()) {  // a singular W_ee with inconsistent rows
+  // r_c is finite (the sweeps reject non-finite local results, the polish keeps only a smaller finite
+  // residual); r_e is not when W_ee is singular and its rows inconsistent.
+  if (!r_e.allFinite()) {
     ++statistics.rejected_local_solutions;
     r_e.setZero();
   }
