@@ -23,7 +23,7 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   const SceneNode integrator = root.section("integrator");
   integrator.allow_only({"type", "theta", "rtol", "atol", "penalty_stiffness", "penalty_damping", "epsilon",
                          "linear_solver", "max_step", "max_steps", "contact_distance", "newton_tolerance",
-                         "newton_max_iterations", "max_cutbacks"});
+                         "newton_max_iterations", "max_cutbacks", "close_gaps"});
   run.integrator = integrator.string("type", "moreau-jean");
   if (run.integrator != "moreau-jean" && run.integrator != "ida" && run.integrator != "ida-events" &&
       run.integrator != "quasi-static")
@@ -31,6 +31,7 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
                                    "' (available: moreau-jean, quasi-static, ida, ida-events)");
   mj.theta = integrator.number("theta", 0.5);
   if (mj.theta < 0.5 || mj.theta > 1.0) integrator.fail_at("theta", "theta must lie in [0.5, 1]");
+  mj.close_gaps = integrator.boolean("close_gaps", true);
   IdaParameters& ida = run.ida;
   ida.sample_step = mj.step;
   ida.events = run.integrator == "ida-events";

@@ -286,7 +286,16 @@ void MoreauJean::assemble(const State& state) {
   }
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
-    if (e > 0.0) problem_.q(d * i) += e * rows_[d * i].dot(state.v);
+    const double approach = rows_[d * i].dot(state.v);
+    if (e > 0.0) {
+      problem_.q(d * i) += e * approach;
+    } else if (parameters_.close_gaps) {
+      // An inelastic contact still open by g: its condition is g(q_{k+1}) ≥ 0, that is
+      // u_n(v_{k+1}) ≥ −(g + h(1−θ) u_n(v_k)) / (hθ), so that it closes the gap within the step and
+      // stops on the surface, not wherever the activation rule caught it (header, step 3).
+      const double opening = active_[i].point.gap + h * (1.0 - theta) * approach;
+      if (opening > 0.0) problem_.q(d * i) += opening / (h * theta);
+    }
   }
   // Equality targets: C v_{k+1} such that C (q_{k+1} − q_ref) = value exactly (a prescription's
   // value at t_{k+1}).

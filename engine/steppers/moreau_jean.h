@@ -8,10 +8,15 @@
 //                      g + γ h u_n ≤ 0 (γ = ½), u_n from the θ-weighted free velocity
 //                      (1−θ)v_k + θ v_free; warm start from the last impulse with the same key;
 //   3. assemble        u = H v, Delassus W = H W_it⁻¹ Hᵀ, q = H v_free + e·u_n(v_k) on normal rows
-//                      (Newton impact law), plus the rows of the linear constraints and of the
-//                      prescribed components (world.h; their force, impulse / h, is state.reactions),
-//                      whose target makes them hold exactly in position at t_{k+1}, and those of the
-//                      ties (tie_rows.h), linearized at each iterate, which hold at Newton's convergence. H is sparse (a few entries a
+//                      (Newton impact law); an inelastic contact (e = 0) whose gap g is still open
+//                      adds (g + h(1−θ)u_n(v_k))⁺ / (hθ), so that its condition is g(q_{k+1}) ≥ 0 and
+//                      it stops on the surface (Stewart & Trinkle, IJNME 1996, on open gaps only;
+//                      close_gaps = false: the textbook u_n(v_{k+1}) ≥ 0, which holds a point caught
+//                      by the activation rule up to γ h |u_n| above the surface). Then the rows of the
+//                      linear constraints and of the prescribed components (world.h; their force,
+//                      impulse / h, is state.reactions), whose target makes them hold exactly in
+//                      position at t_{k+1}, and those of the ties (tie_rows.h), linearized at each
+//                      iterate, which hold at Newton's convergence. H is sparse (a few entries a
 //                      row), and the columns W_it⁻¹ hᵀ are cached by contact key while W_it and the row
 //                      do not change (a node sliding on a plane keeps its column), so that a step costs
 //                      O(unknowns + contacts²) once W_it is factored;
@@ -59,6 +64,7 @@ struct MoreauJeanParameters {
   double failure_residual = 1e-6; // a solve left above this relative residual stops the run
   double newton_tolerance = 1e-10;  // finite-strain bodies: on h |Δv|∞ / L
   int newton_max_iterations = 30;
+  bool close_gaps = true;         // inelastic contacts close their open gap within the step (step 3)
 };
 
 class MoreauJean final : public Stepper {

@@ -162,6 +162,47 @@ TEST(MoreauJean, TwoBodyImpactFollowsNewtonsLaw) {
   }
 }
 
+// Two disks closing at 3 m/s, gap 0.05 m, h = 0.007 s, θ = 1: after two steps the gap is 0.008, less
+// than ½ h |u_n| = 0.0105, so the contact is active there. An inelastic contact then closes that gap
+// within the step and the disks end touching (momentum kept, relative velocity 0); the textbook rule
+// (close_gaps = false) stops them where they were caught, 0.008 apart.
+TEST(MoreauJean, InelasticContactClosesItsOpenGapWithinTheStep) {
+  for (const bool close_gaps : {true, false}) {
+    World world;
+    world.dimension = 2;
+    world.bodies.push_back(point_mass("a", 2, 1.0, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0)));
+    world.bodies.push_back(point_mass("b", 2, 3.0, Eigen::Vector3d(0.25, 0, 0), Eigen::Vector3d(-1, 0, 0)));
+    for (auto& b : world.bodies) {
+      b.shapes.push_back(ShapeInstance{"disk", Sphere{0.1}, Eigen::Isometry3d::Identity()});
+      b.body->bounding_radius = 0.1;
+    }
+    world.finalize_layout();
+    ContactLaw law;
+    law.body_a = 0;
+    law.body_b = 1;
+    world.contact_laws.push_back(law);
+    MoreauJeanParameters p;
+    p.step = 0.007;
+    p.theta = 1.0;
+    p.close_gaps = close_gaps;
+    MoreauJean stepper(world, p);
+    State s = start(world);
+    stepper.initialize(s);
+    const double kinetic = s.energy.kinetic;
+    for (int k = 0; k < 2; ++k) stepper.step(s);
+    ASSERT_NEAR(s.q(2) - s.q(0) - 0.2, 0.008, 1e-15);
+    ASSERT_TRUE(s.contacts.empty());
+    for (int k = 0; k < 10; ++k) stepper.step(s);
+    EXPECT_NEAR(s.q(2) - s.q(0) - 0.2, close_gaps ? 0.0 : 0.008, 1e-14) << "close_gaps " << close_gaps;
+    EXPECT_NEAR(1.0 * s.v(0) + 3.0 * s.v(2), 1.0 * 2 - 3.0 * 1, 1e-12);
+    EXPECT_NEAR(s.v(2) - s.v(0), 0.0, 1e-12);
+    // The kinetic energy of the relative motion, ½ (m_a m_b / (m_a + m_b)) 3², is dissipated by the
+    // contact and θ = 1's numerical damping; the balance closes.
+    EXPECT_NEAR(kinetic - s.energy.kinetic, 0.5 * 0.75 * 9.0, 1e-12);
+    EXPECT_LE(s.energy.max_abs_residual, 1e-12);
+  }
+}
+
 TEST(MoreauJean, NonFiniteStateStopsWithTheTime) {
   World world = oscillator();
   world.springs[0].stiffness = std::numeric_limits<double>::infinity();

@@ -156,6 +156,13 @@ TEST_F(SceneLoaderTest, OverrideChangesEveryUseOfAParameter) {
   EXPECT_DOUBLE_EQ(scene->world.bodies[0].body->mass(), 5.0);
 }
 
+TEST_F(SceneLoaderTest, CloseGapsIsOnByDefaultAndReadAsABoolean) {
+  EXPECT_TRUE(load_scene(write(kValidScene), {})->run.moreau_jean.close_gaps);
+  EXPECT_FALSE(load_scene(write(kValidScene), {"integrator.close_gaps=false"})->run.moreau_jean.close_gaps);
+  const std::string message = error_of(write(kValidScene), {"integrator.close_gaps=sometimes"});
+  EXPECT_NE(message.find("integrator.close_gaps"), std::string::npos) << message;
+}
+
 TEST_F(SceneLoaderTest, UnknownNameInExpression) {
   const std::string message = error_of(variant("mass: =mass", "mass: =mas*2"));
   EXPECT_NE(message.find("bodies.block.mass"), std::string::npos) << message;
