@@ -149,7 +149,8 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
   json.begin_object();
   json.value("scene", scene.name).value("file", scene.document.file);
   json.value("integrator", run.integrator);
-  if (run.integrator == "moreau-jean") json.value("theta", run.moreau_jean.theta);
+  if (run.integrator == "moreau-jean")
+    json.value("theta", run.moreau_jean.theta).value("close_gaps", run.moreau_jean.close_gaps);
   json.value("dimension", scene.world.dimension);
   json.value("time_step", run.moreau_jean.step).value("end_time", run.end_time);
   json.value("steps", c.steps).value("wall_time", report.wall_time);

@@ -132,22 +132,29 @@ TEST(MoreauJean, PrescribedRotationOfA3dRigidBodyTurnsItExactly) {
 }
 
 // Two disks on a line: the impact follows Newton's law u⁺ = −e u⁻ with momentum conserved.
+// Two disks of radius 0.1 m on a line, 0.05 m apart: a (1 kg) at x = 0 moving at +2 m/s, b (3 kg) at
+// x = 0.25 m moving at −1 m/s; Newton restitution e.
+World two_disks(double e) {
+  World world;
+  world.dimension = 2;
+  world.bodies.push_back(point_mass("a", 2, 1.0, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0)));
+  world.bodies.push_back(point_mass("b", 2, 3.0, Eigen::Vector3d(0.25, 0, 0), Eigen::Vector3d(-1, 0, 0)));
+  for (auto& b : world.bodies) {
+    b.shapes.push_back(ShapeInstance{"disk", Sphere{0.1}, Eigen::Isometry3d::Identity()});
+    b.body->bounding_radius = 0.1;
+  }
+  world.finalize_layout();
+  ContactLaw law;
+  law.body_a = 0;
+  law.body_b = 1;
+  law.restitution = e;
+  world.contact_laws.push_back(law);
+  return world;
+}
+
 TEST(MoreauJean, TwoBodyImpactFollowsNewtonsLaw) {
   for (const double e : {0.0, 0.4, 1.0}) {
-    World world;
-    world.dimension = 2;
-    world.bodies.push_back(point_mass("a", 2, 1.0, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0)));
-    world.bodies.push_back(point_mass("b", 2, 3.0, Eigen::Vector3d(0.25, 0, 0), Eigen::Vector3d(-1, 0, 0)));
-    for (auto& b : world.bodies) {
-      b.shapes.push_back(ShapeInstance{"disk", Sphere{0.1}, Eigen::Isometry3d::Identity()});
-      b.body->bounding_radius = 0.1;
-    }
-    world.finalize_layout();
-    ContactLaw law;
-    law.body_a = 0;
-    law.body_b = 1;
-    law.restitution = e;
-    world.contact_laws.push_back(law);
+    const World world = two_disks(e);
     MoreauJeanParameters p;
     p.step = 1e-4;
     MoreauJean stepper(world, p);
@@ -162,25 +169,13 @@ TEST(MoreauJean, TwoBodyImpactFollowsNewtonsLaw) {
   }
 }
 
-// Two disks closing at 3 m/s, gap 0.05 m, h = 0.007 s, θ = 1: after two steps the gap is 0.008, less
+// The two disks, inelastic, closing at 3 m/s, h = 0.007 s, θ = 1: after two steps the gap is 0.008, less
 // than ½ h |u_n| = 0.0105, so the contact is active there. An inelastic contact then closes that gap
 // within the step and the disks end touching (momentum kept, relative velocity 0); the textbook rule
 // (close_gaps = false) stops them where they were caught, 0.008 apart.
 TEST(MoreauJean, InelasticContactClosesItsOpenGapWithinTheStep) {
   for (const bool close_gaps : {true, false}) {
-    World world;
-    world.dimension = 2;
-    world.bodies.push_back(point_mass("a", 2, 1.0, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 0, 0)));
-    world.bodies.push_back(point_mass("b", 2, 3.0, Eigen::Vector3d(0.25, 0, 0), Eigen::Vector3d(-1, 0, 0)));
-    for (auto& b : world.bodies) {
-      b.shapes.push_back(ShapeInstance{"disk", Sphere{0.1}, Eigen::Isometry3d::Identity()});
-      b.body->bounding_radius = 0.1;
-    }
-    world.finalize_layout();
-    ContactLaw law;
-    law.body_a = 0;
-    law.body_b = 1;
-    world.contact_laws.push_back(law);
+    const World world = two_disks(0.0);
     MoreauJeanParameters p;
     p.step = 0.007;
     p.theta = 1.0;
