@@ -11,15 +11,11 @@ strain). The script replaces only the block between the "generated 3d" markers. 
     python3 bench/rolling_3d_table.py [--csim build/tools/csim] [--out docs/rolling.md] [--jobs 2]
         [--divisions 68x10]
 """
-import argparse
 import concurrent.futures
-import json
 import os
-import subprocess
-import sys
-import tempfile
 
 from generated_block import replace_block
+from rolling_run import bench_arguments, rolling_run
 
 # file, element, material, r_i, delta, mu, cornering radius (0: straight), Faria, Abaqus, Abaqus's % (Table 1)
 ROWS = [
@@ -42,20 +38,10 @@ def run(csim, scene, row, divisions, extra):
                "--set", f"parameters.inner_radius={r_i}", "--set", f"parameters.mu={mu}",
                "--set", f"parameters.reference_spin={faria}",
                "--set", f"parameters.divisions_circumferential={circumferential}",
-               "--set", f"parameters.divisions_radial={radial}"] + extra
+               "--set", f"parameters.divisions_radial={radial}"]
     if scene.endswith("3d"):
         command += ["--set", f"parameters.cornering_radius={radius}"]
-    with tempfile.TemporaryDirectory() as out:
-        process = subprocess.run(command + ["--out", out], capture_output=True, text=True)
-        summary_file = os.path.join(out, "summary.json")
-        if not os.path.exists(summary_file):
-            return {"error": (process.stderr or process.stdout).strip().splitlines()[-1]}
-        summary = json.load(open(summary_file))
-    checks = {c["name"]: c for c in summary["checks"]}
-    solver = summary["contact_solver"]
-    return {"spin": checks["free_rolling_spin"]["value"], "earlier": checks["free_rolling_spin_earlier"]["value"],
-            "wall": summary["wall_time"], "newton": summary["newton"]["iterations"],
-            "unconverged": solver["not_converged"], "solves": solver["solves"], "residual": solver["max_residual"]}
+    return rolling_run(command + extra)
 
 
 def percent(value, reference):
@@ -66,10 +52,7 @@ BEGIN, END = "<!-- generated 3d: begin -->", "<!-- generated 3d: end -->"
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--csim", default="build/tools/csim")
-    parser.add_argument("--out", default="docs/rolling.md")
-    parser.add_argument("--jobs", type=int, default=2)
+    parser = bench_arguments()
     parser.add_argument("--divisions", default="68x10")
     args = parser.parse_args()
     with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:

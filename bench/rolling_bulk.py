@@ -8,12 +8,12 @@ with a penalty bulk modulus K = bulk_ratio * mu0 (mean dilatation). This shows h
 imply. Writes the block between the "generated bulk" markers of docs/rolling.md. Usage:
     python3 bench/rolling_bulk.py [--csim build/tools/csim] [--out docs/rolling.md] [--jobs 2]
 """
-import argparse
 import concurrent.futures
 import os
 import sys
 
 from generated_block import replace_block
+from rolling_run import bench_arguments
 from rolling_table import CONFIGS, ROWS, percent, run
 
 RATIOS = [30, 50, 100, 1000, 10000, 100000]
@@ -23,10 +23,7 @@ BEGIN, END = "<!-- generated bulk: begin -->", "<!-- generated bulk: end -->"
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--csim", default="build/tools/csim")
-    parser.add_argument("--out", default="docs/rolling.md")
-    parser.add_argument("--jobs", type=int, default=2)
+    parser = bench_arguments()
     args = parser.parse_args()
     rows = [row for row in ROWS if row[0] == "mooney-rivlin"]
     with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:

@@ -7,14 +7,11 @@ inertia" markers). The benchmark has no inertia: the transient should approach t
 rho and h go down. Usage:
     python3 bench/rolling_inertia.py [--csim build/tools/csim] [--out docs/rolling.md] [--jobs 2]
 """
-import argparse
 import concurrent.futures
-import json
 import os
-import subprocess
-import tempfile
 
 from generated_block import replace_block
+from rolling_run import bench_arguments, rolling_run
 
 # label, scene, parameters (name: value) of the row; Faria's value is the checks' reference
 ROWS = [
@@ -39,16 +36,7 @@ def run(csim, scene, parameters, extra):
     command = [csim, "run", scene, "--quiet"]
     for name, value in parameters.items():
         command += ["--set", f"parameters.{name}={value}"]
-    with tempfile.TemporaryDirectory() as out:
-        process = subprocess.run(command + extra + ["--out", out], capture_output=True, text=True)
-        summary_file = os.path.join(out, "summary.json")
-        if not os.path.exists(summary_file):
-            return {"error": (process.stderr or process.stdout).strip().splitlines()[-1]}
-        summary = json.load(open(summary_file))
-    checks = {c["name"]: c for c in summary["checks"]}
-    solver = summary["contact_solver"]
-    return {"spin": checks["free_rolling_spin"]["value"], "wall": summary["wall_time"],
-            "unconverged": solver["not_converged"], "solves": solver["solves"], "residual": solver["max_residual"]}
+    return rolling_run(command + extra)
 
 
 def transient(h, rho, close_gaps):
@@ -61,10 +49,7 @@ BEGIN, END = "<!-- generated inertia: begin -->", "<!-- generated inertia: end -
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--csim", default="build/tools/csim")
-    parser.add_argument("--out", default="docs/rolling.md")
-    parser.add_argument("--jobs", type=int, default=2)
+    parser = bench_arguments()
     args = parser.parse_args()
     with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
         static = [pool.submit(run, args.csim, scene, parameters, []) for _, scene, parameters in ROWS]
@@ -94,7 +79,7 @@ def main():
             lines.append(f"| {label if first else ''} | {cell(static[i], {}) if first else ''} | {h:g} | {rho:g} | "
                          f"{cell(closed, static[i])} | {cell(textbook, static[i])} | "
                          f"{closed['wall']:.0f} s | {closed['unconverged']} of {closed['solves']} ({closed['residual']:.1e}) |"
-                         if "wall" in closed else
+                         if "spin" in closed else
                          f"| {label if first else ''} | | {h:g} | {rho:g} | {cell(closed, static[i])} | "
                          f"{cell(textbook, static[i])} | – | – |")
             errors += [f"¹ {label}, h {h:g}, ρ {rho:g}: `{r['error']}`  " for r in (closed, textbook) if "error" in r]

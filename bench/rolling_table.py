@@ -9,16 +9,12 @@ four times as fine (136 x 20) with node contact. The script
 replaces only the block between the generated markers of docs/rolling.md. Usage:
     python3 bench/rolling_table.py [--csim build/tools/csim] [--out docs/rolling.md] [--rows 1,5,...] [--jobs 2]
 """
-import argparse
 import concurrent.futures
-import json
 import os
-import subprocess
 import sys
-import tempfile
 
 from generated_block import replace_block
-import time
+from rolling_run import bench_arguments, rolling_run
 
 # material, indentation, inner radius, mu, Faria, Abaqus, Abaqus's % difference (Table 2)
 ROWS = [
@@ -63,11 +59,11 @@ STUDIES = [
     (ROWS[12], "St Venant-Kirchhoff", ["--set", "parameters.elastic_law=saint-venant-kirchhoff"]),
     (ROWS[12], "step 0.005", ["--set", "parameters.step=0.005"]),
 ]
-def scene_command(csim, row, config, out):
-    """csim's command line for one row of the table on one configuration, outputs in `out`."""
+def scene_command(csim, row, config):
+    """csim's command line for one row of the table on one configuration (without --out)."""
     material, delta, r_i, mu, faria = row[:5]
     _, element, circumferential, radial, surface = config
-    return [csim, "run", "scenes/rolling-ring", "--quiet", "--out", out,
+    return [csim, "run", "scenes/rolling-ring", "--quiet",
             "--set", f"parameters.material={material}", "--set", f"parameters.indentation={delta}",
             "--set", f"parameters.inner_radius={r_i}", "--set", f"parameters.mu={mu}",
             "--set", f"parameters.reference_spin={faria}", "--set", f"parameters.element={element}",
@@ -77,19 +73,7 @@ def scene_command(csim, row, config, out):
 
 
 def run(csim, row, config, extra):
-    with tempfile.TemporaryDirectory() as out:
-        command = scene_command(csim, row, config, out) + extra
-        start = time.perf_counter()
-        process = subprocess.run(command, capture_output=True, text=True)
-        wall = time.perf_counter() - start
-        summary_file = os.path.join(out, "summary.json")
-        if not os.path.exists(summary_file):
-            return {"error": (process.stderr or process.stdout).strip().splitlines()[-1], "wall": wall}
-        summary = json.load(open(summary_file))
-    checks = {c["name"]: c for c in summary["checks"]}
-    return {"spin": checks["free_rolling_spin"]["value"], "earlier": checks["free_rolling_spin_earlier"]["value"],
-            "wall": summary["wall_time"], "steps": summary["steps"],
-            "newton": summary["newton"]["iterations"], "newton_max": summary["newton"]["max_per_step"]}
+    return rolling_run(scene_command(csim, row, config) + extra)
 
 
 def percent(value, reference):
@@ -100,11 +84,8 @@ BEGIN, END = "<!-- generated: begin -->", "<!-- generated: end -->"
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--csim", default="build/tools/csim")
-    parser.add_argument("--out", default="docs/rolling.md")
+    parser = bench_arguments()
     parser.add_argument("--rows", default="")
-    parser.add_argument("--jobs", type=int, default=2)
     args = parser.parse_args()
     rows = ROWS if not args.rows else [ROWS[int(i) - 1] for i in args.rows.split(",")]
     with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:

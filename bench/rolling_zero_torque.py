@@ -63,7 +63,7 @@ def torque(csim, row, config, spin):
     """Hann mean of the axle torque over the last window, in units of mu N R (N: the mean normal force)."""
     mu = row[3]
     with tempfile.TemporaryDirectory() as out:
-        command = scene_command(csim, row, config, out) + [
+        command = scene_command(csim, row, config) + ["--out", out,
             "--set", f"parameters.imposed_spin={spin!r}", "--set", "output.rate=0"]
         process = subprocess.run(command, capture_output=True, text=True)
         summary_file = os.path.join(out, "summary.json")
