@@ -76,12 +76,10 @@ def main():
         for k, (h, rho) in enumerate(TRANSIENTS[i]):
             closed, textbook = dynamic[(i, h, rho, True)], dynamic[(i, h, rho, False)]
             first = k == 0
+            cost = (f"{closed['wall']:.0f} s | {closed['unconverged']} of {closed['solves']} ({closed['residual']:.1e})"
+                    if "spin" in closed else "– | –")
             lines.append(f"| {label if first else ''} | {cell(static[i], {}) if first else ''} | {h:g} | {rho:g} | "
-                         f"{cell(closed, static[i])} | {cell(textbook, static[i])} | "
-                         f"{closed['wall']:.0f} s | {closed['unconverged']} of {closed['solves']} ({closed['residual']:.1e}) |"
-                         if "spin" in closed else
-                         f"| {label if first else ''} | | {h:g} | {rho:g} | {cell(closed, static[i])} | "
-                         f"{cell(textbook, static[i])} | – | – |")
+                         f"{cell(closed, static[i])} | {cell(textbook, static[i])} | {cost} |")
             errors += [f"¹ {label}, h {h:g}, ρ {rho:g}: `{r['error']}`  " for r in (closed, textbook) if "error" in r]
         if "error" in static[i]:
             errors.append(f"¹ {label}, quasi-static: `{static[i]['error']}`  ")
