@@ -191,6 +191,10 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
         .value("max_per_step", c.max_newton_iterations)
         .value("regularized_iterations", c.newton_regularized)
         .value("contact_held_iterations", c.newton_held)
+        .value("relaxed_iterations", c.newton_relaxed)
+        .value("backtracks", c.newton_backtracks)
+        .value("redetections", c.newton_redetections)
+        .value("activated_contacts", c.newton_activated_contacts)
         .value("cutbacks", c.cutbacks)
         .end_object();
   json.begin_object("contacts")

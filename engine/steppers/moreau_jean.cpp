@@ -12,6 +12,9 @@ namespace csim {
 
 namespace {
 
+constexpr int kNewtonBacktracks = 20;  // halvings of a Newton step that inverted an element, a time step
+constexpr int kNewtonDetections = 2;   // contact detections a time step
+
 constexpr double kActivationGamma = 0.5;  // γ of the predicted-gap activation rule g + γ h u_n ≤ 0
 
 using Clock = std::chrono::steady_clock;
@@ -187,8 +190,10 @@ void MoreauJean::detect(const State& state) {
     else
       predicted = (b.reference_position(coordinate) + c.value(state.t + h) - state.q(b.position_offset + coordinate)) / h;
   }
-  const double margin = 2.0 * std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
-                                        detector_.travel_bound(v_predicted_, h)}) + 1e-12;
+  double reach = std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
+                           detector_.travel_bound(v_predicted_, h)});
+  if (reach_velocity_.size() > 0) reach = std::max(reach, detector_.travel_bound(reach_velocity_, h));
+  const double margin = detection_margin_ = 2.0 * reach + 1e-12;
   detector_.detect(state.q, margin, candidates_, candidate_rows_);
   const int d = contact_dimension_;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
@@ -197,10 +202,36 @@ void MoreauJean::detect(const State& state) {
     // rest under a load that presses it on the surface is caught at the first step, whatever the
     // round-off in its gap.
     const double normal_velocity = normal_row.dot(v_predicted_);
-    if (candidates_[k].point.gap + kActivationGamma * h * normal_velocity > 0.0) continue;
+    const double gap = candidates_[k].point.gap;
+    const bool closing = gap + kActivationGamma * h * normal_velocity <= 0.0 ||
+                         (reach_velocity_.size() > 0 && gap + h * normal_row.dot(reach_velocity_) <= 0.0);
+    if (!closing) continue;
     active_.push_back(candidates_[k]);
     active_rows_.push_back(static_cast<int>(k));
   }
+}
+
+// The candidates that the converged motion would have activated (detect()'s rule with Newton's v_θ in
+// place of the free step's prediction) and the prediction left out: activated now, in candidate order.
+int MoreauJean::activate_missed_contacts(double h) {
+  const int d = contact_dimension_;
+  std::vector<int> missed;
+  std::size_t next_active = 0;
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    if (next_active < active_rows_.size() && active_rows_[next_active] == static_cast<int>(k)) {
+      ++next_active;
+      continue;
+    }
+    if (candidates_[k].point.gap + kActivationGamma * h * candidate_rows_[d * k].dot(v_theta_) <= 0.0)
+      missed.push_back(static_cast<int>(k));
+  }
+  if (missed.empty()) return 0;
+  std::vector<int> rows(active_rows_.size() + missed.size());
+  std::merge(active_rows_.begin(), active_rows_.end(), missed.begin(), missed.end(), rows.begin());
+  active_rows_ = std::move(rows);
+  active_.clear();
+  for (int k : active_rows_) active_.push_back(candidates_[k]);
+  return static_cast<int>(missed.size());
 }
 
 // W_it⁻¹ hᵀ for every row of the problem, reused while the factorization and the row are the same.
@@ -395,18 +426,63 @@ void MoreauJean::account_energy(State& state) {
 }
 
 // One step with finite-strain bodies: Newton on v_{k+1}, the contact solve inside (see the header).
+// The contacts are detected at its first iteration, within a margin of the motion predicted then; a
+// converged step that moved a point farther than that margin is taken again, detected over its own
+// motion (at most kNewtonDetections detections).
 void MoreauJean::step_newton(State& state) {
   const double h = parameters_.step;
   compute_loads(state);
   f_start_.setZero(state.v.size());
   forces_.add_spring_forces(state.q, f_start_);
   forces_.add_body_internal_forces(state.q, f_start_);
-  v_iterate_ = state.v;
   SolverCounters& c = state.counters;
+  reach_velocity_.resize(0);
+  int iterations = 0;
+  for (int detections = 1;; ++detections) {
+    iterations += newton_iterations(state);
+    const double travel = detector_.empty() ? 0.0 : detector_.travel_bound(v_theta_, h);
+    if (travel <= detection_margin_) break;
+    if (detections == kNewtonDetections) {
+      std::ostringstream message;
+      message << "moreau-jean: Newton's step at t = " << state.t + h << " s moves a point by " << travel
+              << " m, farther than its contact detection reached (" << detection_margin_ << " m) after "
+              << detections << " detections (a smaller time.step)";
+      throw RunError(state.t + h, message.str());
+    }
+    ++c.newton_redetections;
+    reach_velocity_ = v_theta_;
+  }
+  c.newton_iterations += iterations;
+  c.max_newton_iterations = std::max(c.max_newton_iterations, iterations);
+  c.newton_regularized = operators_.regularizations();
+}
+
+// Newton's iterations from v_k to convergence, the contacts detected at the first; returns how many.
+// Along the way (secant_relaxation.h) a step may be lengthened or shortened by its secant model; a step
+// after which an element inverts is halved (at most kNewtonBacktracks times a step); at convergence,
+// the candidates that its motion would have activated and the prediction did not are activated and the
+// iterations go on (they would otherwise cross the surface unseen within the step).
+int MoreauJean::newton_iterations(State& state) {
+  const double h = parameters_.step;
+  SolverCounters& c = state.counters;
+  v_iterate_ = state.v;
+  relaxation_.reset();
+  double relaxation = 1.0;  // the last step's ω
+  int backtracks = 0;
   for (int iteration = 1;; ++iteration) {
     try {
       compute_newton_free_velocity(state, v_iterate_);
     } catch (const FemError& e) {
+      if (iteration > 1 && backtracks < kNewtonBacktracks) {  // the last step inverted an element: shorten it
+        const double shorter = relaxation > 1.0 ? 1.0 : 0.5 * relaxation;
+        v_iterate_ -= (relaxation - shorter) * newton_step_;
+        relaxation = shorter;
+        relaxation_.reset();
+        ++backtracks;
+        ++c.newton_backtracks;
+        --iteration;
+        continue;
+      }
       throw RunError(state.t + h, "moreau-jean Newton iteration " + std::to_string(iteration) + ": " + e.what());
     }
     if (iteration == 1) detect(state);
@@ -414,20 +490,28 @@ void MoreauJean::step_newton(State& state) {
     assemble(state);
     solve(state, iteration == 1);
     update(state);
-    const double increment = h * (v_next_ - v_iterate_).lpNorm<Eigen::Infinity>();
-    v_iterate_ = v_next_;
+    newton_step_ = v_next_ - v_iterate_;
+    const double increment = h * newton_step_.lpNorm<Eigen::Infinity>();
+    relaxation = 1.0;
     if (increment <= parameters_.newton_tolerance * length_) {
-      c.newton_iterations += iteration;
-      c.max_newton_iterations = std::max(c.max_newton_iterations, iteration);
-      c.newton_regularized = operators_.regularizations();
-      break;
-    }
-    if (iteration >= parameters_.newton_max_iterations || !std::isfinite(increment)) {
+      const int missed = activate_missed_contacts(h);
+      if (missed == 0) return iteration;
+      c.newton_activated_contacts += missed;
+      relaxation_.reset();
+    } else if (iteration >= parameters_.newton_max_iterations || !std::isfinite(increment)) {
       std::ostringstream message;
       message << "moreau-jean: Newton did not converge at t = " << state.t + h << " s: h|dv| = " << increment
               << " after " << iteration << " iterations (tolerance " << parameters_.newton_tolerance * length_
               << "; integrator.newton_max_iterations, or a smaller time.step)";
       throw RunError(state.t + h, message.str());
+    } else {
+      relaxation = relaxation_.next(newton_step_);
+    }
+    if (relaxation == 1.0) {
+      v_iterate_ = v_next_;  // exactly, not v_j + (v_{j+1} − v_j)
+    } else {
+      ++c.newton_relaxed;
+      v_iterate_ += relaxation * newton_step_;
     }
   }
 }

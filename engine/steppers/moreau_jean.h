@@ -33,6 +33,15 @@
 // then steps 3–5 with W_j give v_{j+1}. The contacts are detected once, at q_k (the predicted-gap
 // rule of step 2 with the first free velocity), and their rows kept for the step, as in the linear
 // scheme. Stops at h |v_{j+1} − v_j|∞ ≤ newton_tolerance · L (L: the largest body's bounding radius).
+// The prediction can miss what the converged step does, so at convergence:
+//   - a candidate that the rule of step 2 activates with Newton's v_θ in place of the prediction is
+//     activated, and the iterations go on (a node arriving in a rolling patch faster than predicted
+//     would otherwise cross the surface unseen; measured on the ring of docs/rolling.md, 34 × 5);
+//   - a step that moved a point farther than the detection's margin is taken again, detected over its
+//     own motion (at most twice; then the run stops and says so).
+// Along the way a step may be lengthened or shortened by the secant model of the last two
+// (secant_relaxation.h: W_j + ε I, the proximal term of structural_operators.h, holds a nearly free
+// spin too stiffly, and Newton creeps), and a step after which an element inverts is halved.
 // The first iteration from v_0 = v_k is the linear scheme above (f(q_k + h v_k) − f(q_k) = −hK v_k for
 // a linear body), so a linear World keeps its single solve. The energy balance then closes to the
 // trapezoidal rule's error on the path integral of f, O(|Δq|³) a step (second order in h).
@@ -49,6 +58,7 @@
 #include "engine/forces.h"
 #include "engine/structural_operators.h"
 #include "engine/tie_rows.h"
+#include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
 
@@ -86,7 +96,9 @@ class MoreauJean final : public Stepper {
   void compute_newton_free_velocity(const State& state, const Vector& v_iterate);
   void check_free_velocity(const Vector& v_free, double t) const;
   void step_newton(State& state);
+  int newton_iterations(State& state);
   void detect(const State& state);
+  int activate_missed_contacts(double h);
   void gather_columns();
   void assemble(const State& state);
   void solve(State& state, bool warm_from_state = true);
@@ -102,10 +114,14 @@ class MoreauJean final : public Stepper {
   ContactDetector detector_;
   int contact_dimension_;             // 2 in plane scenes, 3 in space
   double length_;                     // m: Newton's length scale (World::length_scale)
+  double detection_margin_ = 0.0;     // m: the last detection's margin
+  Vector reach_velocity_;             // Newton: a converged v_θ that outran the detection, which then covers it
 
 
   // Per-step work data (kept to avoid allocation in the time loop).
   Vector f_start_, f_iterate_, v_iterate_, q_iterate_;  // Newton: f(q_k), f(q_j), v_j, q_j
+  Vector newton_step_;                // Newton: v_{j+1} − v_j, before its relaxation
+  SecantRelaxation relaxation_;       // Newton: the length of its step (secant_relaxation.h)
   Vector f_loads_, f_total_, v_free_, v_predicted_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
   std::vector<ActiveContact> candidates_;
   std::vector<ActiveContact> active_;

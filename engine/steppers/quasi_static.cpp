@@ -18,9 +18,6 @@ constexpr double kFirstHeld = 1e-4;    // the held rows' first ρ / max diag(K_z
 constexpr int kHeldRounds = 4;         // solves again after dropping let-go rows, at most
 constexpr int kCompliancePasses = 20;  // penalty friction: solves again at the new normal forces, at most
 constexpr double kComplianceTolerance = 1e-8;  // … until they change by less (over the largest)
-constexpr double kMostExtrapolation = 1000.0;  // secant_relaxation: the longest extrapolated step, / Δz
-constexpr double kSteadyRatio = 0.02;          // … taken when ρ changes by less over two iterations
-constexpr double kAligned = 0.9;               // … and the two steps' cosine is above
 
 ReducedCoordinates reduce(const World& world, double t) {
   try {
@@ -309,46 +306,15 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   update_contact_force();
   reduced_.prescribed_forces(q_, f_ + contact_force_, reactions_);
   reactions_ = -reactions_;
-  const double relaxation = secant_relaxation();
+  // Not in a linear World (one iteration): secant_relaxation.h
+  const double relaxation = linear_ ? 1.0 : relaxation_.next(dz_);
+  if (relaxation != 1.0) ++counters_->newton_relaxed;
   reduced_.gather(q_, t_next, z_);  // at q_j, so that T is exact there (3D rotations: increments)
   z_ += relaxation * dz_;
   reduced_.expand(z_, t_next, q_);
   if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
   previous_ = active_;  // forces, for the next iteration's warm start
   return dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
-}
-
-// The length ω of the step along Δz_j, from the secant model of the last two: along one slow mode, Newton
-// meets Δz_j ≈ ρ Δz_{j−1} (ρ = Δz_j·Δz_{j−1}/|Δz_{j−1}|²), and if its model's stiffness there is the true one
-// over c, ρ = 1 − ω_{j−1} c, so that the step that reaches the fixed point of the scalar model is
-// ω_j = ω_{j−1}/(1 − ρ). Two cases use it:
-//   oscillation, ρ < −½ (each step reversing most of the last): on the proximal terms' path the contact's
-//     own geometric stiffness is not in K_z, which makes the model too soft along the hub's spin.
-//     Measured: the elastic ring r_i = 0.2, δ = 0.1 diverged with ρ = −1.44;
-//   slow monotone convergence, ½ < ρ < 1 with aligned steps and ρ steady over two iterations (Aitken's
-//     extrapolation of a linear rate): the hub's proximal term makes the model too stiff along a spin
-//     that the contacts barely hold, when the whole patch slips (a ring that locks, sliding without
-//     turning) or a contact sits at the edge of its cone. Measured: quad8 18 × 3, Mooney–Rivlin δ 0.05,
-//     r_i 0.2 crept at ρ = 0.965 and failed at t = 1.22 after 100 iterations at every halving; with the
-//     extrapolation the step takes 31. Capped at kMostExtrapolation; not taken again right after a
-//     relaxed step, whose ρ measures the relaxation as much as the model.
-double QuasiStatic::secant_relaxation() {
-  double relaxation = 1.0, ratio = 0.0;
-  if (!linear_ && previous_dz_.size() == dz_.size() && previous_dz_.squaredNorm() > 0.0 && dz_.squaredNorm() > 0.0) {
-    const double product = dz_.dot(previous_dz_);
-    ratio = product / previous_dz_.squaredNorm();
-    const double cosine = product / (dz_.norm() * previous_dz_.norm());
-    const bool steady = std::abs(ratio - previous_ratio_) < kSteadyRatio;
-    if (ratio < -0.5) {
-      relaxation = previous_relaxation_ / (1.0 - ratio);
-    } else if (ratio > 0.5 && ratio < 1.0 && cosine > kAligned && steady && previous_relaxation_ == 1.0) {
-      relaxation = std::min(1.0 / (1.0 - ratio), kMostExtrapolation);
-    }
-  }
-  previous_dz_ = dz_;
-  previous_ratio_ = ratio;
-  previous_relaxation_ = relaxation;
-  return relaxation;
 }
 
 void QuasiStatic::step(State& state) {
@@ -406,7 +372,7 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next) {
   SolverCounters& c = *counters_;
   int iterations = 0;
   double increment = 0.0;
-  previous_dz_.resize(0);  // no rate to measure at a step's first iteration (which resets ρ and ω)
+  relaxation_.reset();
   hub_proximal_ = kHubProximal;
   held_weight_ = kFirstHeld;
   std::string failure;

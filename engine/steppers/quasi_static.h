@@ -18,7 +18,7 @@
 //              coordinates);
 //   update     Δz = K_z⁻¹ Tᵀ(f + Hᵀ r),  z_{j+1} = z_j + ω_j Δz,  q_{j+1} = Φ(z_{j+1}, t_{k+1}),
 //              ω_j = 1 unless the iteration oscillates (then a secant under-relaxation) or creeps at a
-//              steady linear rate (then Aitken's extrapolation; quasi_static.cpp, secant_relaxation);
+//              steady linear rate (then Aitken's extrapolation; secant_relaxation.h);
 // until |Δz|∞ ≤ newton_tolerance · L (L: the largest body's bounding radius, m; angles count as
 // lengths on a unit arm). A World of linear bodies without ties takes one iteration, its contact
 // geometry linearized at q_k (small displacements), as the stepper always did. For the others, a step
@@ -82,6 +82,7 @@
 #include "engine/forces.h"
 #include "engine/reduced_coordinates.h"
 #include "engine/steppers/moreau_jean.h"
+#include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
 
 #include <Eigen/SparseCholesky>
@@ -113,7 +114,6 @@ class QuasiStatic final : public Stepper {
   void accept(State& state, double t_next);
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
-  double secant_relaxation();  // ω_j for z_{j+1} = z_j + ω_j Δz_j, from dz_ and the last step
   void assemble_stiffness(const Vector& q);
   bool factor_stiffness();
   bool release_let_go_rows();
@@ -148,9 +148,7 @@ class QuasiStatic final : public Stepper {
   Vector compliance_normal_;   // the normal forces compliance_ was set at (N)
   bool penalty_friction_ = false;
   Vector contact_force_;       // Hᵀ r_ (N, N·m), in velocity components
-  // The last Newton step, its length taken (ω) and its ratio to the one before (ρ): secant_relaxation.
-  Vector previous_dz_;
-  double previous_relaxation_ = 1.0, previous_ratio_ = 0.0;
+  SecantRelaxation relaxation_;  // Newton's step length ω (secant_relaxation.h)
   double held_weight_ = 0.0;   // the held rows' least ρ this step's iterates start from (/ max diag)
   double hub_proximal_ = 0.0;  // the hub's proximal weight this step's iterates start from (/ max diag)
   std::string contact_failure_;  // the last iterate's contact solve failure message, or ""

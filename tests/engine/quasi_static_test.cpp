@@ -95,8 +95,8 @@ TEST(QuasiStatic, AStepWhoseNewtonFailsIsTakenAgainAsTwoHalves) {
   }
 }
 
-// A Newton iteration that creeps at a steady linear rate is extrapolated (quasi_static.cpp,
-// secant_relaxation). The benchmark's quad8 mesh (18 × 3), Mooney–Rivlin δ 0.05, r_i 0.2: one or two
+// A Newton iteration that creeps at a steady linear rate is extrapolated
+// (engine/steppers/secant_relaxation.h). The benchmark's quad8 mesh (18 × 3), Mooney–Rivlin δ 0.05, r_i 0.2: one or two
 // nodes touch the ground, both slip as friction comes in, and the 18-gon locks, sliding without turning
 // (docs/rolling.md). The spin that the hub's proximal term holds converged at ρ = 0.965 an iteration:
 // 100 iterations did not reach the tolerance at t = 1.22, at any of 4 halvings. Extrapolated, the run
