@@ -195,26 +195,27 @@ void MoreauJean::detect(const State& state) {
   if (reach_velocity_.size() > 0) reach = std::max(reach, detector_.travel_bound(reach_velocity_, h));
   const double margin = detection_margin_ = 2.0 * reach + 1e-12;
   detector_.detect(state.q, margin, candidates_, candidate_rows_);
-  const int d = contact_dimension_;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    const SparseRow& normal_row = candidate_rows_[d * k];
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at
     // rest under a load that presses it on the surface is caught at the first step, whatever the
-    // round-off in its gap.
-    const double normal_velocity = normal_row.dot(v_predicted_);
-    const double gap = candidates_[k].point.gap;
-    const bool closing = gap + kActivationGamma * h * normal_velocity <= 0.0 ||
-                         (reach_velocity_.size() > 0 && gap + h * normal_row.dot(reach_velocity_) <= 0.0);
+    // round-off in its gap. A step taken again over its converged motion (step_newton) also
+    // activates what that motion closes.
+    const bool closing = closes(k, v_predicted_, kActivationGamma * h) ||
+                         (reach_velocity_.size() > 0 && closes(k, reach_velocity_, h));
     if (!closing) continue;
     active_.push_back(candidates_[k]);
     active_rows_.push_back(static_cast<int>(k));
   }
 }
 
+// Whether candidate k's gap closes over `time` at the velocities v: g + time · u_n(v) ≤ 0.
+bool MoreauJean::closes(std::size_t k, const Vector& v, double time) const {
+  return candidates_[k].point.gap + time * candidate_rows_[contact_dimension_ * k].dot(v) <= 0.0;
+}
+
 // The candidates that the converged motion would have activated (detect()'s rule with Newton's v_θ in
 // place of the free step's prediction) and the prediction left out: activated now, in candidate order.
 int MoreauJean::activate_missed_contacts(double h) {
-  const int d = contact_dimension_;
   std::vector<int> missed;
   std::size_t next_active = 0;
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
@@ -222,8 +223,7 @@ int MoreauJean::activate_missed_contacts(double h) {
       ++next_active;
       continue;
     }
-    if (candidates_[k].point.gap + kActivationGamma * h * candidate_rows_[d * k].dot(v_theta_) <= 0.0)
-      missed.push_back(static_cast<int>(k));
+    if (closes(k, v_theta_, kActivationGamma * h)) missed.push_back(static_cast<int>(k));
   }
   if (missed.empty()) return 0;
   std::vector<int> rows(active_rows_.size() + missed.size());

@@ -98,6 +98,7 @@ class MoreauJean final : public Stepper {
   void step_newton(State& state);
   int newton_iterations(State& state);
   void detect(const State& state);
+  bool closes(std::size_t k, const Vector& v, double time) const;  // candidate k, predicted gap
   int activate_missed_contacts(double h);
   void gather_columns();
   void assemble(const State& state);
