@@ -28,7 +28,7 @@ import sys
 
 from generated_block import replace_block
 from rolling_run import bench_arguments
-from rolling_table import ROWS, percent, run
+from rolling_table import ROWS, cost_table, percent, run
 
 # Coarse to fine; every mesh keeps the benchmark's aspect (34 x 5), so h scales with 1 / divisions.
 MESHES = [
@@ -116,7 +116,7 @@ def main():
     for row, result in results:
         material, delta, r_i, mu, faria, abaqus, abaqus_diff = row
         cells = [material, f"{delta:g}", f"{r_i:g}", f"{mu:g}", f"{faria:.5f}", f"{abaqus:.5f} ({abaqus_diff:.2f})"]
-        cells += [f"{r['spin']:.5f} ({percent(r['spin'], faria):+.2f})" if "spin" in r else "failed"
+        cells += [f"{r['spin']:.5f} ({percent(r['spin'], faria):+.2f})" if "spin" in r else f"failed: `{r['error']}`"
                   for r in result]
         if not all("spin" in r for r in result):
             lines.append("| " + " | ".join(cells + ["–"] * 5) + " |")
@@ -129,15 +129,7 @@ def main():
                   f"{verdict(error - spread, error + spread, target(r_i))} ±{target(r_i):g} %"]
         lines.append("| " + " | ".join(cells) + " |")
     lines.append("")
-    lines.append("Steadiness (the change of the spin from the window before the last), wall time (s) and Newton "
-                 "iterations (total, and the most in one step):\n")
-    lines.append("| material | δ | r_i | μ | " + " | ".join(m[0] for m in MESHES) + " |")
-    lines.append("|" + "---|" * (4 + len(MESHES)))
-    for row, result in results:
-        cells = [row[0], f"{row[1]:g}", f"{row[2]:g}", f"{row[3]:g}"]
-        cells += [f"{abs(r['spin'] - r['earlier']):.0e}, {r['wall']:.1f} s, {r['newton']} ({r['newton_max']})"
-                  if "spin" in r else f"failed ({r['error']}), {r['wall']:.1f} s" for r in result]
-        lines.append("| " + " | ".join(cells) + " |")
+    lines += cost_table(results, [m[0] for m in MESHES])
     replace_block(args.out, BEGIN, END, lines)
     print("\n".join(lines))
 

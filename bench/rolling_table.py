@@ -80,6 +80,21 @@ def percent(value, reference):
     return 100.0 * (value - reference) / reference
 
 
+def cost_table(results, labels, heading_end=""):
+    """The lines of the table of steadiness, wall time and Newton iterations: one line per (row, runs),
+    one column per label."""
+    lines = ["Steadiness (the change of the spin from the window before the last), wall time (s) and Newton "
+             f"iterations (total, and the most in one step){heading_end}:\n",
+             "| material | δ | r_i | μ | " + " | ".join(labels) + " |",
+             "|" + "---|" * (4 + len(labels))]
+    for row, result in results:
+        cells = [row[0], f"{row[1]:g}", f"{row[2]:g}", f"{row[3]:g}"]
+        cells += [f"{abs(r['spin'] - r['earlier']):.0e}, {r['wall']:.1f} s, {r['newton']} ({r['newton_max']})"
+                  if "spin" in r else f"failed, {r['wall']:.1f} s" for r in result]
+        lines.append("| " + " | ".join(cells) + " |")
+    return lines
+
+
 BEGIN, END = "<!-- generated: begin -->", "<!-- generated: end -->"
 
 
@@ -115,18 +130,7 @@ def main():
     for row, config, error in failures:
         lines.append(f"¹ {row[0]} δ={row[1]:g} r_i={row[2]:g} μ={row[3]:g}, {config[0]}: `{error}`  ")
     lines.append("")
-    lines.append("Steadiness (the change of the spin from the window before the last), wall time (s) and Newton "
-                 "iterations (total, and the most in one step), per configuration:\n")
-    lines.append("| material | δ | r_i | μ | " + " | ".join(c[0] for c in CONFIGS) + " |")
-    lines.append("|" + "---|" * (4 + len(CONFIGS)))
-    for row, result in results:
-        cells = [row[0], f"{row[1]:g}", f"{row[2]:g}", f"{row[3]:g}"]
-        for r in result:
-            if "spin" in r:
-                cells.append(f"{abs(r['spin'] - r['earlier']):.0e}, {r['wall']:.1f} s, {r['newton']} ({r['newton_max']})")
-            else:
-                cells.append(f"failed, {r['wall']:.1f} s")
-        lines.append("| " + " | ".join(cells) + " |")
+    lines += cost_table(results, [c[0] for c in CONFIGS], ", per configuration")
     lines.append("")
     lines.append("Sensitivity (q4 34×5 nodes):\n")
     lines.append("| row | setting | spin | change from the default |")
