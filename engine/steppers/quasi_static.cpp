@@ -91,12 +91,8 @@ bool QuasiStatic::factor_stiffness() {
   f_aug_ = f_z_;
   if (!needs_tangent()) return false;
   factored_ = true;
-  auto positive_definite = [&](const SparseMatrix& A) {
-    factor_.compute(A);
-    return factor_.info() == Eigen::Success && (factor_.vectorD().array() > 0.0).all();
-  };
   const bool hub = !reduced_.hub_unknowns().empty();
-  if (!hub && positive_definite(K_z_)) return false;
+  if (!hub && factor_.factor_positive_definite(K_z_)) return false;
   if (linear_)
     throw RunError(t_, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held by "
                        "springs, ties, prescribed components or fixed degrees of freedom)");
@@ -129,7 +125,7 @@ bool QuasiStatic::factor_stiffness() {
       if (reduced_.geometric_stiffness(q_, contact_force_, G)) base += G;
     }
     for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
-      if (positive_definite(base + rho * HtH)) {
+      if (factor_.factor_positive_definite(base + rho * HtH)) {
         f_aug_ = f_z_ - rho * load;
         return true;
       }
@@ -137,12 +133,12 @@ bool QuasiStatic::factor_stiffness() {
   }
   SparseMatrix proximal = K_z_;
   for (int i : reduced_.hub_unknowns()) proximal.coeffRef(i, i) += hub_proximal_ * largest;
-  if (positive_definite(proximal)) return false;
+  if (factor_.factor_positive_definite(proximal)) return false;
   double added = 0.0;
   const bool held = grow_proximal_term(largest, [&](double epsilon) {
     for (int i = 0; i < proximal.rows(); ++i) proximal.coeffRef(i, i) += epsilon - added;
     added = epsilon;
-    return positive_definite(proximal);
+    return factor_.factor_positive_definite(proximal);
   });
   if (!held)
     throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
@@ -246,9 +242,9 @@ void QuasiStatic::assemble_problem() {
   problem_.W.resize(m, m);
   problem_.q.resize(m);
   if (m == 0) return;
-  X_ = factor_.solve(Matrix(H_.transpose()));
-  problem_.W.noalias() = H_ * X_;
-  problem_.q.noalias() = H_ * factor_.solve(f_aug_);
+  factor_.delassus(H_, problem_.W);
+  free_increment_ = factor_.solve(f_aug_);
+  problem_.q.noalias() = H_ * free_increment_;
   problem_.q += offset_;
   problem_.W.diagonal() += compliance_;
 }
@@ -300,8 +296,9 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     }
     if (!held || round == kHeldRounds || !release_let_go_rows()) break;
   }
-  dz_ = factor_.solve(f_aug_);
-  if (problem_.size() > 0) dz_.noalias() += X_ * r_;
+  // Δz = K⁻¹ f_aug + K⁻¹ H_zᵀ r: the free increment from the last assemble_problem, with f_aug_ unchanged since.
+  if (problem_.size() > 0) dz_ = free_increment_ + factor_.solve(Vector(H_.transpose() * r_));
+  else dz_ = factor_.solve(f_aug_);
   // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
   update_contact_force();
   reduced_.prescribed_forces(q_, f_ + contact_force_, reactions_);

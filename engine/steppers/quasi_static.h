@@ -80,12 +80,12 @@
 #include "contact/pgs_solver.h"
 #include "engine/contact_detector.h"
 #include "engine/forces.h"
+#include "engine/sparse_ldlt.h"
 #include "engine/reduced_coordinates.h"
 #include "engine/steppers/moreau_jean.h"
 #include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
 
-#include <Eigen/SparseCholesky>
 #include <string>
 
 namespace csim {
@@ -134,7 +134,7 @@ class QuasiStatic final : public Stepper {
   PgsSolver pgs_;
   bool linear_;                 // constant K, no ties: one iteration, one factorization
   bool factored_ = false;
-  Eigen::SimplicialLDLT<SparseMatrix> factor_;
+  SparseLdlt factor_;
   SparseMatrix K_, T_, K_z_;
   Triplets triplets_;
   double contact_distance_, length_;
@@ -160,7 +160,8 @@ class QuasiStatic final : public Stepper {
   enum Hold { kHoldNone = 0, kHoldNormal = 1, kHoldStick = 2 };
   std::vector<Hold> hold_;
   std::vector<SparseRow> rows_;
-  Matrix H_, X_;
+  Matrix H_;                   // the contact rows over z, H_z
+  Vector free_increment_;      // K⁻¹ f_aug: the increment without contact forces
   FrictionContactProblem problem_;
 };
 

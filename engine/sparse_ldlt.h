@@ -1,0 +1,42 @@
+// The sparse LDLᵀ factor of a symmetric matrix A (A = Pᵀ L D Lᵀ P, Eigen's SimplicialLDLT with its AMD
+// ordering), with what a Newton stepper asks of it: whether A is positive definite, solves, and the
+// Delassus operator of contact rows.
+//
+// Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
+// iteration's tangent keeps (the contact rows added to it sit in the node blocks already there); they
+// are recomputed when the pattern changes, not at every factorization.
+//
+// Delassus operator W = H A⁻¹ Hᵀ of rows H (m × n, each row touching a few unknowns), without A⁻¹ Hᵀ:
+//   Y = L⁻¹ P Hᵀ,   W = Yᵀ D⁻¹ Y.
+// Eigen's forward substitution with a column-major L skips the zero entries of its right-hand side,
+// and P Hᵀ's columns have a handful of nonzeros whose elimination-tree paths fill part of each column
+// of Y; the backward substitution that a full solve adds reads every entry of L for every column. Y's
+// rows that no column reaches are dropped before the product.
+#pragma once
+
+#include "engine/bodies/body.h"
+
+#include <Eigen/SparseCholesky>
+#include <vector>
+
+namespace csim {
+
+class SparseLdlt {
+ public:
+  // Factors A (compressed); true when the factorization succeeded with every pivot of D positive.
+  bool factor_positive_definite(const SparseMatrix& A);
+  Vector solve(const Vector& b) const { return factor_.solve(b); }  // A⁻¹ b
+  // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage.
+  void delassus(const Matrix& H, Matrix& W);
+  long analyses() const { return analyses_; }  // symbolic analyses so far
+
+ private:
+  Eigen::SimplicialLDLT<SparseMatrix> factor_;
+  std::vector<int> outer_, inner_;  // the pattern factor_ was analysed for
+  long analyses_ = 0;
+  Matrix Y_, compact_;              // delassus' work space
+  std::vector<char> reached_;
+  std::vector<int> rows_;
+};
+
+}  // namespace csim
