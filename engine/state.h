@@ -73,7 +73,10 @@ struct IdaStatistics {
   double last_step = 0.0;               // s
 };
 
-struct PhaseTimers {  // s, wall clock, summed over steps (estimated from one step in 16)
+// s, wall clock, summed over steps (steppers/phase_clock.h: a linear Moreau–Jean run estimates them from
+// one step in 16; Newton steppers time every iteration). Quasi-static: free_velocity holds the forces,
+// the tangent and its factorization, assembly the Delassus operator.
+struct PhaseTimers {
   double free_velocity = 0.0, detection = 0.0, assembly = 0.0, solve = 0.0, update = 0.0;
 };
 

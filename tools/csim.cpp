@@ -233,6 +233,12 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
     std::printf("  Newton: %ld iterations, %.2f a step on average, %d at most, %ld regularized, %ld held by contacts\n",
                 c.newton_iterations, c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0, c.max_newton_iterations,
                 c.newton_regularized, c.newton_held);
+  const csim::PhaseTimers& t = report.state.timers;
+  if (t.free_velocity + t.detection + t.assembly + t.solve + t.update > 0.0)
+    std::printf("  phases (summary.json timers): %s %.3g s, detection %.3g s, assembly %.3g s, contact solve %.3g s, "
+                "update %.3g s\n",
+                scene.run.integrator == "quasi-static" ? "forces, tangent and its factorization" : "free velocity",
+                t.free_velocity, t.detection, t.assembly, t.solve, t.update);
   if (c.cutbacks > 0)
     std::printf("  note: %ld load steps were taken again as two halves after Newton failed (integrator.max_cutbacks)\n",
                 c.cutbacks);

@@ -4,7 +4,6 @@
 #include "fem/mesh.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -17,7 +16,6 @@ constexpr int kNewtonDetections = 2;   // contact detections a time step
 
 constexpr double kActivationGamma = 0.5;  // γ of the predicted-gap activation rule g + γ h u_n ≤ 0
 
-using Clock = std::chrono::steady_clock;
 constexpr int kTimerSampling = 16;
 
 }  // namespace
@@ -485,11 +483,16 @@ int MoreauJean::newton_iterations(State& state) {
       }
       throw RunError(state.t + h, "moreau-jean Newton iteration " + std::to_string(iteration) + ": " + e.what());
     }
+    clock_.lap(state.timers.free_velocity);
     if (iteration == 1) detect(state);
+    clock_.lap(state.timers.detection);
     linearize_ties(state, v_iterate_);
     assemble(state);
+    clock_.lap(state.timers.assembly);
     solve(state, iteration == 1);
+    clock_.lap(state.timers.solve);
     update(state);
+    clock_.lap(state.timers.update);
     newton_step_ = v_next_ - v_iterate_;
     const double increment = h * newton_step_.lpNorm<Eigen::Infinity>();
     relaxation = 1.0;
@@ -517,35 +520,27 @@ int MoreauJean::newton_iterations(State& state) {
 }
 
 void MoreauJean::step(State& state) {
-  // Phase timers are sampled on one step in kTimerSampling (a clock read costs ~20 ns, a lumped step
-  // ~1 µs) and scaled, so the per-phase times in the summary are estimates of the totals.
-  // The last step of each group of kTimerSampling, so that the first step's one-time work (the
-  // factorization, the contacts' first Delassus columns) is not counted kTimerSampling times.
-  const bool timed = state.counters.steps % kTimerSampling == kTimerSampling - 1;
-  Clock::time_point mark = timed ? Clock::now() : Clock::time_point{};
-  auto lap = [&](double& phase) {
-    if (!timed) return;
-    const Clock::time_point now = Clock::now();
-    phase += kTimerSampling * std::chrono::duration<double>(now - mark).count();
-    mark = now;
-  };
+  // Phase timers (phase_clock.h): a linear World's step is timed on one step in kTimerSampling, the
+  // last of each group, so that the first step's one-time work (the factorization, the contacts' first
+  // Delassus columns) is not counted kTimerSampling times; a Newton step is timed whole.
+  if (operators_.nonlinear()) clock_.start(true);
+  else clock_.start(state.counters.steps % kTimerSampling == kTimerSampling - 1, kTimerSampling);
   // A prescription released over this step: its row goes.
   if (world_.releases_prescription(state.t, state.t + parameters_.step)) build_equalities(state.t + parameters_.step);
   if (operators_.nonlinear()) {
-    step_newton(state);  // phases interleaved over the iterations: timed as one
+    step_newton(state);  // laps each phase of each iteration
     state.factorization_seconds = operators_.factorization_seconds();
-    lap(state.timers.free_velocity);
   } else {
     compute_free_velocity(state);
     state.factorization_seconds = operators_.factorization_seconds();
-    lap(state.timers.free_velocity);
+    clock_.lap(state.timers.free_velocity);
     detect(state);
-    lap(state.timers.detection);
+    clock_.lap(state.timers.detection);
     linearize_ties(state, state.v);
     assemble(state);
-    lap(state.timers.assembly);
+    clock_.lap(state.timers.assembly);
     solve(state);
-    lap(state.timers.solve);
+    clock_.lap(state.timers.solve);
     update(state);
   }
   account_energy(state);
@@ -571,7 +566,7 @@ void MoreauJean::step(State& state) {
   state.contacts.swap(active_);
   c.contact_points += static_cast<long>(state.contacts.size());
   c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
-  lap(state.timers.update);
+  clock_.lap(state.timers.update);
 }
 
 }  // namespace csim

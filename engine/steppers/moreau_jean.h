@@ -58,6 +58,7 @@
 #include "engine/forces.h"
 #include "engine/structural_operators.h"
 #include "engine/tie_rows.h"
+#include "engine/steppers/phase_clock.h"
 #include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
@@ -123,6 +124,7 @@ class MoreauJean final : public Stepper {
   Vector f_start_, f_iterate_, v_iterate_, q_iterate_;  // Newton: f(q_k), f(q_j), v_j, q_j
   Vector newton_step_;                // Newton: v_{j+1} − v_j, before its relaxation
   SecantRelaxation relaxation_;       // Newton: the length of its step (secant_relaxation.h)
+  PhaseClock clock_;                  // State::timers (phase_clock.h)
   Vector f_loads_, f_total_, v_free_, v_predicted_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
   std::vector<ActiveContact> candidates_;
   std::vector<ActiveContact> active_;

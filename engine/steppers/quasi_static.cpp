@@ -254,19 +254,25 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   generalized_force(q_, t_next, f_);
   if (needs_tangent()) reduced_.tangent(q_, T_);
   f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
+  clock_.lap(timers_.free_velocity);
   detect_contacts(state, t_next);
+  clock_.lap(timers_.detection);
   warm_start(previous_, active_, d_, problem_.size(), r_, &warm_status_);
   soften_friction(state);
   hold_.assign(problem_.contacts, kHoldNone);
   for (int i = 0; i < problem_.contacts; ++i)
     if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? kHoldStick : kHoldNormal;
+  clock_.lap(timers_.assembly);
   assemble_stiffness(q_);
+  clock_.lap(timers_.free_velocity);
   // Held rows that the solve lets go would make the step another than Newton's (see the header): the
   // rows are dropped and the problem solved again, a few times at most.
   for (int round = 0;; ++round) {
     const bool held = factor_stiffness();
     if (held && round == 0) ++counters_->newton_held;
+    clock_.lap(timers_.free_velocity);
     assemble_problem();
+    clock_.lap(timers_.assembly);
     // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
     // gaps of −0.14) need not stop the run: the next iterate solves again. The accepted iterate's must
     // not fail (solve_increment).
@@ -289,6 +295,7 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     // after 20000 sweeps). A stiffer hub makes it well posed; the iterate then only moves the spin less
     // far. On held rows, sticking contacts coupled to the nearly free spin meet the same μ|W_nt| ≈ W_nn;
     // a larger ρ shrinks W along the rows and leaves the step Newton's while they stay held.
+    clock_.lap(timers_.solve);
     double& weight = held ? held_weight_ : hub_proximal_;
     if (!contact_failure_.empty() && (held || !reduced_.hub_unknowns().empty()) && weight < 1.0) {
       weight *= 100.0;
@@ -311,6 +318,7 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   reduced_.expand(z_, t_next, q_);
   if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
   previous_ = active_;  // forces, for the next iteration's warm start
+  clock_.lap(timers_.update);
   return dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
 }
 
@@ -319,7 +327,9 @@ void QuasiStatic::step(State& state) {
   const double t_next = static_cast<double>(state.counters.steps + 1) * h;
   counters_ = &state.counters;
   const Vector q_start = state.q;
+  clock_.start(true);
   advance(state, t_next, 0);
+  state.timers = timers_;
   SolverCounters& c = state.counters;
   world_.position_difference(state.q, q_start, state.v);
   state.v /= h;

@@ -83,6 +83,7 @@
 #include "engine/sparse_ldlt.h"
 #include "engine/reduced_coordinates.h"
 #include "engine/steppers/moreau_jean.h"
+#include "engine/steppers/phase_clock.h"
 #include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
 
@@ -149,6 +150,11 @@ class QuasiStatic final : public Stepper {
   bool penalty_friction_ = false;
   Vector contact_force_;       // Hᵀ r_ (N, N·m), in velocity components
   SecantRelaxation relaxation_;  // Newton's step length ω (secant_relaxation.h)
+  // Phase times (phase_clock.h), every iteration of every step, failed ones included: free_velocity
+  // holds the forces, tangent and its factorization (the free increment K⁻¹ f), assembly the Delassus
+  // operator and the warm start, solve the contact solves, update the rest of the iteration.
+  PhaseClock clock_;
+  PhaseTimers timers_;
   double held_weight_ = 0.0;   // the held rows' least ρ this step's iterates start from (/ max diag)
   double hub_proximal_ = 0.0;  // the hub's proximal weight this step's iterates start from (/ max diag)
   std::string contact_failure_;  // the last iterate's contact solve failure message, or ""

@@ -143,5 +143,16 @@ TEST(QuasiStatic, PenaltyFrictionSlipsElasticallyBelowTheLimit) {
   EXPECT_NEAR(elastic - stuck, expected, 1e-4 * expected) << elastic;
 }
 
+TEST(QuasiStatic, TimesEachPhaseOfItsIterations) {
+  // Every phase of a rolling step does work (forces and factorization, detection, the Delassus operator,
+  // the contact solve, the update), and the phases are parts of the run: their sum cannot exceed it.
+  auto scene = load_scene(kRing, {"parameters.divisions_circumferential=34", "parameters.divisions_radial=5",
+                                  "parameters.roll_time=0.2", "parameters.window=0.1"});
+  const RunReport report = run_scene(*scene, {});
+  const PhaseTimers& t = report.state.timers;
+  for (double phase : {t.free_velocity, t.detection, t.assembly, t.solve, t.update}) EXPECT_GT(phase, 0.0);
+  EXPECT_LE(t.free_velocity + t.detection + t.assembly + t.solve + t.update, report.wall_time);
+}
+
 }  // namespace
 }  // namespace csim
