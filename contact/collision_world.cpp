@@ -4,7 +4,7 @@
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
 #include <fcl/geometry/bvh/BVH_model.h>
-#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/math/bv/AABB.h>
 #include <fcl/narrowphase/collision_object.h>
 
 #include <algorithm>
@@ -82,7 +82,7 @@ struct CollisionWorld::Impl {
     std::vector<Eigen::Vector3d> positions;      // m, world, every node
     std::vector<fcl::Vector3d> vertices;         // BVH vertices (2D: each node at z = ±½)
     std::vector<fcl::Triangle> triangles;
-    std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
+    std::shared_ptr<fcl::BVHModel<fcl::AABBd>> model;
     std::vector<std::pair<int, SurfaceFeatures>> features_of_body;  // bodies not listed: nodes
 
     SurfaceFeatures features(int body) const {
@@ -272,7 +272,7 @@ int CollisionWorld::add_deformable_surface(int body, const std::vector<Eigen::Ve
   } else {
     for (const auto& t : geometry.triangles) surface.triangles.emplace_back(t[0], t[1], t[2]);
   }
-  surface.model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  surface.model = std::make_shared<fcl::BVHModel<fcl::AABBd>>();
   surface.model->beginModel();
   surface.model->addSubModel(surface.vertices, surface.triangles);
   surface.model->endModel();
