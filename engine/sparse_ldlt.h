@@ -3,8 +3,10 @@
 // Delassus operator of contact rows.
 //
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
-// iteration's tangent keeps (the contact rows added to it sit in the node blocks already there); they
-// are recomputed when the pattern changes, not at every factorization.
+// iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
+// that couple nodes not yet coupled, such as a smoothed surface's, change it); they are recomputed
+// when the pattern changes, not at every factorization (2 analyses in a 68 × 10 rolling-ring run, where
+// there were 1613).
 //
 // Delassus operator W = H A⁻¹ Hᵀ of rows H (m × n, each row touching a few unknowns), without A⁻¹ Hᵀ:
 //   Y = L⁻¹ P Hᵀ,   W = Yᵀ D⁻¹ Y.

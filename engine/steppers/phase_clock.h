@@ -1,11 +1,9 @@
-// Wall-clock time per phase of a step, into State::timers (s). A stepper starts the clock at each step
+// Wall-clock time per phase of a step (s), for State::timers. A stepper starts the clock at each step
 // and laps it after each phase; a lap adds the time since the last one to that phase, times `scale`.
 // A step costing about a microsecond (a lumped Moreau–Jean step) is timed on one step in 16 and
 // scaled by 16, since a clock read costs ~20 ns; a Newton step (finite strain, quasi-static) costs
 // 0.1 ms or more and is timed whole, every iteration.
 #pragma once
-
-#include "engine/state.h"
 
 #include <chrono>
 
