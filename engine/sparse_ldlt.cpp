@@ -31,17 +31,31 @@ void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
   if (m == 0) return;
   Y_.noalias() = factor_.permutationP() * H.transpose();
   factor_.matrixL().solveInPlace(Y_);
-  // The rows of Y that some column reaches, scaled by D^-1/2 (D > 0: a positive definite factor).
-  reached_.assign(n, 0);
-  for (int c = 0; c < m; ++c)
-    for (int i = 0; i < n; ++i) reached_[i] |= Y_(i, c) != 0.0;
-  rows_.clear();
-  for (int i = 0; i < n; ++i)
-    if (reached_[i]) rows_.push_back(i);
+  // W = Σ_i y_i y_iᵀ / D_i over the rows y_i of Y (D > 0: a positive definite factor). A row that few
+  // columns reach (below the top separators of the elimination tree) adds its few products directly; the
+  // denser rows, scaled by D^-1/2, go to one matrix product.
   const Vector& D = factor_.vectorD();
+  W.setZero();
+  rows_.clear();
+  for (int i = 0; i < n; ++i) {
+    columns_.clear();
+    for (int c = 0; c < m; ++c)
+      if (Y_(i, c) != 0.0) columns_.push_back(c);
+    const int k = static_cast<int>(columns_.size());
+    if (k == 0) continue;
+    if (3 * k > m) {
+      rows_.push_back(i);
+      continue;
+    }
+    for (int p = 0; p < k; ++p) {
+      const double scaled = Y_(i, columns_[p]) / D(i);
+      for (int q = 0; q <= p; ++q) W(columns_[q], columns_[p]) += scaled * Y_(i, columns_[q]);
+    }
+  }
   compact_.resize(static_cast<Eigen::Index>(rows_.size()), m);
   for (int k = 0; k < static_cast<int>(rows_.size()); ++k) compact_.row(k) = Y_.row(rows_[k]) / std::sqrt(D(rows_[k]));
-  W.noalias() = compact_.transpose() * compact_;
+  W.triangularView<Eigen::StrictlyLower>() = W.transpose().triangularView<Eigen::StrictlyLower>();
+  W.noalias() += compact_.transpose() * compact_;
 }
 
 }  // namespace csim

@@ -12,8 +12,8 @@
 //   Y = L⁻¹ P Hᵀ,   W = Yᵀ D⁻¹ Y.
 // Eigen's forward substitution with a column-major L skips the zero entries of its right-hand side,
 // and P Hᵀ's columns have a handful of nonzeros whose elimination-tree paths fill part of each column
-// of Y; the backward substitution that a full solve adds reads every entry of L for every column. Y's
-// rows that no column reaches are dropped before the product.
+// of Y; the backward substitution that a full solve adds reads every entry of L for every column. The
+// product Yᵀ D⁻¹ Y takes each row of Y's nonzeros only (delassus).
 #pragma once
 
 #include "engine/bodies/body.h"
@@ -28,6 +28,7 @@ class SparseLdlt {
   // Factors A (compressed); true when the factorization succeeded with every pivot of D positive.
   bool factor_positive_definite(const SparseMatrix& A);
   Vector solve(const Vector& b) const { return factor_.solve(b); }  // A⁻¹ b
+  Matrix solve(const Matrix& B) const { return factor_.solve(B); }  // A⁻¹ B
   // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage.
   void delassus(const Matrix& H, Matrix& W);
   long analyses() const { return analyses_; }  // symbolic analyses so far
@@ -37,8 +38,7 @@ class SparseLdlt {
   std::vector<int> outer_, inner_;  // the pattern factor_ was analysed for
   long analyses_ = 0;
   Matrix Y_, compact_;              // delassus' work space
-  std::vector<char> reached_;
-  std::vector<int> rows_;
+  std::vector<int> rows_, columns_;
 };
 
 }  // namespace csim

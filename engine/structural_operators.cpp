@@ -86,11 +86,7 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
 
 // W (or W + ε I, see the header) into tangent_factor_.
 void StructuralOperators::factor_regularized(const SparseMatrix& W) {
-  auto positive_definite = [&](const SparseMatrix& A) {
-    if (!factored_) tangent_factor_.analyzePattern(A);
-    tangent_factor_.factorize(A);
-    return tangent_factor_.info() == Eigen::Success && (tangent_factor_.vectorD().array() > 0.0).all();
-  };
+  auto positive_definite = [&](const SparseMatrix& A) { return tangent_factor_.factor_positive_definite(A); };
   if (positive_definite(W)) return;
   SparseMatrix identity(W.rows(), W.cols());
   identity.setIdentity();

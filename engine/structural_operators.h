@@ -15,6 +15,7 @@
 #pragma once
 
 #include "engine/forces.h"
+#include "engine/sparse_ldlt.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
@@ -39,6 +40,11 @@ class StructuralOperators {
 
   void solve_in_place(Vector& x) const;   // x ← W⁻¹ x
   void solve_in_place(Matrix& X) const;   // X ← W⁻¹ X
+  // A sparse finite-strain World refactors W at every Newton iterate, so W⁻¹ Hᵀ's columns are not
+  // reused: its Delassus operator H W⁻¹ Hᵀ then comes from the forward substitution alone
+  // (sparse_ldlt.h). H: rows × unknowns, dense storage.
+  bool direct_delassus() const { return sparse_ && nonlinear_; }
+  void delassus(const Matrix& H, Matrix& D) { tangent_factor_.delassus(H, D); }
   void apply_mass(const Vector& v, Vector& out) const;       // out = M v
   void apply_stiffness(const Vector& v, Vector& out) const;  // out = K v
   void apply_damping(const Vector& v, Vector& out) const;    // out = C v
@@ -58,7 +64,7 @@ class StructuralOperators {
   // tighter), 0.9 against 1.3 ms at 13 122. Its supernodal LLᵀ solves one right-hand side more slowly
   // (6.1 ms, with the reference BLAS), and METIS orders 2D meshes only 4 % better than its AMD.
   Eigen::CholmodSimplicialLDLT<SparseMatrix> sparse_factor_;
-  Eigen::SimplicialLDLT<SparseMatrix> tangent_factor_;  // nonlinear worlds: its pivots say if W > 0
+  SparseLdlt tangent_factor_;  // nonlinear worlds: its pivots say if W > 0
 
   void factor_regularized(const SparseMatrix& W);
   template <class PositiveDefiniteWith>

@@ -304,15 +304,26 @@ void MoreauJean::assemble(const State& state) {
     for (int k = 0; k < d; ++k) rows_[d * i + k] = candidate_rows_[d * active_rows_[i] + k];
     problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(state.t + h);
   }
-  gather_columns();
-
   problem_.W.resize(m, m);
   problem_.q.resize(m);
-  for (int a = 0; a < m; ++a) {
-    for (int b = 0; b < m; ++b)
-      problem_.W(a, b) = a < d * nc ? rows_[a].dot(*columns_[b]) : equality_dot(a - d * nc, *columns_[b]);
-    problem_.q(a) = a < d * nc ? rows_[a].dot(v_free_) : equality_dot(a - d * nc, v_free_);
+  if (operators_.direct_delassus()) {  // no columns: update() takes one solve with Hᵀ r
+    problem_rows_.setZero(m, world_.velocity_size);
+    for (int a = 0; a < d * nc; ++a)
+      for (int k = 0; k < rows_[a].count; ++k) problem_rows_(a, rows_[a].index[k]) += rows_[a].value[k];
+    if (ne > 0) problem_rows_.middleRows(d * nc, ne) = constraint_rows_;
+    for (int i = 0; i < ties_.size(); ++i) {
+      const SparseRow& row = ties_.rows()[i];
+      for (int k = 0; k < row.count; ++k) problem_rows_(d * nc + ne + i, row.index[k]) += row.value[k];
+    }
+    operators_.delassus(problem_rows_, problem_.W);
+  } else {
+    gather_columns();
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b)
+        problem_.W(a, b) = a < d * nc ? rows_[a].dot(*columns_[b]) : equality_dot(a - d * nc, *columns_[b]);
   }
+  for (int a = 0; a < m; ++a)
+    problem_.q(a) = a < d * nc ? rows_[a].dot(v_free_) : equality_dot(a - d * nc, v_free_);
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
     const double approach = rows_[d * i].dot(state.v);

@@ -152,6 +152,7 @@ class MoreauJean final : public Stepper {
   // with them; tie_targets_: the velocities C v_{k+1} that close their gaps at t_{k+1}.
   TieRows ties_;
   std::vector<Vector> tie_columns_;
+  Matrix problem_rows_;  // the problem's rows H (m × n), for a direct Delassus operator (structural_operators.h)
   Vector tie_targets_, q_tie_rows_;
 };
 

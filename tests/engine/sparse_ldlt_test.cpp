@@ -49,6 +49,25 @@ TEST(SparseLdlt, DelassusEqualsTheDenseProductOfContactRows) {
   EXPECT_LE((factor.solve(b) - Matrix(A).ldlt().solve(b)).lpNorm<Eigen::Infinity>(), 1e-10);
 }
 
+TEST(SparseLdlt, DelassusOfManyLocalRowsEqualsTheDenseProduct) {
+  // 60 rows on a 300-node chain, each on two neighbouring nodes: most rows of Y are reached by a few
+  // columns (the direct products), those near the elimination tree's root by many (the matrix product).
+  const int n = 300, m = 60;
+  const SparseMatrix A = chain(n);
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  Matrix H = Matrix::Zero(m, n);
+  for (int a = 0; a < m; ++a) {
+    H(a, 5 * a) = 1.0;
+    H(a, 5 * a + 1) = -0.3 - 0.01 * a;
+  }
+  Matrix W;
+  factor.delassus(H, W);
+  const Matrix expected = H * Matrix(A).ldlt().solve(H.transpose());
+  EXPECT_LE((W - expected).lpNorm<Eigen::Infinity>(), 1e-12 * expected.lpNorm<Eigen::Infinity>());
+  EXPECT_EQ((W - W.transpose()).lpNorm<Eigen::Infinity>(), 0.0);
+}
+
 TEST(SparseLdlt, ReportsAnIndefiniteMatrix) {
   SparseLdlt factor;
   EXPECT_FALSE(factor.factor_positive_definite(chain(10, -0.5, 4)));
