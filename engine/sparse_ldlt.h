@@ -28,7 +28,6 @@ class SparseLdlt {
   // Factors A (compressed); true when the factorization succeeded with every pivot of D positive.
   bool factor_positive_definite(const SparseMatrix& A);
   Vector solve(const Vector& b) const { return factor_.solve(b); }  // A⁻¹ b
-  Matrix solve(const Matrix& B) const { return factor_.solve(B); }  // A⁻¹ B
   // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage.
   void delassus(const Matrix& H, Matrix& W);
   long analyses() const { return analyses_; }  // symbolic analyses so far

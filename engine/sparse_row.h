@@ -31,7 +31,8 @@ struct SparseRow {
     for (int k = 0; k < count; ++k) sum += value[k] * v(index[k]);
     return sum;
   }
-  void scatter(double scale, Vector& f) const {  // f += scale · rowᵀ
+  template <class Dense>  // a Vector, or a row of a dense matrix
+  void scatter(double scale, Dense&& f) const {  // f += scale · rowᵀ
     for (int k = 0; k < count; ++k) f(index[k]) += scale * value[k];
   }
   bool operator==(const SparseRow& other) const {

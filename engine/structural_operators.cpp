@@ -108,12 +108,6 @@ void StructuralOperators::solve_in_place(Vector& x) const {
   else dense_factor_.solveInPlace(x);
 }
 
-void StructuralOperators::solve_in_place(Matrix& X) const {
-  if (sparse_ && nonlinear_) X = tangent_factor_.solve(X);
-  else if (sparse_) X = sparse_factor_.solve(X);
-  else dense_factor_.solveInPlace(X);
-}
-
 void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = sparse_mass_ * v;
   else out.noalias() = dense_mass_ * v;

@@ -39,7 +39,6 @@ class StructuralOperators {
   long regularizations() const { return regularizations_; }  // factorizations that needed ε I
 
   void solve_in_place(Vector& x) const;   // x ← W⁻¹ x
-  void solve_in_place(Matrix& X) const;   // X ← W⁻¹ X
   // A sparse finite-strain World refactors W at every Newton iterate, so W⁻¹ Hᵀ's columns are not
   // reused: its Delassus operator H W⁻¹ Hᵀ then comes from the forward substitution alone
   // (sparse_ldlt.h). H: rows × unknowns, dense storage.

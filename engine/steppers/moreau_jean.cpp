@@ -308,13 +308,9 @@ void MoreauJean::assemble(const State& state) {
   problem_.q.resize(m);
   if (operators_.direct_delassus()) {  // no columns: update() takes one solve with Hᵀ r
     problem_rows_.setZero(m, world_.velocity_size);
-    for (int a = 0; a < d * nc; ++a)
-      for (int k = 0; k < rows_[a].count; ++k) problem_rows_(a, rows_[a].index[k]) += rows_[a].value[k];
+    for (int a = 0; a < d * nc; ++a) rows_[a].scatter(1.0, problem_rows_.row(a));
     if (ne > 0) problem_rows_.middleRows(d * nc, ne) = constraint_rows_;
-    for (int i = 0; i < ties_.size(); ++i) {
-      const SparseRow& row = ties_.rows()[i];
-      for (int k = 0; k < row.count; ++k) problem_rows_(d * nc + ne + i, row.index[k]) += row.value[k];
-    }
+    for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(1.0, problem_rows_.row(d * nc + ne + i));
     operators_.delassus(problem_rows_, problem_.W);
   } else {
     gather_columns();
