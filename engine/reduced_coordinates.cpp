@@ -45,6 +45,7 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
                                   world.bodies[c.body].name + "' is prescribed twice");
     prescription_of_[i] = static_cast<int>(p);
   }
+  floating_body_of_.assign(world.bodies.size(), -1);
   std::vector<bool> tied_node;
   for (const RigidTie& tie : world.ties) {
     const BodyInstance& ring = world.bodies[tie.elastic_body];
@@ -76,6 +77,8 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
         }
     tied_node.assign(nodes, false);
     for (int node : tie.nodes) tied_node[node] = true;
+    floating_body_of_[tie.elastic_body] = static_cast<int>(floating_bodies_.size());
+    floating_bodies_.emplace_back(static_cast<int>(floating_.size()), static_cast<int>(floating_.size()) + nodes);
     for (int node = 0; node < nodes; ++node) {
       Floating f;
       f.hub = hub_index;
@@ -102,6 +105,10 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
     for (int c = 0; c < 3; ++c)
       if (f.dof[c] == i && f.unknown[c] == -2) f.unknown[c] = unknown_count_++;
   }
+  selected_ = unknown_of_;
+  for (const Floating& f : floating_)
+    for (int c = 0; c < 3; ++c)
+      if (f.dof[c] >= 0) selected_[f.dof[c]] = f.unknown[c];
   identity_ = unknown_count_ == n && floating_.empty();
   for (const Hub& hub : hubs_) {
     const BodyInstance& rigid = world.bodies[hub.body];
@@ -239,7 +246,7 @@ void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vec
   }
 }
 
-void ReducedCoordinates::tangent(const Vector& q, SparseMatrix& T) const {
+void ReducedCoordinates::tangent(const Vector& q, SparseRowMatrix& T) const {
   const int n = static_cast<int>(unknown_of_.size());
   Triplets entries;
   entries.reserve(n + 9 * floating_.size());
@@ -265,19 +272,152 @@ void ReducedCoordinates::tangent(const Vector& q, SparseMatrix& T) const {
   T.setFromTriplets(entries.begin(), entries.end());
 }
 
-void ReducedCoordinates::reduce_stiffness(const SparseMatrix& K, const SparseMatrix& T, const Vector& q,
-                                          const Vector& f, SparseMatrix& K_z) const {
+void ReducedCoordinates::frame_positions(const Vector& q, int body, Vector& positions) const {
+  const BodyInstance& b = world_->bodies[body];
+  positions.setZero(b.body->position_size());
+  const auto [first, last] = floating_bodies_[floating_body_of_[body]];
+  const Hub& hub = hubs_[floating_[first].hub];
+  const Eigen::Isometry3d pose = hub_pose(hub, q);
+  const Eigen::Matrix3d relative = relative_rotation(hub, pose);
+  for (int a = first; a < last; ++a) {
+    const Floating& node = floating_[a];
+    const Eigen::Vector3d w = relative.transpose() * (node_position(node, q) - pose.translation()) - node.arm;
+    for (int c = 0; c < 3; ++c)  // a tied node stays at X: w = 0, not its round-off
+      if (node.unknown[c] >= 0) positions(node.position[c] - b.position_offset) = w(c);
+  }
+}
+
+void ReducedCoordinates::add_turned_to_world(const Vector& q, int body, const Vector& f_frame, VectorRef f) const {
+  const BodyInstance& b = world_->bodies[body];
+  const auto [first, last] = floating_bodies_[floating_body_of_[body]];
+  const Hub& hub = hubs_[floating_[first].hub];
+  const Eigen::Matrix3d relative = relative_rotation(hub, hub_pose(hub, q));
+  for (int a = first; a < last; ++a) {
+    const Floating& node = floating_[a];
+    Eigen::Vector3d local = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 3; ++c)
+      if (node.dof[c] >= 0) local(c) = f_frame(node.dof[c] - b.velocity_offset);
+    const Eigen::Vector3d turned = relative * local;  // no fixed component gains a part (check_fixed_component)
+    for (int c = 0; c < 3; ++c)
+      if (node.dof[c] >= 0) f(node.dof[c] - b.velocity_offset) += turned(c);
+  }
+}
+
+// K'(a c', j) = Σ_c R_rel(c, c') K(a c, j) on a floating node's rows, and the same on its columns.
+void ReducedCoordinates::add_turned_to_frame(const Vector& q, const Triplets& K, std::size_t from,
+                                             Triplets& entries) const {
+  struct Side {
+    int count = 1;
+    std::array<int, 3> index{};
+    std::array<double, 3> weight{1.0, 0.0, 0.0};
+  };
+  auto side = [&](int i) {
+    Side s;
+    s.index[0] = i;
+    if (floating_of_[i] < 0) return s;
+    const Floating& node = floating_[floating_of_[i]];
+    const Hub& hub = hubs_[node.hub];
+    const Eigen::Matrix3d relative = relative_rotation(hub, hub_pose(hub, q));
+    int c = 0;
+    while (node.dof[c] != i) ++c;
+    s.count = 0;
+    for (int k = 0; k < 3; ++k)
+      if (node.dof[k] >= 0) {
+        s.index[s.count] = node.dof[k];
+        s.weight[s.count++] = relative(c, k);
+      }
+    return s;
+  };
+  for (std::size_t t = from; t < K.size(); ++t) {
+    const Side row = side(K[t].row()), column = side(K[t].col());
+    for (int a = 0; a < row.count; ++a)
+      for (int b = 0; b < column.count; ++b)
+        entries.emplace_back(row.index[a], column.index[b], row.weight[a] * K[t].value() * column.weight[b]);
+  }
+}
+
+void ReducedCoordinates::hub_frame_columns(const Vector& q, Matrix& C) const {
+  C.setZero(static_cast<Eigen::Index>(unknown_of_.size()), static_cast<Eigen::Index>(hub_unknowns_.size()));
+  for (const Floating& node : floating_) {
+    const Hub& hub = hubs_[node.hub];
+    const BodyInstance& rigid = world_->bodies[hub.body];
+    const Eigen::Isometry3d pose = hub_pose(hub, q);
+    const Eigen::Matrix3d relative = relative_rotation(hub, pose);
+    const PointJacobian J = hub_columns(node, q, pose);
+    for (int k = 0; k < J.count; ++k) {
+      const int u = unknown_of_[rigid.velocity_offset + J.index[k]];
+      if (u < 0) continue;
+      const auto column = std::find(hub_unknowns_.begin(), hub_unknowns_.end(), u) - hub_unknowns_.begin();
+      const Eigen::Vector3d turned = relative.transpose() * J.column.col(k);
+      for (int c = 0; c < 3; ++c)
+        if (node.dof[c] >= 0) C(node.dof[c], column) = turned(c);
+    }
+  }
+}
+
+void ReducedCoordinates::reduce_stiffness(const Vector& q, const Vector& f, const Triplets& K, std::size_t world_from,
+                                          SparseMatrix& K_z) {
+  K_z.resize(unknown_count_, unknown_count_);
   if (identity_) {
-    K_z = K;
+    K_z.setFromTriplets(K.begin(), K.end());
     return;
   }
-  K_z = SparseMatrix(T.transpose() * K * T);
-  SparseMatrix G;
-  if (geometric_stiffness(q, f, G)) K_z += G;
+  const int n = static_cast<int>(unknown_of_.size()), hubs = static_cast<int>(hub_unknowns_.size());
+  Triplets turned;
+  add_turned_to_frame(q, K, world_from, turned);
+  if (hubs > 0) {
+    hub_frame_columns(q, C_);
+    KC_.setZero(n, hubs);
+    CK_.setZero(n, hubs);
+    reaches_hub_row_.assign(n, 0);
+    reaches_hub_column_.assign(n, 0);
+  }
+  entries_.clear();
+  entries_.reserve(world_from + turned.size() + 2 * static_cast<std::size_t>(n * hubs) + hubs * hubs);
+  // Sᵀ K' S as it is; K' C and Cᵀ K' (kept apart: K' need not be symmetric).
+  auto visit = [&](const Eigen::Triplet<double>& t) {
+    const int i = t.row(), j = t.col();
+    if (selected_[i] >= 0 && selected_[j] >= 0) entries_.emplace_back(selected_[i], selected_[j], t.value());
+    if (hubs == 0) return;
+    if (floating_of_[j] >= 0) {
+      for (int h = 0; h < hubs; ++h) KC_(i, h) += t.value() * C_(j, h);
+      reaches_hub_row_[i] = 1;
+    }
+    if (floating_of_[i] >= 0) {
+      for (int h = 0; h < hubs; ++h) CK_(j, h) += t.value() * C_(i, h);
+      reaches_hub_column_[j] = 1;
+    }
+  };
+  for (std::size_t t = 0; t < world_from; ++t) visit(K[t]);
+  for (const auto& t : turned) visit(t);
+  // Sᵀ K' C, Cᵀ K' S and Cᵀ K' C; every entry that K's pattern reaches, zero or not, so that K_z's
+  // pattern stays that of K (sparse_ldlt.h analyses it again when it changes).
+  for (int i = 0; i < n && hubs > 0; ++i) {
+    if (selected_[i] < 0) continue;
+    for (int h = 0; h < hubs; ++h) {
+      if (reaches_hub_row_[i]) entries_.emplace_back(selected_[i], hub_unknowns_[h], KC_(i, h));
+      if (reaches_hub_column_[i]) entries_.emplace_back(hub_unknowns_[h], selected_[i], CK_(i, h));
+    }
+  }
+  if (hubs > 0) {
+    const Matrix CKC = C_.transpose() * KC_;
+    for (int h = 0; h < hubs; ++h)
+      for (int l = 0; l < hubs; ++l) entries_.emplace_back(hub_unknowns_[h], hub_unknowns_[l], CKC(h, l));
+  }
+  add_geometric_stiffness(q, f, entries_);
+  K_z.setFromTriplets(entries_.begin(), entries_.end());
 }
 
 bool ReducedCoordinates::geometric_stiffness(const Vector& q, const Vector& f, SparseMatrix& G) const {
   Triplets geometric;
+  add_geometric_stiffness(q, f, geometric);
+  if (geometric.empty()) return false;
+  G.resize(unknown_count_, unknown_count_);
+  G.setFromTriplets(geometric.begin(), geometric.end());
+  return true;
+}
+
+void ReducedCoordinates::add_geometric_stiffness(const Vector& q, const Vector& f, Triplets& geometric) const {
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
@@ -303,10 +443,6 @@ bool ReducedCoordinates::geometric_stiffness(const Vector& q, const Vector& f, S
       }
     }
   }
-  if (geometric.empty()) return false;
-  G.resize(unknown_count_, unknown_count_);
-  G.setFromTriplets(geometric.begin(), geometric.end());
-  return true;
 }
 
 }  // namespace csim

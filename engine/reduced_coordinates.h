@@ -30,15 +30,30 @@
 //   ∂x_a/∂θ_i = R_B (e_i × s),  ∂²x_a/∂θ_i∂θ_j = R_B ½ (e_i × (e_j × s) + e_j × (e_i × s)),
 //   ∂²x_a/∂θ_i∂w_k = R_B (e_i × R_B,ref⁻¹ e_k)
 // (the plane hub: one axis e_z, ∂²x_a/∂φ² = −R (a + w_a)). Units: q as the bodies' (m, rad); z the same.
+// The floating bodies' part of Tᵀ K T is evaluated in the hub's frame. Their nodes are at
+// x_a = x_B + R_rel (a + w_a), so F = R_rel F', F' the deformation gradient of the frame configuration
+// X + w; the strain energy being objective, the internal force and tangent at q are those at X + w
+// turned by R_rel: f_a = R_rel f'_a, K = B K' Bᵀ, B = diag(R_rel) over the nodes. With T = B T̃, T̃ is the
+// identity on the w unknowns and R_relᵀ ∂x_a/∂(hub) on the hub's (a few dense columns C), and
+//   Tᵀ K T = T̃ᵀ K' T̃ = Sᵀ K' S + Sᵀ K' C + Cᵀ K' S + Cᵀ K' C   (S the selection of the unknowns):
+// K' itself on the w unknowns, no turning of its entries, and a few dense columns. That is why the
+// stepper evaluates a finite-strain floating body at frame_positions (it costs a rotation of f per
+// node): the general sparse products Tᵀ K T, with R_rel in every node's block, and their storage
+// conversions took 13 % of a 68 × 10 rolling-ring run; reduce_stiffness takes 6 %. World-frame entries
+// (springs; a small-strain body, whose energy is not objective) are turned entry by entry, Bᵀ K B.
 #pragma once
 
 #include "engine/sparse_row.h"
 #include "engine/world.h"
 
+#include <Eigen/SparseCore>
+
 #include <array>
 #include <vector>
 
 namespace csim {
+
+using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 class ReducedCoordinates {
  public:
@@ -63,11 +78,22 @@ class ReducedCoordinates {
   // every coordinate that moves with it (a hub's spin carries its ring's nodes): ∂Φ/∂p ᵀ f, p the
   // prescribed coordinate; zero on the other components.
   void prescribed_forces(const Vector& q, const Vector& f, Vector& forces) const;
-  // T at q (the floating bodies' columns depend on q, through their frame's rotation).
-  void tangent(const Vector& q, SparseMatrix& T) const;
-  // K_z = Tᵀ K T − Σ f_i ∂²Φ_i/∂z² (T from tangent(q), f the generalized force at q).
-  void reduce_stiffness(const SparseMatrix& K, const SparseMatrix& T, const Vector& q, const Vector& f,
-                        SparseMatrix& K_z) const;
+  // T at q (the floating bodies' columns depend on q, through their frame's rotation); row-major, as
+  // contact rows H T are formed row by row.
+  void tangent(const Vector& q, SparseRowMatrix& T) const;
+
+  // Whether world body b rides in a hub's frame (a tied elastic body).
+  bool floats(int body) const { return floating_body_of_[body] >= 0; }
+  // Floating body b's positions with its hub's motion taken out, the frame configuration X + w (its
+  // tied nodes at X): its internal force and tangent there are those at q in the hub's frame.
+  void frame_positions(const Vector& q, int body, Vector& positions) const;
+  // f += f_frame turned to the world, B f_frame, over floating body b's velocity components.
+  void add_turned_to_world(const Vector& q, int body, const Vector& f_frame, VectorRef f) const;
+  // K_z = Tᵀ K T − Σ f_i ∂²Φ_i/∂z² at q (f the generalized force at q), K given as triplets over
+  // velocity components: the floating bodies' in their hub's frame (their tangent at frame_positions)
+  // before world_from, the rest (springs) in the world frame from world_from on.
+  void reduce_stiffness(const Vector& q, const Vector& f, const Triplets& K, std::size_t world_from,
+                        SparseMatrix& K_z);
   // G = −Σ f_i ∂²Φ_i/∂z² alone (nz × nz); false, G untouched, when it is zero (no hub turns).
   bool geometric_stiffness(const Vector& q, const Vector& f, SparseMatrix& G) const;
 
@@ -97,6 +123,12 @@ class ReducedCoordinates {
   Eigen::Vector3d node_force(const Floating& node, const Vector& f) const;
   // Throws unless the hub's frame keeps component c of the tied body's nodes where it is.
   void check_fixed_component(const Hub& hub, int c, const std::string& body_name) const;
+  // G's entries (geometric_stiffness) appended to entries.
+  void add_geometric_stiffness(const Vector& q, const Vector& f, Triplets& entries) const;
+  // K's world-frame entries that touch floating nodes, turned to their hub's frame (Bᵀ K B), into entries.
+  void add_turned_to_frame(const Vector& q, const Triplets& K, std::size_t from, Triplets& entries) const;
+  // C: T̃'s hub columns (velocity components × hub_unknowns_), R_relᵀ ∂x_a/∂(hub) on floating nodes.
+  void hub_frame_columns(const Vector& q, Matrix& C) const;
 
   const World* world_;  // a pointer, so that a stepper can rebuild its reduced coordinates
   int unknown_count_ = 0;
@@ -110,6 +142,14 @@ class ReducedCoordinates {
   std::vector<Hub> hubs_;
   std::vector<Floating> floating_;
   std::vector<int> hub_unknowns_;
+  // Per world body, its nodes' range in floating_ ([first, second)), or −1 for a body that does not float.
+  std::vector<int> floating_body_of_;
+  std::vector<std::pair<int, int>> floating_bodies_;
+  std::vector<int> selected_;  // S: per velocity component, its unknown in T̃ (a floating node's w), or −1
+  // reduce_stiffness' work space
+  Triplets entries_;
+  Matrix C_, KC_, CK_;  // C, K' C and (Cᵀ K')ᵀ
+  std::vector<char> reaches_hub_row_, reaches_hub_column_;
 };
 
 }  // namespace csim

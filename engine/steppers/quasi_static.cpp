@@ -58,29 +58,41 @@ void QuasiStatic::initialize(State& state) {
 
 // f(q, t): loads, springs and the bodies' internal forces (N, N·m), in q's components; and, when the
 // tangent is needed, the bodies' tangent stiffness into triplets_ in the same pass over the elements.
-void QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) {
+// A finite-strain body riding in its hub's frame is evaluated there (its energy is objective): its force
+// turned to the world, its tangent left in the frame, first in triplets_, as reduce_stiffness takes it
+// (reduced_coordinates.h). Returns where the world-frame entries of triplets_ start.
+std::size_t QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) {
   forces_.external(q, t, f);
   forces_.add_spring_forces(q, f);
   triplets_.clear();
-  for (const BodyInstance& b : world_.bodies) {
-    if (!b.body->elastic()) continue;
+  auto in_frame = [&](int i) { return reduced_.floats(i) && world_.bodies[i].body->nonlinear(); };
+  for (int i = 0; i < static_cast<int>(world_.bodies.size()); ++i) {
+    const BodyInstance& b = world_.bodies[i];
+    if (!in_frame(i)) continue;
+    reduced_.frame_positions(q, i, frame_positions_);
+    frame_force_.setZero(b.body->velocity_size());
+    b.body->add_internal_force_and_tangent(frame_positions_, frame_force_, b.velocity_offset, triplets_);
+    reduced_.add_turned_to_world(q, i, frame_force_, f.segment(b.velocity_offset, b.body->velocity_size()));
+  }
+  const std::size_t world_from = triplets_.size();
+  for (int i = 0; i < static_cast<int>(world_.bodies.size()); ++i) {
+    const BodyInstance& b = world_.bodies[i];
+    if (!b.body->elastic() || in_frame(i)) continue;
     VectorRef slice = f.segment(b.velocity_offset, b.body->velocity_size());
     if (needs_tangent()) b.body->add_internal_force_and_tangent(b.positions(q), slice, b.velocity_offset, triplets_);
     else b.body->add_internal_force(b.positions(q), slice);
   }
+  return world_from;
 }
 
 // K_z from the bodies' tangent (in triplets_, from generalized_force) and the springs'; factored by
 // factor_stiffness once the contacts and their warm start are known.
-void QuasiStatic::assemble_stiffness(const Vector& q) {
+void QuasiStatic::assemble_stiffness(const Vector& q, std::size_t world_from) {
   if (!needs_tangent()) return;
-  const int n = world_.velocity_size;
   forces_.add_spring_stiffness(q, triplets_);
-  K_.resize(n, n);
-  K_.setFromTriplets(triplets_.begin(), triplets_.end());
   // The frame's geometric stiffness with the loads and internal forces; the contact forces' part is
   // added by factor_stiffness when held rows balance it (see the header).
-  reduced_.reduce_stiffness(K_, T_, q, f_, K_z_);
+  reduced_.reduce_stiffness(q, f_, triplets_, world_from, K_z_);
 }
 
 // Factors K_z, made positive definite when it is not or, with a hub, cannot be (see the header): by the
@@ -179,12 +191,10 @@ void QuasiStatic::detect_contacts(const State& state, double t_next) {
   problem_.equalities = 0;
   problem_.mu.resize(nc);
   // H_z = H T, row by row through the rows of T.
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> T_rows = T_;
   for (int a = 0; a < m; ++a) {
     const SparseRow& row = rows_[a];
     for (int k = 0; k < row.count; ++k)
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(T_rows, row.index[k]); it; ++it)
-        H_(a, it.col()) += row.value[k] * it.value();
+      for (SparseRowMatrix::InnerIterator it(T_, row.index[k]); it; ++it) H_(a, it.col()) += row.value[k] * it.value();
   }
   for (int i = 0; i < nc; ++i) problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t_next);
   offset_.setZero(m);
@@ -251,7 +261,7 @@ void QuasiStatic::assemble_problem() {
 
 double QuasiStatic::iterate(const State& state, double t_next) {
   t_ = t_next;
-  generalized_force(q_, t_next, f_);
+  const std::size_t world_from = generalized_force(q_, t_next, f_);
   if (needs_tangent()) reduced_.tangent(q_, T_);
   f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
   clock_.lap(timers_.free_velocity);
@@ -263,7 +273,7 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   for (int i = 0; i < problem_.contacts; ++i)
     if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? kHoldStick : kHoldNormal;
   clock_.lap(timers_.assembly);
-  assemble_stiffness(q_);
+  assemble_stiffness(q_, world_from);
   clock_.lap(timers_.free_velocity);
   // Held rows that the solve lets go would make the step another than Newton's (see the header): the
   // rows are dropped and the problem solved again, a few times at most.

@@ -115,7 +115,7 @@ class QuasiStatic final : public Stepper {
   void accept(State& state, double t_next);
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
-  void assemble_stiffness(const Vector& q);
+  void assemble_stiffness(const Vector& q, std::size_t world_from);
   bool factor_stiffness();
   bool release_let_go_rows();
   void update_contact_force();  // contact_force_ ← Hᵀ r_
@@ -123,7 +123,7 @@ class QuasiStatic final : public Stepper {
   void soften_friction(const State& state);  // penalty friction's terms (see the header)
   double set_compliance(const Vector& r);
   void assemble_problem();
-  void generalized_force(const Vector& q, double t, Vector& f);
+  std::size_t generalized_force(const Vector& q, double t, Vector& f);
   bool needs_tangent() const { return !(linear_ && factored_); }  // a linear World's is factored once
 
   const World& world_;
@@ -136,8 +136,10 @@ class QuasiStatic final : public Stepper {
   bool linear_;                 // constant K, no ties: one iteration, one factorization
   bool factored_ = false;
   SparseLdlt factor_;
-  SparseMatrix K_, T_, K_z_;
-  Triplets triplets_;
+  SparseRowMatrix T_;
+  SparseMatrix K_z_;
+  Triplets triplets_;  // the bodies' tangents (finite-strain floating ones first, in their hub's frame), then the springs'
+  Vector frame_positions_, frame_force_;  // a floating body's positions and internal force in its hub's frame
   double contact_distance_, length_;
   double t_ = 0.0;  // the time the current step reaches (s), for messages
   int d_;

@@ -3,7 +3,8 @@
 // stiffness −Σ f ∂²Φ/∂z² against central finite differences, and the objectivity that motivates the
 // floating frame (a hub rotation leaves the strain energy unchanged); the same in 3D, where the hub's
 // rotation and the ground's are quaternions moved by increments, and the 3D ring held in z rolls as
-// the plane one.
+// the plane one; the frame's reduction of the stiffness (a ring evaluated in its hub's frame) against
+// the world's sparse product.
 #include "engine/reduced_coordinates.h"
 #include "engine/run.h"
 #include "engine/scene/scene.h"
@@ -59,7 +60,7 @@ TEST(ReducedCoordinates, TangentMatchesFiniteDifferences) {
   const Vector z = some_state(reduced, scene->world);
   Vector q, q_plus, q_minus;
   reduced.expand(z, 2.0, q);
-  SparseMatrix T;
+  SparseRowMatrix T;
   reduced.tangent(q, T);
   const Matrix dense(T);
   const double h = 1e-6;
@@ -79,15 +80,15 @@ TEST(ReducedCoordinates, GeometricStiffnessIsTheSecondDerivativeOfTheFrame) {
   // With K = 0, K_z = −d(Tᵀ f)/dz at a fixed force f.
   const auto scene = coarse_ring();
   const World& world = scene->world;
-  const ReducedCoordinates reduced(world, 2.0);
+  ReducedCoordinates reduced(world, 2.0);
   const Vector z = some_state(reduced, world);
   Vector q, f = Vector::Zero(world.velocity_size);
   for (int i = 0; i < f.size(); ++i) f(i) = std::cos(0.7 * i);
   reduced.expand(z, 2.0, q);
-  SparseMatrix T, K_z;
+  SparseRowMatrix T;
+  SparseMatrix K_z;
   reduced.tangent(q, T);
-  const SparseMatrix zero(world.velocity_size, world.velocity_size);
-  reduced.reduce_stiffness(zero, T, q, f, K_z);
+  reduced.reduce_stiffness(q, f, Triplets{}, 0, K_z);
   const Matrix analytical(K_z);
   const double h = 1e-6;
   double worst = 0.0, scale = analytical.cwiseAbs().maxCoeff();
@@ -97,7 +98,7 @@ TEST(ReducedCoordinates, GeometricStiffnessIsTheSecondDerivativeOfTheFrame) {
     zm(k) -= h;
     reduced.expand(zp, 2.0, qp);
     reduced.expand(zm, 2.0, qm);
-    SparseMatrix Tp, Tm;
+    SparseRowMatrix Tp, Tm;
     reduced.tangent(qp, Tp);
     reduced.tangent(qm, Tm);
     const Vector column = -(Tp.transpose() * f - Tm.transpose() * f) / (2 * h);
@@ -105,6 +106,57 @@ TEST(ReducedCoordinates, GeometricStiffnessIsTheSecondDerivativeOfTheFrame) {
   }
   ASSERT_GT(scale, 0.1);
   EXPECT_LT(worst, 1e-7 * scale);
+}
+
+// The ring evaluated in its hub's frame, its force turned to the world and its tangent reduced by
+// reduce_stiffness, against the same ring evaluated at q in the world and reduced by the general sparse
+// product Tᵀ K T + G. Some world-frame entries (a spring's: symmetric, and one not) join a node of the ring
+// to another and to the hub, so that the turning of world entries is exercised too.
+void expect_frame_reduction_equals_the_world_product(ReducedCoordinates& reduced, const World& world,
+                                                     const Vector& q) {
+  const int ring_index = world.body_index("ring");
+  const BodyInstance& ring = world.bodies[ring_index];
+  ASSERT_TRUE(reduced.floats(ring_index));
+  const int n = world.velocity_size, size = ring.body->velocity_size();
+  Vector f_world = Vector::Zero(n), frame_force = Vector::Zero(size), f_frame = Vector::Zero(n), positions;
+  Triplets world_entries, frame_entries;
+  ring.body->add_internal_force_and_tangent(ring.positions(q), f_world.segment(ring.velocity_offset, size),
+                                            ring.velocity_offset, world_entries);
+  reduced.frame_positions(q, ring_index, positions);
+  ring.body->add_internal_force_and_tangent(positions, frame_force, ring.velocity_offset, frame_entries);
+  reduced.add_turned_to_world(q, ring_index, frame_force, f_frame.segment(ring.velocity_offset, size));
+  const double force_scale = f_world.lpNorm<Eigen::Infinity>();
+  ASSERT_GT(force_scale, 0.0);
+  EXPECT_LT((f_frame - f_world).lpNorm<Eigen::Infinity>(), 1e-10 * force_scale);
+
+  const std::size_t world_from = frame_entries.size();
+  const int a = ring.velocity_offset + size - 1, b = ring.velocity_offset + size / 2;  // free nodes' components
+  const int hub = world.bodies[world.body_index("hub")].velocity_offset + (world.dimension == 2 ? 2 : 5);
+  const Triplets extra = {{a, a, 300.0}, {a, b, -300.0}, {b, a, -300.0}, {b, b, 300.0}, {a, hub, 70.0}};
+  for (const auto& t : extra) {
+    world_entries.push_back(t);
+    frame_entries.push_back(t);
+  }
+  SparseMatrix K(n, n), G, K_z;
+  K.setFromTriplets(world_entries.begin(), world_entries.end());
+  SparseRowMatrix T;
+  reduced.tangent(q, T);
+  const SparseMatrix T_columns = T;
+  Matrix expected = Matrix(SparseMatrix(T_columns.transpose() * K * T_columns));
+  if (reduced.geometric_stiffness(q, f_world, G)) expected += Matrix(G);
+  reduced.reduce_stiffness(q, f_world, frame_entries, world_from, K_z);
+  const double scale = expected.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 1.0);
+  EXPECT_LT((Matrix(K_z) - expected).cwiseAbs().maxCoeff(), 1e-11 * scale);
+}
+
+TEST(ReducedCoordinates, TheFrameReductionIsTheWorldProduct) {
+  const auto scene = load_scene(kRing, {"parameters.divisions_circumferential=8", "parameters.divisions_radial=2",
+                                        "parameters.material=mooney-rivlin"});
+  ReducedCoordinates reduced(scene->world, 2.0);
+  Vector q;
+  reduced.expand(some_state(reduced, scene->world), 2.0, q);
+  expect_frame_reduction_equals_the_world_product(reduced, scene->world, q);
 }
 
 TEST(ReducedCoordinates, TurningTheHubLeavesTheStrainEnergyUnchanged) {
@@ -180,11 +232,12 @@ TEST(ReducedCoordinates3d, TangentAndGeometricStiffnessMatchFiniteDifferences) {
   ReducedCoordinates reduced(world, 2.0);
   Vector q;
   const Vector z = some_state_3d(reduced, world, 2.0, q);
-  SparseMatrix T, K_z;
+  SparseRowMatrix T;
+  SparseMatrix K_z;
   reduced.tangent(q, T);
   Vector f(world.velocity_size);
   for (int i = 0; i < f.size(); ++i) f(i) = std::cos(0.7 * i);
-  reduced.reduce_stiffness(SparseMatrix(world.velocity_size, world.velocity_size), T, q, f, K_z);
+  reduced.reduce_stiffness(q, f, Triplets{}, 0, K_z);
   const Matrix tangent(T), stiffness(K_z);
   const double h = 1e-6, scale = stiffness.cwiseAbs().maxCoeff();
   double worst_tangent = 0.0, worst_stiffness = 0.0;
@@ -197,7 +250,7 @@ TEST(ReducedCoordinates3d, TangentAndGeometricStiffnessMatchFiniteDifferences) {
     world.position_difference(qp, q, dq_plus);  // velocity components (the hub's rotation is a quaternion)
     world.position_difference(qm, q, dq_minus);
     worst_tangent = std::max(worst_tangent, ((dq_plus - dq_minus) / (2 * h) - tangent.col(k)).lpNorm<Eigen::Infinity>());
-    SparseMatrix Tp, Tm;
+    SparseRowMatrix Tp, Tm;
     reduced.tangent(qp, Tp);
     reduced.tangent(qm, Tm);
     const Vector column = -(Tp.transpose() * f - Tm.transpose() * f) / (2 * h);
@@ -206,6 +259,14 @@ TEST(ReducedCoordinates3d, TangentAndGeometricStiffnessMatchFiniteDifferences) {
   EXPECT_LT(worst_tangent, 1e-8);
   ASSERT_GT(scale, 0.1);
   EXPECT_LT(worst_stiffness, 1e-7 * scale);
+}
+
+TEST(ReducedCoordinates3d, TheFrameReductionIsTheWorldProduct) {
+  const auto scene = coarse_ring_3d();
+  ReducedCoordinates reduced(scene->world, 2.0);
+  Vector q;
+  some_state_3d(reduced, scene->world, 2.0, q);
+  expect_frame_reduction_equals_the_world_product(reduced, scene->world, q);
 }
 
 TEST(ReducedCoordinates3d, TurningTheHubLeavesTheStrainEnergyUnchanged) {
