@@ -37,7 +37,7 @@ class SparseLdlt {
   std::vector<int> outer_, inner_;  // the pattern factor_ was analysed for
   long analyses_ = 0;
   Matrix Y_, compact_;              // delassus' work space
-  std::vector<int> rows_, columns_;
+  std::vector<int> rows_, row_start_, row_columns_, fill_;
 };
 
 }  // namespace csim
