@@ -311,20 +311,22 @@ void ReducedCoordinates::add_turned_to_frame(const Vector& q, const Triplets& K,
     std::array<int, 3> index{};
     std::array<double, 3> weight{1.0, 0.0, 0.0};
   };
+  if (from == K.size()) return;
+  std::vector<Eigen::Matrix3d> relative(hubs_.size());
+  for (std::size_t h = 0; h < hubs_.size(); ++h) relative[h] = relative_rotation(hubs_[h], hub_pose(hubs_[h], q));
   auto side = [&](int i) {
     Side s;
     s.index[0] = i;
     if (floating_of_[i] < 0) return s;
     const Floating& node = floating_[floating_of_[i]];
-    const Hub& hub = hubs_[node.hub];
-    const Eigen::Matrix3d relative = relative_rotation(hub, hub_pose(hub, q));
+    const Eigen::Matrix3d& R = relative[node.hub];
     int c = 0;
     while (node.dof[c] != i) ++c;
     s.count = 0;
     for (int k = 0; k < 3; ++k)
       if (node.dof[k] >= 0) {
         s.index[s.count] = node.dof[k];
-        s.weight[s.count++] = relative(c, k);
+        s.weight[s.count++] = R(c, k);
       }
     return s;
   };
