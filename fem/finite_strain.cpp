@@ -120,18 +120,6 @@ typename E::GradientMap gradient_map(const typename E::Gradients& gradients) {
   return B;
 }
 
-// The in-plane (or full) block of a 9×9 material tangent.
-template <class E>
-typename E::Tangent restrict_tangent(const MaterialTangent& A) {
-  typename E::Tangent block;
-  constexpr int D = E::dimension;
-  for (int i = 0; i < D; ++i)
-    for (int J = 0; J < D; ++J)
-      for (int k = 0; k < D; ++k)
-        for (int L = 0; L < D; ++L) block(D * i + J, D * k + L) = A(3 * i + J, 3 * k + L);
-  return block;
-}
-
 struct KernelInput {
   const HyperelasticMaterial& material;
   FiniteStrainFormulation formulation;
@@ -253,15 +241,13 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
   if (with_tangent) out.tangent.setZero();
   for (int g = 0; g < E::points; ++g) {
     const PointKinematics<E>& p = points.kinematics[g];
-    HyperelasticResponse response = split ? isochoric_response(in.material, p.F, with_tangent)
-                                          : hyperelastic_response(in.material, p.F, with_tangent);
+    HyperelasticResponseOf<D> response =
+        split ? isochoric_response<D>(in.material, p.F, with_tangent)
+              : hyperelastic_response<D>(in.material, p.F, with_tangent);
     typename E::Square P = response.stress.template topLeftCorner<D, D>();
-    typename E::Tangent A;
+    typename E::Tangent& A = response.tangent;  // the in-plane (or whole) block
     typename E::GradientMap B;
-    if (with_tangent) {
-      A = restrict_tangent<E>(response.tangent);
-      B = gradient_map<E>(p.gradients);
-    }
+    if (with_tangent) B = gradient_map<E>(p.gradients);
     if constexpr (split) {
       // p ∂J/∂F and p ∂²J/∂F∂F, ∂J/∂F = J H, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ).
       const Eigen::Matrix<double, M, 1>& phi = dilatation.basis[g];

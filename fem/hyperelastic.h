@@ -73,19 +73,29 @@ struct InitialModuli {
 };
 InitialModuli initial_moduli(const HyperelasticMaterial& material);
 
-using MaterialTangent = Eigen::Matrix<double, 9, 9>;  // A, Pa, indexing above
+// A on the indices i, J, k, L < D, flattened with stride D (A(D i + J, D k + L)): D = 3 is the whole
+// tangent; D = 2 its in-plane block, all that a plane-strain element needs (F33 = 1 is held), at a
+// fifth of the cost.
+template <int D>
+using MaterialTangentOf = Eigen::Matrix<double, D * D, D * D>;  // Pa
+using MaterialTangent = MaterialTangentOf<3>;
 
-// W, P and (if asked) A of the whole law, or of its W_iso part, at F. The material is not checked
-// (the callers check it once); with_tangent = false leaves tangent at zero.
-struct HyperelasticResponse {
-  double energy = 0.0;                                // W, J/m³
-  Eigen::Matrix3d stress = Eigen::Matrix3d::Zero();   // P, Pa
-  MaterialTangent tangent = MaterialTangent::Zero();  // A, Pa
+// W, P and (if asked) A of the whole law, or of its W_iso part, at F (always the 3×3 F; P is always
+// the whole 3×3 stress). The material is not checked (the callers check it once); with_tangent =
+// false leaves tangent at zero.
+template <int D>
+struct HyperelasticResponseOf {
+  double energy = 0.0;                                                   // W, J/m³
+  Eigen::Matrix3d stress = Eigen::Matrix3d::Zero();                      // P, Pa
+  MaterialTangentOf<D> tangent = MaterialTangentOf<D>::Zero();           // A, Pa
 };
-HyperelasticResponse hyperelastic_response(const HyperelasticMaterial& material,
-                                           const Eigen::Matrix3d& F, bool with_tangent = true);
-HyperelasticResponse isochoric_response(const HyperelasticMaterial& material,
-                                        const Eigen::Matrix3d& F, bool with_tangent = true);
+using HyperelasticResponse = HyperelasticResponseOf<3>;
+template <int D = 3>
+HyperelasticResponseOf<D> hyperelastic_response(const HyperelasticMaterial& material,
+                                                const Eigen::Matrix3d& F, bool with_tangent = true);
+template <int D = 3>
+HyperelasticResponseOf<D> isochoric_response(const HyperelasticMaterial& material,
+                                             const Eigen::Matrix3d& F, bool with_tangent = true);
 
 // U(J) and its derivatives. U'(J) is the mean (hydrostatic) Cauchy stress of the volumetric part,
 // tension positive: its share of σ is U'(J) I, of P is U'(J) J F⁻ᵀ.

@@ -89,6 +89,32 @@ TEST(HyperelasticLaw, StressAndTangentMatchCentralDifferences) {
   }
 }
 
+// The plane-strain block (D = 2) is the in-plane part of the whole tangent, entry by entry, with the
+// same energy and stress: the element kernels of plane elements ask for it alone.
+TEST(HyperelasticLaw, ThePlaneTangentIsTheInPlaneBlockOfTheWholeOne) {
+  for (const HyperelasticMaterial& m : kMaterials)
+    for (const Eigen::Matrix3d& F : random_gradients(6, true))
+      for (bool whole_law : {true, false}) {
+        const HyperelasticResponse full =
+            whole_law ? hyperelastic_response(m, F) : isochoric_response(m, F);
+        const HyperelasticResponseOf<2> plane =
+            whole_law ? hyperelastic_response<2>(m, F) : isochoric_response<2>(m, F);
+        EXPECT_EQ(plane.energy, full.energy) << to_string(m.law);
+        EXPECT_EQ(plane.stress, full.stress) << to_string(m.law);
+        double worst = 0.0;
+        for (int i = 0; i < 2; ++i)
+          for (int J = 0; J < 2; ++J)
+            for (int k = 0; k < 2; ++k)
+              for (int L = 0; L < 2; ++L)
+                worst = std::max(worst, std::abs(plane.tangent(2 * i + J, 2 * k + L) -
+                                                 full.tangent(3 * i + J, 3 * k + L)));
+        // the same sums in the same order, up to the dyads' vectorized products
+        EXPECT_LE(worst, 1e-14 * full.tangent.cwiseAbs().maxCoeff()) << to_string(m.law);
+        const HyperelasticResponseOf<2> no_tangent = hyperelastic_response<2>(m, F, false);
+        EXPECT_TRUE(no_tangent.tangent.isZero(0.0));
+      }
+}
+
 TEST(HyperelasticLaw, VolumetricDerivativesMatchCentralDifferences) {
   const double h = 1e-6;
   for (const HyperelasticMaterial& m : {kNeoHookean, kMooneyRivlin})
