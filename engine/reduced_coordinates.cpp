@@ -144,6 +144,12 @@ Eigen::Isometry3d ReducedCoordinates::hub_pose(const Hub& hub, const Vector& q) 
   return rigid.body->pose(q.segment(rigid.position_offset, rigid.body->position_size()));
 }
 
+std::vector<Eigen::Isometry3d> ReducedCoordinates::hub_poses(const Vector& q) const {
+  std::vector<Eigen::Isometry3d> poses(hubs_.size());
+  for (std::size_t h = 0; h < hubs_.size(); ++h) poses[h] = hub_pose(hubs_[h], q);
+  return poses;
+}
+
 // x = X + u = x_B,ref + a + u (u = 0 on fixed components).
 Eigen::Vector3d ReducedCoordinates::node_position(const Floating& node, const Vector& q) const {
   Eigen::Vector3d x = hubs_[node.hub].centre_ref + node.arm;
@@ -165,8 +171,9 @@ void ReducedCoordinates::gather(const Vector& q, double t, Vector& z) {
   z.resize(unknown_count_);
   for (int i = 0; i < static_cast<int>(unknown_of_.size()); ++i)
     if (unknown_of_[i] >= 0) z(unknown_of_[i]) = position_of_[i] >= 0 ? q(position_of_[i]) : 0.0;  // rotations: from q
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
   for (const Floating& f : floating_) {
-    const Eigen::Isometry3d pose = hub_pose(hubs_[f.hub], q);
+    const Eigen::Isometry3d& pose = poses[f.hub];
     const Eigen::Matrix3d relative = relative_rotation(hubs_[f.hub], pose);
     const Eigen::Vector3d w = relative.transpose() * (node_position(f, q) - pose.translation()) - f.arm;
     for (int c = 0; c < 3; ++c)
@@ -206,9 +213,10 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
     }
   }
   // The floating nodes last: their rigid body's coordinates are set by now.
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
   for (const Floating& f : floating_) {
     const Hub& hub = hubs_[f.hub];
-    const Eigen::Isometry3d pose = hub_pose(hub, q);
+    const Eigen::Isometry3d& pose = poses[f.hub];
     Eigen::Vector3d w = Eigen::Vector3d::Zero();
     for (int c = 0; c < 3; ++c)
       if (f.unknown[c] >= 0) w(c) = z(f.unknown[c]);
@@ -234,10 +242,11 @@ void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vec
   forces.setZero(n);
   for (int i = 0; i < n; ++i)
     if (prescription_of_[i] >= 0) forces(i) = f(i);
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const PointJacobian J = hub_columns(node, q, hub_pose(hub, q));
+    const PointJacobian J = hub_columns(node, q, poses[node.hub]);
     const Eigen::Vector3d force = node_force(node, f);
     for (int k = 0; k < J.count; ++k) {
       const int i = rigid.velocity_offset + J.index[k];
@@ -252,10 +261,11 @@ void ReducedCoordinates::tangent(const Vector& q, SparseRowMatrix& T) const {
   entries.reserve(n + 9 * floating_.size());
   for (int i = 0; i < n; ++i)
     if (unknown_of_[i] >= 0 && floating_of_[i] < 0) entries.emplace_back(i, unknown_of_[i], 1.0);
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
   for (const Floating& f : floating_) {
     const Hub& hub = hubs_[f.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const Eigen::Isometry3d pose = hub_pose(hub, q);
+    const Eigen::Isometry3d& pose = poses[f.hub];
     const Eigen::Matrix3d relative = relative_rotation(hub, pose);
     const PointJacobian J = hub_columns(f, q, pose);
     for (int c = 0; c < 3; ++c) {
@@ -313,7 +323,8 @@ void ReducedCoordinates::add_turned_to_frame(const Vector& q, const Triplets& K,
   };
   if (from == K.size()) return;
   std::vector<Eigen::Matrix3d> relative(hubs_.size());
-  for (std::size_t h = 0; h < hubs_.size(); ++h) relative[h] = relative_rotation(hubs_[h], hub_pose(hubs_[h], q));
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
+  for (std::size_t h = 0; h < hubs_.size(); ++h) relative[h] = relative_rotation(hubs_[h], poses[h]);
   auto side = [&](int i) {
     Side s;
     s.index[0] = i;
@@ -340,10 +351,11 @@ void ReducedCoordinates::add_turned_to_frame(const Vector& q, const Triplets& K,
 
 void ReducedCoordinates::hub_frame_columns(const Vector& q, Matrix& C) const {
   C.setZero(static_cast<Eigen::Index>(unknown_of_.size()), static_cast<Eigen::Index>(hub_unknowns_.size()));
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const Eigen::Isometry3d pose = hub_pose(hub, q);
+    const Eigen::Isometry3d& pose = poses[node.hub];
     const Eigen::Matrix3d relative = relative_rotation(hub, pose);
     const PointJacobian J = hub_columns(node, q, pose);
     for (int k = 0; k < J.count; ++k) {
@@ -420,10 +432,11 @@ bool ReducedCoordinates::geometric_stiffness(const Vector& q, const Vector& f, S
 }
 
 void ReducedCoordinates::add_geometric_stiffness(const Vector& q, const Vector& f, Triplets& geometric) const {
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const Eigen::Isometry3d pose = hub_pose(hub, q);
+    const Eigen::Isometry3d& pose = poses[node.hub];
     const Eigen::Matrix3d& R = pose.linear();
     const Eigen::Vector3d s = R.transpose() * (node_position(node, q) - pose.translation());  // body-frame arm
     const Eigen::Vector3d force = node_force(node, f);

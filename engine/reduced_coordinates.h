@@ -115,6 +115,8 @@ class ReducedCoordinates {
   };
   const Body& hub_body(const Hub& hub) const { return *world_->bodies[hub.body].body; }
   Eigen::Isometry3d hub_pose(const Hub& hub, const Vector& q) const;
+  // Every hub's pose at q, in hubs_' order: computed once per call, not once per node it carries.
+  std::vector<Eigen::Isometry3d> hub_poses(const Vector& q) const;
   Eigen::Vector3d node_position(const Floating& node, const Vector& q) const;  // x_a at q (m)
   // R_rel = R_B R_B,ref⁻¹, the hub's rotation since the reference, at its pose.
   Eigen::Matrix3d relative_rotation(const Hub& hub, const Eigen::Isometry3d& pose) const;
