@@ -80,6 +80,19 @@ def percent(value, reference):
     return 100.0 * (value - reference) / reference
 
 
+def locked(result):
+    """Whether a run's ring slid without rolling: its hub did not turn (a rolling ring's spin is 0.6-1.1)."""
+    return "spin" in result and abs(result["spin"]) < 1e-3
+
+
+def spin_cell(result, faria):
+    if "spin" not in result:
+        return "failed¹"
+    if locked(result):
+        return "locked²"
+    return f"{result['spin']:.5f} ({percent(result['spin'], faria):+.2f})"
+
+
 def cost_table(results, labels, heading_end=""):
     """The lines of the table of steadiness, wall time and Newton iterations: one line per (row, runs),
     one column per label."""
@@ -122,10 +135,12 @@ def main():
     for row, result in results:
         material, delta, r_i, mu, faria, abaqus, abaqus_diff = row
         cells = [material, f"{delta:g}", f"{r_i:g}", f"{mu:g}", f"{faria:.5f}", f"{abaqus:.5f} ({abaqus_diff:.2f})"]
-        for r in result:
-            cells.append(f"{r['spin']:.5f} ({percent(r['spin'], faria):+.2f})" if "spin" in r else "failed¹")
+        cells += [spin_cell(r, faria) for r in result]
         lines.append("| " + " | ".join(cells) + " |")
     lines.append("")
+    if any(locked(r) for _, result in results for r in result):
+        lines.append("² locked: the hub does not turn (|spin| < 1e-3 v/R); the ring slides without rolling "
+                     "(\"Locked rows\" below).  ")
     failures = [(row, config, r["error"]) for row, result in results for config, r in zip(CONFIGS, result) if "error" in r]
     for row, config, error in failures:
         lines.append(f"¹ {row[0]} δ={row[1]:g} r_i={row[2]:g} μ={row[3]:g}, {config[0]}: `{error}`  ")
