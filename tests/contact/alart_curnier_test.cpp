@@ -86,5 +86,42 @@ TEST(AlartCurnier, FinishesTheBoxOnFourVerticesOfAStiffBlock) {
   EXPECT_GT(PgsSolver::residual(problem, r_unscaled), 1e-7);
 }
 
+TEST(AlartCurnier, ADirectionNoImpulseReachesLeavesTheOthersExact) {
+  // Two pressed, sticking 3D contacts; the first one's second tangent has an empty row and column
+  // of W (a node held in that direction, as a 3D ring's nodes axially), and a free velocity there
+  // that no impulse can cancel. Newton's matrix is then singular: the other five components must
+  // still reach their exact sticking solution, W_kk r_k = −q_k, and the unreachable one keep its
+  // value.
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.contacts = 2;
+  problem.mu = {Eigen::Vector2d(1.0, 1.0), Eigen::Vector2d(1.0, 1.0)};
+  const std::vector<Eigen::Index> kept = {0, 1, 3, 4, 5};
+  Eigen::MatrixXd A(5, 5);
+  A << 2.0, 0.3, 0.5, -0.2, 0.1,  //
+      0.3, 1.5, 0.1, 0.4, -0.3,   //
+      0.5, 0.1, 2.5, 0.2, 0.3,    //
+      -0.2, 0.4, 0.2, 1.8, 0.1,   //
+      0.1, -0.3, 0.3, 0.1, 1.2;
+  problem.W = Eigen::MatrixXd::Zero(6, 6);
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) problem.W(kept[i], kept[j]) = A(i, j);
+  // The sticking solution, pressed and inside both cones, and the free velocity that gives it.
+  Eigen::VectorXd exact(5);
+  exact << 1.0, 0.1, 0.8, -0.1, 0.15;
+  const Eigen::VectorXd q_kept = -A * exact;
+  problem.q = Eigen::VectorXd::Zero(6);
+  for (int i = 0; i < 5; ++i) problem.q(kept[i]) = q_kept(i);
+  problem.q(2) = 1e-6;
+
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(6);
+  r(2) = 0.01;
+  NewtonStatistics statistics;
+  ASSERT_TRUE(alart_curnier_newton(problem, r, 20, 1e-14, &statistics));
+  EXPECT_EQ(r(2), 0.01);
+  for (int i = 0; i < 5; ++i) EXPECT_NEAR(r(kept[i]), exact(i), 1e-13) << "component " << kept[i];
+  EXPECT_LE(statistics.iterations, 5);
+}
+
 }  // namespace
 }  // namespace csim
