@@ -33,6 +33,11 @@ struct RegularizedContactLaw {
 Eigen::Vector3d regularized_contact_force(const RegularizedContactLaw& law, double gap,
                                           const Eigen::Vector3d& local_velocity, int dimension);
 
+// The derivatives of that force: ∂F/∂g (N/m) and ∂F/∂u (N·s/m, column j the derivative along u_j), zero
+// where the contact is open (one-sided where it just closes: the open side's).
+void regularized_contact_tangent(const RegularizedContactLaw& law, double gap, const Eigen::Vector3d& local_velocity,
+                                 int dimension, Eigen::Vector3d& d_gap, Eigen::Matrix3d& d_velocity);
+
 // Damping ratio ζ ∈ [0, 1] whose free linear impact rebounds with restitution e ∈ [0, 1].
 double damping_ratio_for_restitution(double restitution);
 

@@ -43,6 +43,7 @@
 // (springs; a small-strain body, whose energy is not objective) are turned entry by entry, Bᵀ K B.
 #pragma once
 
+#include "engine/dynamics.h"
 #include "engine/sparse_row.h"
 #include "engine/world.h"
 
@@ -55,7 +56,7 @@ namespace csim {
 
 using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
-class ReducedCoordinates {
+class ReducedCoordinates final : public BodyFrames {
  public:
   // Throws std::invalid_argument (the caller reports it) for a component prescribed twice, a tied body
   // with a fixed component its hub's frame can move or two ties, or a tie to a body that is not a
@@ -86,9 +87,10 @@ class ReducedCoordinates {
   bool floats(int body) const { return floating_body_of_[body] >= 0; }
   // Floating body b's positions with its hub's motion taken out, the frame configuration X + w (its
   // tied nodes at X): its internal force and tangent there are those at q in the hub's frame.
-  void frame_positions(const Vector& q, int body, Vector& positions) const;
+  void frame_positions(const Vector& q, int body, Vector& positions) const override;
   // f += f_frame turned to the world, B f_frame, over floating body b's velocity components.
-  void add_turned_to_world(const Vector& q, int body, const Vector& f_frame, VectorRef f) const;
+  void add_turned_to_world(const Vector& q, int body, const Vector& f_frame, VectorRef f) const override;
+  bool in_frame(int body) const override { return floats(body); }
   // K_z = Tᵀ K T − Σ f_i ∂²Φ_i/∂z² at q (f the generalized force at q), K given as triplets over
   // velocity components: the floating bodies' in their hub's frame (their tangent at frame_positions)
   // before world_from, the rest (springs) in the world frame from world_from on.

@@ -64,6 +64,13 @@ class Progress {
 
 }  // namespace
 
+std::unique_ptr<Stepper> make_stepper(const Scene& scene) {
+  const RunSettings& run = scene.run;
+  if (run.integrator == "ida" || run.integrator == "ida-events") return std::make_unique<IdaIntegrator>(scene.world, run.ida);
+  if (run.integrator == "quasi-static") return std::make_unique<QuasiStatic>(scene.world, run.quasi_static);
+  return std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
+}
+
 RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const RunSettings& run = scene.run;
   // A run that fails leaves no outputs behind, not even those of an earlier run in the same folder.
@@ -73,10 +80,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     std::filesystem::remove(dir / "summary.json");
     remove_paraview_outputs(options.output_directory);
   }
-  std::unique_ptr<Stepper> stepper_owner;
-  if (run.integrator == "ida" || run.integrator == "ida-events") stepper_owner = std::make_unique<IdaIntegrator>(scene.world, run.ida);
-  else if (run.integrator == "quasi-static") stepper_owner = std::make_unique<QuasiStatic>(scene.world, run.quasi_static);
-  else stepper_owner = std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
+  const std::unique_ptr<Stepper> stepper_owner = make_stepper(scene);
   Stepper& stepper = *stepper_owner;
   ProbeEvaluator probes(scene.world, run);
   CheckEvaluator checks(run, scene.document.scope);
@@ -173,15 +177,23 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
     json.begin_object("ida")
         .value("rtol", run.ida.rtol).value("atol", run.ida.atol)
         .value("linear_solver", ida.linear_solver)
-        .value("jacobian", ida.linear_solver == "klu" ? "finite differences (ours, sparse)"
+        .value("jacobian", ida.linear_solver == "klu" ? "assembled from the tangents (ours, sparse)"
                                                        : "IDA difference quotients (dense)")
+        .value("symbolic_analyses", ida.symbolic_analyses)
         .value("steps", ida.steps).value("residual_evaluations", ida.residual_evaluations)
         .value("jacobian_evaluations", ida.jacobian_evaluations)
         .value("error_test_failures", ida.error_test_failures)
         .value("nonlinear_convergence_failures", ida.nonlinear_convergence_failures)
         .value("last_step", ida.last_step)
-        .value("penalty_stiffness", run.ida.penalty_stiffness).value("epsilon", run.ida.epsilon)
-        .end_object();
+        .value("epsilon", run.ida.epsilon);
+    json.begin_object("penalty_stiffness");  // N/m, per contact law (the defaults resolved)
+    for (std::size_t l = 0; l < ida.penalty_stiffness.size(); ++l)
+      json.value(scene.world.contact_laws[l].name, ida.penalty_stiffness[l]);
+    json.end_object();
+    json.begin_object("penalty_damping");  // N·s/m, per contact law
+    for (std::size_t l = 0; l < ida.penalty_damping.size(); ++l)
+      json.value(scene.world.contact_laws[l].name, ida.penalty_damping[l]);
+    json.end_object().end_object();
   }
   if (run.integrator == "quasi-static" || c.newton_iterations > 0)
     json.begin_object("newton")

@@ -5,6 +5,9 @@
 #include "engine/checks.h"
 #include "engine/scene/scene.h"
 #include "engine/state.h"
+#include "engine/steppers/stepper.h"
+
+#include <memory>
 
 #include <string>
 #include <vector>
@@ -28,6 +31,9 @@ struct RunReport {
     return true;
   }
 };
+
+// The scene's stepper, built (its checks of what it can run done) but not started. Throws RunError.
+std::unique_ptr<Stepper> make_stepper(const Scene& scene);
 
 // Throws RunError on a numerical failure (no output file is left half-written).
 RunReport run_scene(const Scene& scene, const RunOptions& options);

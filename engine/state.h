@@ -70,7 +70,9 @@ struct IdaStatistics {
   long jacobian_evaluations = 0;
   long error_test_failures = 0;
   long nonlinear_convergence_failures = 0;
+  long symbolic_analyses = 0;           // KLU's symbolic analyses of the Jacobian's pattern (klu only)
   double last_step = 0.0;               // s
+  std::vector<double> penalty_stiffness, penalty_damping;  // N/m, N·s/m per contact law (ida)
 };
 
 // s, wall clock, summed over steps (steppers/phase_clock.h: a linear Moreau–Jean run estimates them from

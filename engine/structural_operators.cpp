@@ -7,26 +7,17 @@
 
 namespace csim {
 
-StructuralOperators::StructuralOperators(const World& world, const ForceModel& forces)
-    : world_(world), forces_(forces) {
-  const int n = world.velocity_size;
+StructuralOperators::StructuralOperators(const Dynamics& dynamics)
+    : world_(dynamics.world()), dynamics_(dynamics) {
+  const int n = world_.velocity_size;
   sparse_ = n > kDenseLimit;
-  has_stiffness_ = forces.has_springs() || forces.has_elastic_bodies();
-  Triplets mass, stiffness, damping;
-  for (const BodyInstance& b : world.bodies) {
-    nonlinear_ = nonlinear_ || b.body->nonlinear();
-    b.body->add_mass(b.velocity_offset, mass);
-    b.body->add_stiffness(b.velocity_offset, stiffness);
-    b.body->add_damping(b.velocity_offset, damping);
-  }
-  constant_ = forces.constant_stiffness() && !nonlinear_;
-  has_damping_ = !damping.empty();
-  sparse_damping_.resize(n, n);
-  sparse_damping_.setFromTriplets(damping.begin(), damping.end());
-  sparse_mass_.resize(n, n);
-  sparse_mass_.setFromTriplets(mass.begin(), mass.end());
-  body_stiffness_.resize(n, n);
-  body_stiffness_.setFromTriplets(stiffness.begin(), stiffness.end());
+  has_stiffness_ = dynamics.has_stiffness();
+  nonlinear_ = dynamics.nonlinear();
+  constant_ = dynamics.constant_stiffness();
+  has_damping_ = dynamics.has_damping();
+  sparse_damping_ = dynamics.damping();
+  sparse_mass_ = dynamics.mass();
+  body_stiffness_ = dynamics.body_stiffness();
   if (!sparse_) {
     dense_mass_ = Matrix(sparse_mass_);
     dense_stiffness_ = Matrix(body_stiffness_);
@@ -40,16 +31,15 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
   const double scale = h * h * theta * theta;
   if (nonlinear_) {  // the bodies' tangent at q (a linear body's K is its tangent)
     Triplets tangent;
-    for (const BodyInstance& b : world_.bodies)
-      if (b.body->elastic()) b.body->add_tangent_stiffness(b.positions(q), b.velocity_offset, tangent);
+    dynamics_.add_body_stiffness(q, tangent);
     body_stiffness_.setFromTriplets(tangent.begin(), tangent.end());
     if (!sparse_) dense_stiffness_ = Matrix(body_stiffness_);
   }
   if (sparse_) {
     sparse_stiffness_ = body_stiffness_;
-    if (forces_.has_springs()) {
+    if (dynamics_.has_springs()) {
       Triplets springs;
-      forces_.add_spring_stiffness(q, springs);
+      dynamics_.add_spring_stiffness(q, springs);
       SparseMatrix spring_matrix(world_.velocity_size, world_.velocity_size);
       spring_matrix.setFromTriplets(springs.begin(), springs.end());
       sparse_stiffness_ += spring_matrix;
@@ -63,8 +53,8 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       sparse_factor_.factorize(W);
     }
   } else {
-    if (forces_.has_springs()) {
-      forces_.spring_stiffness(q, dense_stiffness_);
+    if (dynamics_.has_springs()) {
+      dynamics_.spring_stiffness(q, dense_stiffness_);
       if (body_stiffness_.nonZeros() > 0) dense_stiffness_ += body_stiffness_;
     }
     const Matrix W = dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_;

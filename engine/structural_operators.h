@@ -14,7 +14,7 @@
 // Newton's residual is exact, so the term changes the iterations' path, not the converged step.
 #pragma once
 
-#include "engine/forces.h"
+#include "engine/dynamics.h"
 #include "engine/sparse_ldlt.h"
 
 #include <Eigen/CholmodSupport>
@@ -26,7 +26,7 @@ class StructuralOperators {
  public:
   static constexpr int kDenseLimit = 64;
 
-  explicit StructuralOperators(const World& world, const ForceModel& forces);
+  explicit StructuralOperators(const Dynamics& dynamics);
 
   // Refreshes K at q and refactors W when needed (always the first time).
   void update(const Vector& q, double h, double theta);
@@ -50,7 +50,7 @@ class StructuralOperators {
 
  private:
   const World& world_;
-  const ForceModel& forces_;
+  const Dynamics& dynamics_;
   bool sparse_, has_stiffness_, has_damping_, constant_, nonlinear_ = false;
   bool factored_ = false;
   double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;

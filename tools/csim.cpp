@@ -361,6 +361,7 @@ int main(int argc, char** argv) {
     if (arguments.command == "stress") return run_stress(arguments, file);
     const auto scene = csim::load_scene(file, arguments.overrides);
     if (arguments.command == "validate") {
+      csim::make_stepper(*scene);  // what the stepper refuses at its construction, as run would
       std::printf("%s: valid (%zu bodies, %zu probes, %zu checks)\n", file.c_str(), scene->world.bodies.size(),
                   scene->run.probes.size(), scene->run.checks.size());
       return kPassed;

@@ -123,6 +123,9 @@ class Body {
 
   // Velocity-dependent generalized force that is not a load (gyroscopic terms), N and N·m.
   virtual void add_inertial_force(const ConstVectorRef& v, VectorRef f) const {}
+  virtual bool has_inertial_force() const { return false; }
+  // True when position_rate is v itself (every body but a 3D rigid body, whose rotation is a quaternion).
+  virtual bool position_rate_is_velocity() const { return true; }
 
   // Index of a named velocity component ("x", "y", "z", "rx", "ry", "rz"), or -1.
   virtual int velocity_index(const std::string& component) const = 0;

@@ -28,6 +28,8 @@ class RigidBody3d final : public Body {
   void position_difference(const ConstVectorRef& q1, const ConstVectorRef& q0, VectorRef d) const override;
   void position_rate(const ConstVectorRef& q, const ConstVectorRef& v, VectorRef q_dot) const override;
   void add_inertial_force(const ConstVectorRef& v, VectorRef f) const override;
+  bool has_inertial_force() const override { return true; }
+  bool position_rate_is_velocity() const override { return false; }
   int velocity_index(const std::string& component) const override;
 
  private:

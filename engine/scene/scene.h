@@ -64,6 +64,7 @@ struct Scene {
   SceneDocument document;
   std::string name;          // the scene folder's name
   std::string description;
+  std::string declared_integrator;  // integrator.type as the file writes it, before --set ("" when absent)
   World world;
   RunSettings run;
 };

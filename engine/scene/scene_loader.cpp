@@ -77,6 +77,25 @@ void read_output(const SceneNode& root, RunSettings& run) {
   run.output_rate = output.non_negative("rate", run.end_time / 1000.0);
 }
 
+// The combinations of integrator and scene that an integrator cannot run are refused here, before the
+// first step, so that validate and run give the same answer (the steppers' own unsupported()).
+void refuse_unsupported(const SceneNode& root, const Scene& scene) {
+  const SceneNode integrator = root.section("integrator");
+  const std::string& type = scene.run.integrator;
+  std::string refusal;
+  if (type == "ida" || type == "ida-events") {
+    if (scene.declared_integrator == "quasi-static")
+      refusal = type + " integrates the inertia of a dynamic problem, and this scene is quasi-static (its file "
+                       "sets integrator.type: quasi-static, its masses are placeholders); use quasi-static, or "
+                       "moreau-jean with integrator.theta=1 for a damped transient";
+    else
+      refusal = IdaIntegrator::unsupported(scene.world, scene.run.ida);
+  } else if (type == "quasi-static") {
+    refusal = QuasiStatic::unsupported(scene.world);
+  }
+  if (!refusal.empty()) integrator.fail_at("type", refusal);
+}
+
 std::string scene_name(const std::string& file) {
   const std::filesystem::path path(file);
   if (path.filename() == "scene.yaml" && path.has_parent_path())
@@ -118,6 +137,7 @@ void build_scene(Scene* scene) {
       root.child("contacts").child(law.name).fail_at(
           "elastic_slip", "penalty friction is implemented by the quasi-static stepper only (integrator.type is '" +
                               scene->run.integrator + "')");
+  refuse_unsupported(root, *scene);
   read_output(root, scene->run);
   scene_parts::read_probes(root, world, scene->run);
   scene_parts::read_checks(root, scene->run);
@@ -146,6 +166,11 @@ std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std
   auto scene = std::make_unique<Scene>();
   scene->document = load_scene_document(file);
   scene->name = scene_name(file);
+  if (const YAML::Node& root = scene->document.root; root.IsMap() && root["integrator"].IsDefined()) {
+    const YAML::Node integrator = root["integrator"];
+    if (integrator.IsMap() && integrator["type"].IsDefined() && integrator["type"].IsScalar())
+      scene->declared_integrator = integrator["type"].Scalar();
+  }
   std::vector<std::string> on_defaults;
   for (const std::string& assignment : overrides) {
     if (key_exists(scene->document.root, assignment)) apply_override(scene->document, assignment);
@@ -156,6 +181,7 @@ std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std
     first.document.file = scene->document.file;
     first.document.root = YAML::Clone(scene->document.root);
     first.name = scene->name;
+    first.declared_integrator = scene->declared_integrator;
     build_scene(&first);
     scene->document.root = first.document.root;
     for (const std::string& assignment : on_defaults) apply_override(scene->document, assignment);

@@ -27,10 +27,9 @@ int residual_callback(realtype t, N_Vector y, N_Vector yp, N_Vector r, void* use
                                                      N_VGetArrayPointer(r));
 }
 
-int jacobian_callback(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vector r, SUNMatrix J, void* user,
+int jacobian_callback(realtype t, realtype cj, N_Vector y, N_Vector yp, N_Vector, SUNMatrix J, void* user,
                       N_Vector, N_Vector, N_Vector) {
-  return static_cast<IdaIntegrator*>(user)->finite_difference_jacobian(
-      t, cj, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), N_VGetArrayPointer(r), J);
+  return static_cast<IdaIntegrator*>(user)->sparse_jacobian(t, cj, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), J);
 }
 
 int event_callback(realtype t, N_Vector y, N_Vector yp, realtype* g, void* user) {
@@ -62,22 +61,49 @@ struct IdaIntegrator::Sundials {
   }
 };
 
-IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters)
-    : world_(world), parameters_(parameters), forces_(world) {
-  for (const BodyInstance& b : world.bodies)
-    if (b.body->nonlinear()) throw RunError(0.0, "ida: body '" + b.name + "' is hyperelastic (not taken by ida yet)");
-  if (!world.prescribed.empty() || !world.ties.empty())
-    throw RunError(0.0, "ida: prescribed components and ties are taken by the quasi-static and Moreau-Jean steppers, not yet by IDA");
+std::string IdaIntegrator::unsupported(const World& world, const IdaParameters& parameters) {
+  const std::string name = parameters.events ? "ida-events" : "ida";
+  if (!world.prescribed.empty())
+    return name + " does not take prescribed motions (a body's 'prescribed' components); use moreau-jean or quasi-static";
+  if (!world.ties.empty())
+    return name + " does not take elastic bodies tied to rigid ones ('tied_to'); use moreau-jean or quasi-static";
   for (const ContactLaw& law : world.contact_laws)
     if (law.mu_ramp_end > law.mu_ramp_start)
-      throw RunError(0.0, "ida: contact law '" + law.name + "' has a mu_ramp (not taken by ida)");
+      return name + " does not take a friction ramp (contact law '" + law.name + "' has mu_ramp); use moreau-jean";
+  if (!world.constraints.empty() && parameters.linear_solver == "klu")
+    return name + " eliminates linear constraints with a dense null-space basis: linear_solver klu is not "
+                  "available with them; use linear_solver dense or auto";
+  if (!world.constraints.empty() && world.velocity_size > kDenseLimit)
+    return name + " eliminates linear constraints with a dense null-space basis, only for up to " +
+           std::to_string(kDenseLimit) + " unknowns (this World has " + std::to_string(world.velocity_size) +
+           "); use moreau-jean";
+  if (parameters.events) {
+    for (const BodyInstance& b : world.bodies)
+      if (b.body->elastic())
+        return "ida-events does not take elastic bodies (body '" + b.name +
+               "'): its exact Coulomb mode holds a rigid interface; use ida (regularized contact) or moreau-jean";
+    if (world.contact_laws.size() != 1)
+      return "ida-events takes exactly one frictional interface (the scene has " +
+             std::to_string(world.contact_laws.size()) + " contact laws); use ida or moreau-jean";
+    const ContactLaw& law = world.contact_laws[0];
+    if (world.bodies[law.body_a].body->fixed() == world.bodies[law.body_b].body->fixed())
+      return "ida-events takes a contact between one moving and one fixed body (law '" + law.name +
+             "'); use ida or moreau-jean";
+  }
+  return "";
+}
+
+IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters)
+    : world_(world), parameters_(parameters), dynamics_(world) {
+  if (const std::string refusal = unsupported(world, parameters); !refusal.empty()) throw RunError(0.0, refusal);
   nq_ = world.position_size;
   nv_ = world.velocity_size;
-  M_.setZero(nv_, nv_);
-  Triplets mass;
-  for (const BodyInstance& b : world.bodies) b.body->add_mass(b.velocity_offset, mass);
-  for (const auto& entry : mass) M_(entry.row(), entry.col()) += entry.value();
-  // Linear constraints are eliminated: v = N w with N an orthonormal basis of ker C.
+  position_of_velocity_.assign(nv_, -1);
+  for (const BodyInstance& b : world.bodies)
+    for (int c = 0; c < b.body->velocity_size(); ++c)
+      if (const int coordinate = b.body->coordinate_of(c); coordinate >= 0)
+        position_of_velocity_[b.velocity_offset + c] = b.position_offset + coordinate;
+  // Linear constraints are eliminated: v = N w with N an orthonormal basis of ker C (small Worlds).
   constrained_ = !world.constraints.empty();
   if (constrained_) {
     Matrix C = Matrix::Zero(world.constraints.size(), nv_);
@@ -86,24 +112,39 @@ IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters
     Eigen::JacobiSVD<Matrix> svd(C, Eigen::ComputeFullV);
     const int rank = static_cast<int>((svd.singularValues().array() > 1e-12 * svd.singularValues().maxCoeff()).count());
     null_basis_ = svd.matrixV().rightCols(nv_ - rank);
+    reduced_mass_ = null_basis_.transpose() * Matrix(dynamics_.mass()) * null_basis_;
+    reduced_mass_factor_.compute(reduced_mass_);
+    nr_ = static_cast<int>(null_basis_.cols());
   } else {
-    null_basis_ = Matrix::Identity(nv_, nv_);
+    mass_factor_.compute(dynamics_.mass());
+    if (mass_factor_.info() != Eigen::Success || !(mass_factor_.vectorD().array() > 0.0).all())
+      throw RunError(0.0, std::string(parameters.events ? "ida-events" : "ida") +
+                              ": the mass matrix is not positive definite (a body without mass?); use quasi-static");
+    nr_ = nv_;
   }
-  nr_ = static_cast<int>(null_basis_.cols());
-  reduced_mass_ = null_basis_.transpose() * M_ * null_basis_;
-  reduced_mass_factor_.compute(reduced_mass_);
-  size_ = nq_ + nr_ + 2;
+  // The damping's energy row only when there is damping: a row that stays zero would dilute IDA's
+  // error norm (a root mean square over the unknowns) and so loosen its tolerance.
+  damped_ = dynamics_.has_damping();
+  size_ = nq_ + nr_ + 2 + (damped_ ? 1 : 0);
 
   if (parameters.events) {
     Vector q0(nq_);
     for (const BodyInstance& b : world.bodies)
       q0.segment(b.position_offset, b.body->position_size()) = b.initial_position;
-    const Matrix projected_inverse_mass = null_basis_ * reduced_mass_factor_.solve(null_basis_.transpose());
+    Matrix projected_inverse_mass;
+    if (constrained_) {
+      projected_inverse_mass = null_basis_ * reduced_mass_factor_.solve(null_basis_.transpose());
+    } else {
+      const Matrix identity = Matrix::Identity(nv_, nv_);
+      projected_inverse_mass = mass_factor_.solve(identity);
+    }
     contact_model_ = std::make_unique<EventContactModel>(world, q0, projected_inverse_mass, parameters.sample_step);
   } else {
-    contact_model_ = std::make_unique<RegularizedContactModel>(world, parameters.penalty_stiffness,
-                                                               parameters.penalty_damping, parameters.epsilon,
-                                                               parameters.sample_step);
+    auto regularized = std::make_unique<RegularizedContactModel>(dynamics_, parameters.penalty_stiffness,
+                                                                 parameters.penalty_damping, parameters.epsilon,
+                                                                 parameters.sample_step);
+    regularized_ = regularized.get();
+    contact_model_ = std::move(regularized);
   }
   q_.setZero(nq_);
   v_.setZero(nv_);
@@ -118,18 +159,22 @@ void IdaIntegrator::unpack(const double* y) {
   else v_ = y_vector.segment(nq_, nr_);
 }
 
-void IdaIntegrator::applied_forces(double t, const Vector& q, const Vector& v) {
-  forces_.external(q, t, f_loads_);
-  for (const BodyInstance& b : world_.bodies)
-    b.body->add_inertial_force(v.segment(b.velocity_offset, b.body->velocity_size()),
-                               f_loads_.segment(b.velocity_offset, b.body->velocity_size()));
-  f_total_ = f_loads_;
-  forces_.add_spring_forces(q, f_total_);
+void IdaIntegrator::smooth_forces(double t, const Vector& q, const Vector& v) {
+  dynamics_.force(t, q, v, f_total_, &f_loads_, &f_damping_);
+}
+
+void IdaIntegrator::apply_reduced_mass(const Eigen::Ref<const Vector>& w_rate, Eigen::Ref<Vector> out) const {
+  if (constrained_) out.noalias() = reduced_mass_ * w_rate;
+  else out.noalias() = dynamics_.mass() * w_rate;
+}
+
+Vector IdaIntegrator::solve_reduced_mass(const Vector& b) const {
+  return constrained_ ? Vector(reduced_mass_factor_.solve(b)) : Vector(mass_factor_.solve(b));
 }
 
 int IdaIntegrator::event_functions(double t, const double* y, const double*, double* g) {
   unpack(y);
-  applied_forces(t, q_, v_);
+  smooth_forces(t, q_, v_);
   contact_model_->events(t, q_, v_, f_total_, g);
   return 0;
 }
@@ -147,46 +192,86 @@ int IdaIntegrator::residual(double t, const double* y, const double* y_rate, dou
   }
   out.head(nq_) = rate.head(nq_) - q_rate_;
 
-  applied_forces(t, q_, v_);
+  smooth_forces(t, q_, v_);
   contact_model_->force(t, q_, v_, f_total_, f_contact_, nullptr);
   f_total_ += f_contact_;
-  if (constrained_) out.segment(nq_, nr_) = reduced_mass_ * rate.segment(nq_, nr_) - null_basis_.transpose() * f_total_;
-  else out.segment(nq_, nr_) = M_ * rate.segment(nq_, nr_) - f_total_;
+  apply_reduced_mass(rate.segment(nq_, nr_), out.segment(nq_, nr_));
+  if (constrained_) out.segment(nq_, nr_) -= null_basis_.transpose() * f_total_;
+  else out.segment(nq_, nr_) -= f_total_;
   out(nq_ + nr_) = rate(nq_ + nr_) - f_loads_.dot(v_);
   out(nq_ + nr_ + 1) = rate(nq_ + nr_ + 1) + f_contact_.dot(v_);
+  if (damped_) out(nq_ + nr_ + 2) = rate(nq_ + nr_ + 2) + f_damping_.dot(v_);
   return out.allFinite() ? 0 : 1;  // a recoverable error: IDA retries with a smaller step
 }
 
-int IdaIntegrator::finite_difference_jacobian(double t, double cj, const double* y, const double* y_rate,
-                                              const double* r, void* sparse_matrix) {
+// The assembled Jacobian of the header, J = ∂F/∂y + cj ∂F/∂y', on the union of the patterns seen so far.
+int IdaIntegrator::sparse_jacobian(double t, double cj, const double* y, const double* y_rate, void* sparse_matrix) {
   SUNMatrix J = static_cast<SUNMatrix>(sparse_matrix);
-  Vector y_shifted = Eigen::Map<const Vector>(y, size_), rate_shifted = Eigen::Map<const Vector>(y_rate, size_);
-  const Eigen::Map<const Vector> r0(r, size_);
-  Vector column(size_);
-  std::vector<sunindextype> column_starts{0}, row_indices;
-  std::vector<double> values;
-  const double root_epsilon = std::sqrt(std::numeric_limits<double>::epsilon());
-  for (int j = 0; j < size_; ++j) {
-    const double delta = root_epsilon * std::max({std::abs(y[j]), std::abs(y_rate[j]) * parameters_.sample_step, 1e-8});
-    y_shifted(j) += delta;
-    rate_shifted(j) += cj * delta;
-    if (residual(t, y_shifted.data(), rate_shifted.data(), column.data()) != 0) return 1;
-    y_shifted(j) = y[j];
-    rate_shifted(j) = y_rate[j];
-    for (int i = 0; i < size_; ++i) {
-      const double value = (column(i) - r0(i)) / delta;
-      if (value != 0.0) {
-        row_indices.push_back(i);
-        values.push_back(value);
-      }
+  const Eigen::Map<const Vector> y_vector(y, size_);
+  unpack(y);
+  Triplets& entries = jacobian_triplets_;
+  entries.clear();
+  // Positions: cj I − ∂(Q(q) v)/∂q on q, −Q(q) on v (identity but for quaternions: differences per body).
+  for (int i = 0; i < nq_; ++i) entries.emplace_back(i, i, cj);
+  for (const BodyInstance& b : world_.bodies) {
+    if (b.body->fixed()) continue;
+    const int np = b.body->position_size(), m = b.body->velocity_size();
+    if (b.body->position_rate_is_velocity()) {
+      for (int c = 0; c < m; ++c) entries.emplace_back(b.position_offset + c, nq_ + b.velocity_offset + c, -1.0);
+      continue;
     }
-    column_starts.push_back(static_cast<sunindextype>(values.size()));
+    Vector q_body = q_.segment(b.position_offset, np), v_body = v_.segment(b.velocity_offset, m);
+    Vector plus(np), minus(np);
+    for (int j = 0; j < np + m; ++j) {
+      double& x = j < np ? q_body(j) : v_body(j - np);
+      const double kept = x, delta = 1e-7 * std::max(1.0, std::abs(kept));
+      x = kept + delta;
+      b.body->position_rate(q_body, v_body, plus);
+      x = kept - delta;
+      b.body->position_rate(q_body, v_body, minus);
+      x = kept;
+      const int column = j < np ? b.position_offset + j : nq_ + b.velocity_offset + (j - np);
+      for (int i = 0; i < np; ++i)
+        if (const double value = -(plus(i) - minus(i)) / (2.0 * delta); value != 0.0)
+          entries.emplace_back(b.position_offset + i, column, value);
+    }
   }
-  if (static_cast<sunindextype>(values.size()) > SM_NNZ_S(J))
-    if (SUNSparseMatrix_Reallocate(J, static_cast<sunindextype>(values.size())) != 0) return -1;
-  std::copy(column_starts.begin(), column_starts.end(), SM_INDEXPTRS_S(J));
-  std::copy(row_indices.begin(), row_indices.end(), SM_INDEXVALS_S(J));
-  std::copy(values.begin(), values.end(), SM_DATA_S(J));
+  // Momentum: cj M + C + K(q) and the contact law's tangents (constrained Worlds are dense and small:
+  // they take the internal difference quotients, see initialize).
+  const int row0 = nq_, v0 = nq_;
+  for (int k = 0; k < dynamics_.mass().outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(dynamics_.mass(), k); it; ++it)
+      entries.emplace_back(row0 + it.row(), v0 + it.col(), cj * it.value());
+  for (int k = 0; k < dynamics_.damping().outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(dynamics_.damping(), k); it; ++it)
+      entries.emplace_back(row0 + it.row(), v0 + it.col(), it.value());
+  Triplets stiffness, damping;
+  dynamics_.add_stiffness(q_, stiffness);
+  dynamics_.add_inertial_tangent(v_, damping);
+  contact_model_->add_tangent(q_, v_, stiffness, damping);
+  for (const auto& e : damping) entries.emplace_back(row0 + e.row(), v0 + e.col(), e.value());
+  for (const auto& e : stiffness)
+    if (const int column = position_of_velocity_[e.col()]; column >= 0) entries.emplace_back(row0 + e.row(), column, e.value());
+  // Energy rows: their diagonal.
+  for (int i = nq_ + nr_; i < size_; ++i) entries.emplace_back(i, i, cj);
+  // The union with the patterns before, as explicit zeros.
+  const bool first = jacobian_pattern_.size() == 0;
+  for (int k = 0; k < jacobian_pattern_.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(jacobian_pattern_, k); it; ++it) entries.emplace_back(it.row(), it.col(), 0.0);
+  SparseMatrix jacobian(size_, size_);
+  jacobian.setFromTriplets(entries.begin(), entries.end());
+  jacobian.makeCompressed();
+  if (!Eigen::Map<const Vector>(jacobian.valuePtr(), jacobian.nonZeros()).allFinite()) return 1;  // recoverable: IDA retries with a smaller step
+  const sunindextype nnz = jacobian.nonZeros();
+  if (first || nnz != jacobian_pattern_.nonZeros()) {
+    if (nnz > SM_NNZ_S(J) && SUNSparseMatrix_Reallocate(J, nnz) != 0) return -1;
+    if (!first && SUNLinSol_KLUReInit(sundials_->solver, J, nnz, SUNKLU_REINIT_PARTIAL) != SUNLS_SUCCESS) return -1;
+    jacobian_pattern_ = jacobian;
+    ++symbolic_analyses_;
+  }
+  std::copy(jacobian.outerIndexPtr(), jacobian.outerIndexPtr() + size_ + 1, SM_INDEXPTRS_S(J));
+  std::copy(jacobian.innerIndexPtr(), jacobian.innerIndexPtr() + nnz, SM_INDEXVALS_S(J));
+  std::copy(jacobian.valuePtr(), jacobian.valuePtr() + nnz, SM_DATA_S(J));
   return 0;
 }
 
@@ -199,8 +284,8 @@ void IdaIntegrator::consistent_rates(double t) {
   Vector at_zero_rate(size_);
   residual(t, y.data(), rate.data(), at_zero_rate.data());
   rate.head(nq_) = -at_zero_rate.head(nq_);
-  rate.segment(nq_, nr_) = reduced_mass_factor_.solve(-at_zero_rate.segment(nq_, nr_));
-  rate.tail(2) = -at_zero_rate.tail(2);
+  rate.segment(nq_, nr_) = solve_reduced_mass(-at_zero_rate.segment(nq_, nr_));
+  rate.tail(size_ - nq_ - nr_) = -at_zero_rate.tail(size_ - nq_ - nr_);
 }
 
 void IdaIntegrator::initialize(State& state) {
@@ -212,15 +297,15 @@ void IdaIntegrator::initialize(State& state) {
   Eigen::Map<Vector> y(N_VGetArrayPointer(s.y), size_);
 
   // Consistent initial values: w = Nᵀ v (v must satisfy the constraints), and y' from the equations.
-  const Vector w0 = null_basis_.transpose() * state.v;
-  if ((null_basis_ * w0 - state.v).norm() > 1e-12 * std::max(1.0, state.v.norm()))
+  const Vector w0 = constrained_ ? Vector(null_basis_.transpose() * state.v) : state.v;
+  if (constrained_ && (null_basis_ * w0 - state.v).norm() > 1e-12 * std::max(1.0, state.v.norm()))
     throw RunError(0.0, "the initial velocities violate the linear constraints");
   y.setZero();
   y.head(nq_) = state.q;
   y.segment(nq_, nr_) = w0;
   // The mode is chosen with the loads just after the start, so that a load ramped from zero at t = 0
   // is seen (it decides between stick and slip).
-  applied_forces(state.t + 1e-9 * parameters_.sample_step, state.q, state.v);
+  smooth_forces(state.t + 1e-9 * parameters_.sample_step, state.q, state.v);
   contact_model_->choose_mode(state.t, state.q, state.v, f_total_);
   consistent_rates(state.t);
 
@@ -248,8 +333,9 @@ void IdaIntegrator::initialize(State& state) {
                                                      : (parameters_.events ? parameters_.sample_step : 0.0);
   if (max_step > 0.0) IDASetMaxStep(s.memory, max_step);
 
-  const bool sparse = parameters_.linear_solver == "klu" ||
-                      (parameters_.linear_solver == "auto" && size_ > kDenseLimit);
+  // Constrained Worlds are small (unsupported) and dense: their Jacobian is left to IDA's quotients.
+  const bool sparse = !constrained_ && (parameters_.linear_solver == "klu" ||
+                                        (parameters_.linear_solver == "auto" && size_ > kDenseLimit));
   s.sparse = sparse;
   if (sparse) {
     s.matrix = SUNSparseMatrix(size_, size_, std::max(size_, 8 * size_), CSC_MAT, s.context);
@@ -268,8 +354,11 @@ void IdaIntegrator::initialize(State& state) {
   }
   state.ida.linear_solver = sparse ? "klu" : "dense";
 
-  state.energy.kinetic = state.energy.initial_kinetic = 0.5 * state.v.dot(M_ * state.v);
-  state.energy.elastic = state.energy.initial_elastic = forces_.elastic_energy(state.q);
+  state.energy.kinetic = state.energy.initial_kinetic = dynamics_.kinetic_energy(state.v);
+  contact_model_->force(state.t, state.q, state.v, f_total_, f_contact_, nullptr);
+  state.energy.elastic = state.energy.initial_elastic =
+      dynamics_.elastic_energy(state.q) + contact_model_->stored_energy();
+  initial_stored_energy_ = contact_model_->stored_energy();
 }
 
 IdaStatistics IdaIntegrator::counters_since_restart() const {
@@ -293,19 +382,32 @@ void IdaIntegrator::fill_state(State& state) {
   Sundials& s = *sundials_;
   const Eigen::Map<const Vector> y(N_VGetArrayPointer(s.y), size_);
   state.q = y.head(nq_);
-  state.v = null_basis_ * y.segment(nq_, nr_);
-  EnergyBalance& e = state.energy;
-  e.kinetic = 0.5 * state.v.dot(M_ * state.v);
-  e.elastic = forces_.elastic_energy(state.q);
-  e.work_of_loads = y(nq_ + nr_);
-  e.contact_dissipation = y(nq_ + nr_ + 1);
-  e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
-  applied_forces(state.t, state.q, state.v);
+  if (constrained_) state.v = null_basis_ * y.segment(nq_, nr_);
+  else state.v = y.segment(nq_, nr_);
+  smooth_forces(state.t, state.q, state.v);
   contact_model_->force(state.t, state.q, state.v, f_total_, f_contact_, &state.contacts);
+  // The penalty springs' energy is elastic energy, not dissipation (see the header).
+  const double stored = contact_model_->stored_energy();
+  EnergyBalance& e = state.energy;
+  e.kinetic = dynamics_.kinetic_energy(state.v);
+  e.elastic = dynamics_.elastic_energy(state.q) + stored;
+  e.work_of_loads = y(nq_ + nr_);
+  e.contact_dissipation = y(nq_ + nr_ + 1) - (stored - initial_stored_energy_);
+  e.damping_dissipation = damped_ ? y(nq_ + nr_ + 2) : 0.0;
+  e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
   const std::string solver = state.ida.linear_solver;
   state.ida = counters_since_restart();
   state.ida.linear_solver = solver;
   IdaStatistics& stats = state.ida;
+  stats.symbolic_analyses = symbolic_analyses_;
+  if (const RegularizedContactModel* regularized = regularized_) {
+    stats.penalty_stiffness.clear();
+    stats.penalty_damping.clear();
+    for (std::size_t l = 0; l < world_.contact_laws.size(); ++l) {
+      stats.penalty_stiffness.push_back(regularized->law(static_cast<int>(l)).stiffness);
+      stats.penalty_damping.push_back(regularized->law(static_cast<int>(l)).damping);
+    }
+  }
   stats.steps += before_restart_.steps;
   stats.residual_evaluations += before_restart_.residual_evaluations;
   stats.jacobian_evaluations += before_restart_.jacobian_evaluations;
@@ -326,7 +428,7 @@ void IdaIntegrator::step(State& state) {
     // An event: record the exact state there, choose the new mode, restart IDA from it.
     unpack(N_VGetArrayPointer(s.y));
     state.events.push_back(EventSample{reached, q_, v_});
-    applied_forces(reached, q_, v_);
+    smooth_forces(reached, q_, v_);
     contact_model_->choose_mode(reached, q_, v_, f_total_);
     consistent_rates(reached);
     const IdaStatistics counters = counters_since_restart();  // IDAReInit zeroes IDA's own counters

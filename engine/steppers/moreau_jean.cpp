@@ -23,8 +23,8 @@ constexpr int kTimerSampling = 16;
 MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameters)
     : world_(world),
       parameters_(parameters),
-      forces_(world),
-      operators_(world, forces_),
+      dynamics_(world),
+      operators_(dynamics_),
       pgs_(parameters.solver),
       detector_(world),
       contact_dimension_(detector_.dimension()),
@@ -33,37 +33,9 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
   build_equalities(parameters_.step);
 }
 
-// The equality rows C v = target: the World's linear constraints, then the prescriptions active at
-// t (s). Each term's position index, when it has one, lets the target hold the constraint in position.
+// The equality rows C v = target at t (s): the World's linear constraints, then the active prescriptions.
 void MoreauJean::build_equalities(double t) {
-  const int n = world_.velocity_size;
-  active_prescriptions_.clear();
-  for (int p = 0; p < static_cast<int>(world_.prescribed.size()); ++p)
-    if (world_.prescribed[p].active(t)) active_prescriptions_.push_back(p);
-  const int nw = static_cast<int>(world_.constraints.size());
-  const int ne = nw + static_cast<int>(active_prescriptions_.size());
-  constraint_rows_.setZero(ne, n);
-  equality_terms_.assign(ne, {});
-  auto position_of = [&](int index) {
-    for (const BodyInstance& b : world_.bodies) {
-      const int local = index - b.velocity_offset;
-      if (local < 0 || local >= b.body->velocity_size()) continue;
-      const int coordinate = b.body->coordinate_of(local);
-      return coordinate < 0 ? -1 : b.position_offset + coordinate;
-    }
-    return -1;
-  };
-  for (int e = 0; e < nw; ++e)
-    for (const auto& [index, coefficient] : world_.constraints[e].terms) {
-      constraint_rows_(e, index) += coefficient;
-      equality_terms_[e].emplace_back(position_of(index), coefficient);
-    }
-  for (int i = 0; i < static_cast<int>(active_prescriptions_.size()); ++i) {
-    const PrescribedComponent& c = world_.prescribed[active_prescriptions_[i]];
-    const int index = world_.bodies[c.body].velocity_offset + c.component;
-    constraint_rows_(nw + i, index) = 1.0;
-    equality_terms_[nw + i].emplace_back(position_of(index), 1.0);
-  }
+  dynamics_.equality_rows(t, equalities_);
   constraint_columns_.clear();  // W_it⁻¹ Cᵀ: recomputed for the new rows
 }
 
@@ -88,29 +60,26 @@ void MoreauJean::linearize_ties(const State& state, const Vector& v_iterate) {
 }
 
 double MoreauJean::equality_dot(int e, const Vector& v) const {
-  const int nw = static_cast<int>(constraint_rows_.rows());
-  return e < nw ? constraint_rows_.row(e).dot(v) : ties_.rows()[e - nw].dot(v);
+  const int nw = static_cast<int>(equalities_.rows.rows());
+  return e < nw ? equalities_.rows.row(e).dot(v) : ties_.rows()[e - nw].dot(v);
 }
 
 MoreauJean::~MoreauJean() = default;
 
 void MoreauJean::initialize(State& state) {
   if (!world_.prescribed.empty()) state.reactions.setZero(world_.velocity_size);
-  operators_.apply_mass(state.v, work_);
-  state.energy.kinetic = state.energy.initial_kinetic = 0.5 * state.v.dot(work_);
-  state.energy.elastic = state.energy.initial_elastic = forces_.elastic_energy(state.q);
+  state.energy.kinetic = state.energy.initial_kinetic = dynamics_.kinetic_energy(state.v);
+  state.energy.elastic = state.energy.initial_elastic = dynamics_.elastic_energy(state.q);
 }
 
 // Loads at both ends of the step (their points taken at q_k), and the inertial force at v_k.
 void MoreauJean::compute_loads(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
-  forces_.external(state.q, state.t + h, f_total_);
+  dynamics_.external(state.q, state.t + h, f_total_);
   f_loads_ = theta * f_total_;
-  forces_.external(state.q, state.t, f_total_);
+  dynamics_.external(state.q, state.t, f_total_);
   f_loads_ += (1.0 - theta) * f_total_;
-  for (const BodyInstance& b : world_.bodies)
-    b.body->add_inertial_force(state.v.segment(b.velocity_offset, b.body->velocity_size()),
-                               f_loads_.segment(b.velocity_offset, b.body->velocity_size()));
+  dynamics_.add_inertial_forces(state.v, f_loads_);
 }
 
 void MoreauJean::compute_free_velocity(const State& state) {
@@ -119,15 +88,12 @@ void MoreauJean::compute_free_velocity(const State& state) {
   compute_loads(state);
   f_total_ = f_loads_;
   if (operators_.has_stiffness()) {
-    forces_.add_spring_forces(state.q, f_total_);
-    forces_.add_body_internal_forces(state.q, f_total_);
+    dynamics_.add_internal_forces(state.q, f_total_);
     operators_.apply_stiffness(state.v, work_);
     f_total_ -= (theta * h) * work_;
   }
-  if (operators_.has_damping()) {  // −C v_θ = −C v_k − θ C (v_{k+1} − v_k), the latter in W
-    operators_.apply_damping(state.v, work_);
-    f_total_ -= work_;
-  }
+  // −C v_θ = −C v_k − θ C (v_{k+1} − v_k), the latter in W
+  dynamics_.add_damping_force(state.v, f_total_);
   v_free_ = h * f_total_;
   operators_.solve_in_place(v_free_);
   v_free_ += state.v;
@@ -144,13 +110,9 @@ void MoreauJean::compute_newton_free_velocity(const State& state, const Vector& 
   integrate_positions(state.q, v_theta_, q_iterate_);
   operators_.update(q_iterate_, h, theta);
   f_iterate_.setZero(state.v.size());
-  forces_.add_spring_forces(q_iterate_, f_iterate_);
-  forces_.add_body_internal_forces(q_iterate_, f_iterate_);
+  dynamics_.add_internal_forces(q_iterate_, f_iterate_);
   f_total_ = f_loads_ + theta * f_iterate_ + (1.0 - theta) * f_start_;
-  if (operators_.has_damping()) {
-    operators_.apply_damping(v_theta_, work_);
-    f_total_ -= work_;
-  }
+  dynamics_.add_damping_force(v_theta_, f_total_);
   dv_ = v_iterate - state.v;
   operators_.apply_mass(dv_, work_);
   v_free_ = h * f_total_ - work_;  // −R(v_j)
@@ -178,7 +140,7 @@ void MoreauJean::detect(const State& state) {
   // components, which move as prescribed: (q_ref + value(t_{k+1}) − q_k) / h. A plate driven into a
   // body is then caught at its first step instead of penetrating by one step's travel.
   v_predicted_ = (1.0 - theta) * state.v + theta * v_free_;
-  for (int p : active_prescriptions_) {
+  for (int p : equalities_.prescriptions) {
     const PrescribedComponent& c = world_.prescribed[p];
     const BodyInstance& b = world_.bodies[c.body];
     const int coordinate = b.body->coordinate_of(c.component);
@@ -237,7 +199,7 @@ void MoreauJean::gather_columns() {
   const int n = world_.velocity_size;
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
-  const int ne = static_cast<int>(constraint_rows_.rows());
+  const int ne = static_cast<int>(equalities_.rows.rows());
   const int nt = ties_.size();
   if (operators_.factorizations() != cache_factorization_) {
     column_cache_.clear();
@@ -273,7 +235,7 @@ void MoreauJean::gather_columns() {
   if (static_cast<int>(constraint_columns_.size()) != ne) {
     constraint_columns_.resize(ne);
     for (int e = 0; e < ne; ++e) {
-      constraint_columns_[e] = constraint_rows_.row(e).transpose();
+      constraint_columns_[e] = equalities_.rows.row(e).transpose();
       operators_.solve_in_place(constraint_columns_[e]);
     }
   }
@@ -290,7 +252,7 @@ void MoreauJean::gather_columns() {
 void MoreauJean::assemble(const State& state) {
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
-  const int ne = static_cast<int>(constraint_rows_.rows());
+  const int ne = static_cast<int>(equalities_.rows.rows());
   const int nw = static_cast<int>(world_.constraints.size());
   const int m = d * nc + equality_count();
   const double h = parameters_.step, theta = parameters_.theta;
@@ -309,7 +271,7 @@ void MoreauJean::assemble(const State& state) {
   if (operators_.direct_delassus()) {  // no columns: update() takes one solve with Hᵀ r
     problem_rows_.setZero(m, world_.velocity_size);
     for (int a = 0; a < d * nc; ++a) rows_[a].scatter(1.0, problem_rows_.row(a));
-    if (ne > 0) problem_rows_.middleRows(d * nc, ne) = constraint_rows_;
+    if (ne > 0) problem_rows_.middleRows(d * nc, ne) = equalities_.rows;
     for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(1.0, problem_rows_.row(d * nc + ne + i));
     operators_.delassus(problem_rows_, problem_.W);
   } else {
@@ -336,12 +298,12 @@ void MoreauJean::assemble(const State& state) {
   // Equality targets: C v_{k+1} such that C (q_{k+1} − q_ref) = value exactly (a prescription's
   // value at t_{k+1}).
   for (int e = 0; e < ne; ++e) {
-    const double value = e >= nw ? world_.prescribed[active_prescriptions_[e - nw]].value(state.t + h)
+    const double value = e >= nw ? world_.prescribed[equalities_.prescriptions[e - nw]].value(state.t + h)
                                  : world_.constraints[e].value;
     double target = 0.0;
     bool position_level = true;
     double displacement = 0.0;
-    for (const auto& [p, coefficient] : equality_terms_[e]) {
+    for (const auto& [p, coefficient] : equalities_.terms[e]) {
       if (p < 0) { position_level = false; break; }
       double reference = 0.0;
       for (const BodyInstance& b : world_.bodies)
@@ -349,11 +311,11 @@ void MoreauJean::assemble(const State& state) {
           reference = b.reference_position(p - b.position_offset);
       displacement += coefficient * (state.q(p) - reference);
     }
-    const double rate_k = constraint_rows_.row(e).dot(state.v);
+    const double rate_k = equalities_.rows.row(e).dot(state.v);
     if (position_level) {
       target = (value - displacement - h * (1.0 - theta) * rate_k) / (h * theta);
     } else if (e >= nw) {  // a 3D rigid body's rotation: prescribed through its rate over the step
-      const double rate = (value - world_.prescribed[active_prescriptions_[e - nw]].value(state.t)) / h;
+      const double rate = (value - world_.prescribed[equalities_.prescriptions[e - nw]].value(state.t)) / h;
       target = (rate - (1.0 - theta) * rate_k) / theta;
     }
     problem_.q(d * nc + e) -= target;
@@ -381,8 +343,8 @@ void MoreauJean::update(State& state) {
     // One solve W_it⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
     work_.setZero(world_.velocity_size);
     for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(r_(a), work_);
-    const int ne = static_cast<int>(constraint_rows_.rows());
-    for (int e = 0; e < ne; ++e) work_ += r_(contact_rows + e) * constraint_rows_.row(e).transpose();
+    const int ne = static_cast<int>(equalities_.rows.rows());
+    for (int e = 0; e < ne; ++e) work_ += r_(contact_rows + e) * equalities_.rows.row(e).transpose();
     for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(r_(contact_rows + ne + i), work_);
     operators_.solve_in_place(work_);
     v_next_ += work_;
@@ -424,9 +386,8 @@ void MoreauJean::account_energy(State& state) {
     operators_.apply_damping(v_theta_, work_);
     e.damping_dissipation += h * v_theta_.dot(work_);
   }
-  operators_.apply_mass(v_next_, work_);
-  e.kinetic = 0.5 * v_next_.dot(work_);
-  e.elastic = forces_.elastic_energy(q_next_);
+  e.kinetic = dynamics_.kinetic_energy(v_next_);
+  e.elastic = dynamics_.elastic_energy(q_next_);
   e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
 }
 
@@ -438,8 +399,7 @@ void MoreauJean::step_newton(State& state) {
   const double h = parameters_.step;
   compute_loads(state);
   f_start_.setZero(state.v.size());
-  forces_.add_spring_forces(state.q, f_start_);
-  forces_.add_body_internal_forces(state.q, f_start_);
+  dynamics_.add_internal_forces(state.q, f_start_);
   SolverCounters& c = state.counters;
   reach_velocity_.resize(0);
   int iterations = 0;
@@ -560,8 +520,8 @@ void MoreauJean::step(State& state) {
   if (!world_.prescribed.empty()) {  // the force each prescription exerted: its impulse / h
     state.reactions.setZero(world_.velocity_size);
     const int first = static_cast<int>(rows_.size() + world_.constraints.size());
-    for (std::size_t i = 0; i < active_prescriptions_.size(); ++i) {
-      const PrescribedComponent& p = world_.prescribed[active_prescriptions_[i]];
+    for (std::size_t i = 0; i < equalities_.prescriptions.size(); ++i) {
+      const PrescribedComponent& p = world_.prescribed[equalities_.prescriptions[i]];
       state.reactions(world_.bodies[p.body].velocity_offset + p.component) = r_(first + i) / parameters_.step;
     }
   }

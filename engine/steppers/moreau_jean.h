@@ -55,7 +55,7 @@
 
 #include "contact/pgs_solver.h"
 #include "engine/contact_detector.h"
-#include "engine/forces.h"
+#include "engine/dynamics.h"
 #include "engine/structural_operators.h"
 #include "engine/tie_rows.h"
 #include "engine/steppers/phase_clock.h"
@@ -90,7 +90,7 @@ class MoreauJean final : public Stepper {
  private:
   void build_equalities(double t);
   void linearize_ties(const State& state, const Vector& v_iterate);
-  int equality_count() const { return static_cast<int>(constraint_rows_.rows()) + ties_.size(); }
+  int equality_count() const { return static_cast<int>(equalities_.rows.rows()) + ties_.size(); }
   double equality_dot(int e, const Vector& v) const;  // row e of the equalities (constraints, then ties) · v
   void compute_loads(const State& state);
   void compute_free_velocity(const State& state);
@@ -110,7 +110,7 @@ class MoreauJean final : public Stepper {
 
   const World& world_;
   MoreauJeanParameters parameters_;
-  ForceModel forces_;
+  Dynamics dynamics_;
   StructuralOperators operators_;
   PgsSolver pgs_;
   ContactDetector detector_;
@@ -144,10 +144,7 @@ class MoreauJean final : public Stepper {
   long cache_factorization_ = -1;
   std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and W_it⁻¹ Hᵀ
   FrictionContactProblem problem_;
-  Matrix constraint_rows_;            // equalities × n: the World's constraints, then the active prescriptions
-  std::vector<int> active_prescriptions_;  // index in world.prescribed of each prescription row
-  // Each equality row's terms: (position index, or −1 for a velocity only, coefficient).
-  std::vector<std::vector<std::pair<int, double>>> equality_terms_;
+  EqualityRows equalities_;           // the World's constraints, then the active prescriptions (dynamics.h)
   // The ties' rows after the constraints', linearized at each iterate, their W_it⁻¹ tᵀ recomputed
   // with them; tie_targets_: the velocities C v_{k+1} that close their gaps at t_{k+1}.
   TieRows ties_;

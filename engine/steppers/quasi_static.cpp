@@ -29,30 +29,44 @@ ReducedCoordinates reduce(const World& world, double t) {
 
 }  // namespace
 
-QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parameters)
-    : world_(world), parameters_(parameters), forces_(world), detector_(world), reduced_(reduce(world, 0.0)),
-      pgs_(parameters.solver), d_(detector_.dimension()) {
+std::string QuasiStatic::unsupported(const World& world) {
   if (!world.constraints.empty())
-    throw RunError(0.0, "the quasi-static stepper does not take linear constraints yet");
-  bool nonlinear = false;
-  for (const BodyInstance& b : world.bodies) {
-    nonlinear = nonlinear || b.body->nonlinear();
-    if (b.body->fixed() || b.body->elastic() || forces_.has_springs()) continue;
-    bool held = false;  // every unknown of a lumped body needs stiffness: a tie, or a prescription
-    for (const RigidTie& tie : world.ties) held = held || &world.bodies[tie.rigid_body] == &b;
-    bool driven = true;
-    for (int c = 0; c < b.body->velocity_size(); ++c) driven = driven && reduced_.unknown(b.velocity_offset + c) < 0;
-    if (!held && !driven)
-      throw RunError(0.0, "quasi-static: body '" + b.name + "' is held by no stiffness (its K would be singular)");
+    return "quasi-static does not take linear constraints ('constraints'); use moreau-jean";
+  std::string message;
+  try {
+    const ReducedCoordinates reduced(world, 0.0);
+    const bool springs = !world.springs.empty();
+    for (const BodyInstance& b : world.bodies) {
+      if (b.body->fixed() || b.body->elastic() || springs) continue;
+      bool held = false;  // every unknown of a lumped body needs stiffness: a tie, or a prescription
+      for (const RigidTie& tie : world.ties) held = held || &world.bodies[tie.rigid_body] == &b;
+      bool driven = true;
+      for (int c = 0; c < b.body->velocity_size(); ++c) driven = driven && reduced.unknown(b.velocity_offset + c) < 0;
+      if (!held && !driven)
+        return "quasi-static: body '" + b.name +
+               "' is held by no stiffness (its K would be singular): give it a spring, a tie or prescribed "
+               "motions, or use moreau-jean";
+    }
+  } catch (const std::invalid_argument& e) {
+    return std::string("quasi-static: ") + e.what();
   }
+  return message;
+}
+
+QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parameters)
+    : world_(world), parameters_(parameters), dynamics_(world), detector_(world), reduced_(reduce(world, 0.0)),
+      pgs_(parameters.solver), d_(detector_.dimension()) {
+  if (const std::string refusal = unsupported(world); !refusal.empty()) throw RunError(0.0, refusal);
+  bool nonlinear = false;
+  for (const BodyInstance& b : world.bodies) nonlinear = nonlinear || b.body->nonlinear();
   for (const ContactLaw& law : world.contact_laws) penalty_friction_ = penalty_friction_ || law.elastic_slip > 0.0;
-  linear_ = !nonlinear && world.ties.empty() && forces_.constant_stiffness();
+  linear_ = !nonlinear && world.ties.empty() && dynamics_.constant_spring_stiffness();
   length_ = world.length_scale();
   contact_distance_ = parameters.contact_distance > 0.0 ? parameters.contact_distance : 0.1 * length_;
 }
 
 void QuasiStatic::initialize(State& state) {
-  state.energy.elastic = state.energy.initial_elastic = forces_.elastic_energy(state.q);
+  state.energy.elastic = state.energy.initial_elastic = dynamics_.elastic_energy(state.q);
   state.reactions.setZero(world_.velocity_size);
 }
 
@@ -62,34 +76,15 @@ void QuasiStatic::initialize(State& state) {
 // turned to the world, its tangent left in the frame, first in triplets_, as reduce_stiffness takes it
 // (reduced_coordinates.h). Returns where the world-frame entries of triplets_ start.
 std::size_t QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) {
-  forces_.external(q, t, f);
-  forces_.add_spring_forces(q, f);
+  dynamics_.external(q, t, f);
   triplets_.clear();
-  auto in_frame = [&](int i) { return reduced_.floats(i) && world_.bodies[i].body->nonlinear(); };
-  for (int i = 0; i < static_cast<int>(world_.bodies.size()); ++i) {
-    const BodyInstance& b = world_.bodies[i];
-    if (!in_frame(i)) continue;
-    reduced_.frame_positions(q, i, frame_positions_);
-    frame_force_.setZero(b.body->velocity_size());
-    b.body->add_internal_force_and_tangent(frame_positions_, frame_force_, b.velocity_offset, triplets_);
-    reduced_.add_turned_to_world(q, i, frame_force_, f.segment(b.velocity_offset, b.body->velocity_size()));
-  }
-  const std::size_t world_from = triplets_.size();
-  for (int i = 0; i < static_cast<int>(world_.bodies.size()); ++i) {
-    const BodyInstance& b = world_.bodies[i];
-    if (!b.body->elastic() || in_frame(i)) continue;
-    VectorRef slice = f.segment(b.velocity_offset, b.body->velocity_size());
-    if (needs_tangent()) b.body->add_internal_force_and_tangent(b.positions(q), slice, b.velocity_offset, triplets_);
-    else b.body->add_internal_force(b.positions(q), slice);
-  }
-  return world_from;
+  return dynamics_.add_internal_forces_and_tangent(q, f, needs_tangent() ? &triplets_ : nullptr, &reduced_);
 }
 
 // K_z from the bodies' tangent (in triplets_, from generalized_force) and the springs'; factored by
 // factor_stiffness once the contacts and their warm start are known.
 void QuasiStatic::assemble_stiffness(const Vector& q, std::size_t world_from) {
   if (!needs_tangent()) return;
-  forces_.add_spring_stiffness(q, triplets_);
   // The frame's geometric stiffness with the loads and internal forces; the contact forces' part is
   // added by factor_stiffness when held rows balance it (see the header).
   reduced_.reduce_stiffness(q, f_, triplets_, world_from, K_z_);
@@ -346,7 +341,7 @@ void QuasiStatic::step(State& state) {
   ++c.steps;
   c.contact_points += static_cast<long>(state.contacts.size());
   c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
-  state.energy.elastic = forces_.elastic_energy(state.q);
+  state.energy.elastic = dynamics_.elastic_energy(state.q);
 }
 
 // Brings state to t_next; when Newton fails, as two halves, each of which may be halved again, down

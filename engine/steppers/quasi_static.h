@@ -79,10 +79,9 @@
 
 #include "contact/pgs_solver.h"
 #include "engine/contact_detector.h"
-#include "engine/forces.h"
+#include "engine/dynamics.h"
 #include "engine/sparse_ldlt.h"
 #include "engine/reduced_coordinates.h"
-#include "engine/steppers/moreau_jean.h"
 #include "engine/steppers/phase_clock.h"
 #include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
@@ -104,6 +103,10 @@ struct QuasiStaticParameters {
 class QuasiStatic final : public Stepper {
  public:
   QuasiStatic(const World& world, const QuasiStaticParameters& parameters);
+
+  // What of the World this stepper cannot take, as a message naming it and what to use instead; empty
+  // when it can run the World (checked by the scene loader before the first step).
+  static std::string unsupported(const World& world);
 
   void initialize(State& state) override;
   void step(State& state) override;
@@ -128,7 +131,7 @@ class QuasiStatic final : public Stepper {
 
   const World& world_;
   QuasiStaticParameters parameters_;
-  ForceModel forces_;
+  Dynamics dynamics_;
   ContactDetector detector_;
   ReducedCoordinates reduced_;
   double reduced_time_ = 0.0;  // s, the time whose prescriptions reduced_ holds
@@ -139,7 +142,6 @@ class QuasiStatic final : public Stepper {
   SparseRowMatrix T_;
   SparseMatrix K_z_;
   Triplets triplets_;  // the bodies' tangents (finite-strain floating ones first, in their hub's frame), then the springs'
-  Vector frame_positions_, frame_force_;  // a floating body's positions and internal force in its hub's frame
   double contact_distance_, length_;
   double t_ = 0.0;  // the time the current step reaches (s), for messages
   int d_;

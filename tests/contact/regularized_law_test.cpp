@@ -71,5 +71,40 @@ TEST(RegularizedLaw, DampingRatioReproducesTheRestitution) {
   }
 }
 
+// The tangent against central differences of the force, in 2D and 3D, isotropic and orthotropic, in
+// slip and near stick (|u_t| ~ ε), with damping on.
+TEST(RegularizedLaw, TangentMatchesDifferencesOfTheForce) {
+  struct Case {
+    double mu1, mu2, gap;
+    Eigen::Vector3d u;
+    int dimension;
+  };
+  const Case cases[] = {{0.3, 0.3, -1e-4, {-0.01, 2e-3, -1e-3}, 3}, {0.5, 0.2, -2e-4, {0.01, 5e-4, 3e-4}, 3},
+                        {0.3, 0.3, -1e-4, {-0.01, 1e-3, 0.0}, 2},   {0.4, 0.0, -3e-5, {0.0, -2e-3, 1e-3}, 3}};
+  for (const Case& c : cases) {
+    const RegularizedContactLaw l = law(c.mu1, c.mu2);
+    Eigen::Vector3d d_gap;
+    Eigen::Matrix3d d_velocity;
+    regularized_contact_tangent(l, c.gap, c.u, c.dimension, d_gap, d_velocity);
+    const double dg = 1e-10, du = 1e-8;
+    const Eigen::Vector3d fd_gap = (regularized_contact_force(l, c.gap + dg, c.u, c.dimension) -
+                                    regularized_contact_force(l, c.gap - dg, c.u, c.dimension)) / (2 * dg);
+    EXPECT_LT((fd_gap - d_gap).norm(), 1e-6 * d_gap.norm());
+    for (int j = 0; j < c.dimension; ++j) {
+      Eigen::Vector3d plus = c.u, minus = c.u;
+      plus(j) += du;
+      minus(j) -= du;
+      const Eigen::Vector3d fd = (regularized_contact_force(l, c.gap, plus, c.dimension) -
+                                  regularized_contact_force(l, c.gap, minus, c.dimension)) / (2 * du);
+      EXPECT_LT((fd - d_velocity.col(j)).norm(), 1e-5 * d_velocity.norm()) << "column " << j;
+    }
+  }
+  // Open: nothing.
+  Eigen::Vector3d d_gap;
+  Eigen::Matrix3d d_velocity;
+  regularized_contact_tangent(law(0.3, 0.3), 1e-6, Eigen::Vector3d::Zero(), 3, d_gap, d_velocity);
+  EXPECT_EQ(d_gap.norm() + d_velocity.norm(), 0.0);
+}
+
 }  // namespace
 }  // namespace csim

@@ -1,7 +1,7 @@
 // Springs and loads as generalized forces: directions, signs, torques, energies, time functions.
 #include "engine/bodies/point_mass.h"
 #include "engine/bodies/rigid_body_2d.h"
-#include "engine/forces.h"
+#include "engine/dynamics.h"
 
 #include <gtest/gtest.h>
 
@@ -29,7 +29,7 @@ TEST(Forces, SpringBetweenTwoBodiesActsEquallyAndOppositely) {
   s.body_b = 1;
   s.stiffness = 100.0;
   world.springs.push_back(s);
-  const ForceModel forces(world);
+  const Dynamics forces(world);
   Vector q(4);
   q << 0.01, 0.02, 1.0, -0.01;  // relative displacement d = u_a − u_b = (0.01, 0.03)
   Vector f = Vector::Zero(4);
@@ -55,7 +55,7 @@ TEST(Forces, SpringAlongOneDirectionIgnoresTheOthers) {
   s.stiffness = 10.0;
   s.direction = Eigen::Vector3d::UnitX();
   world.springs.push_back(s);
-  const ForceModel forces(world);
+  const Dynamics forces(world);
   Vector f = Vector::Zero(2);
   forces.add_spring_forces(Eigen::Vector2d(0.5, 7.0), f);
   EXPECT_DOUBLE_EQ(f(0), -5.0);
@@ -73,7 +73,7 @@ TEST(Forces, OffsetSpringOnARigidBodyGivesATorque) {
   s.stiffness = 10.0;
   s.direction = Eigen::Vector3d::UnitX();
   world.springs.push_back(s);
-  const ForceModel forces(world);
+  const Dynamics forces(world);
   EXPECT_FALSE(forces.constant_stiffness());
   Vector f = Vector::Zero(3);
   forces.add_spring_forces(Eigen::Vector3d(0.1, 0, 0), f);  // translated 0.1 along x
@@ -96,7 +96,7 @@ TEST(Forces, LoadsFollowTheirTimeFunctionAndGravityActsOnTheMass) {
   table.force = Eigen::Vector3d(0, 1, 0);
   table.multiplier.table = {{0.0, 0.0}, {1.0, 2.0}, {3.0, -2.0}};
   world.loads = {ramp, table};
-  const ForceModel forces(world);
+  const Dynamics forces(world);
   Vector f;
   forces.external(Eigen::Vector2d::Zero(), 0.5, f);
   EXPECT_DOUBLE_EQ(f(0), 1.0);           // 4 · 0.5/2

@@ -1,0 +1,309 @@
+#include "engine/dynamics.h"
+
+#include <algorithm>
+#include <array>
+
+#include "engine/bodies/rigid_body_2d.h"
+#include "engine/bodies/rigid_body_3d.h"
+
+namespace csim {
+
+namespace {
+
+bool rotates(const Body& body) {
+  return dynamic_cast<const RigidBody2d*>(&body) || dynamic_cast<const RigidBody3d*>(&body);
+}
+
+Eigen::Matrix3d projector(const Eigen::Vector3d& direction) {
+  if (direction.isZero()) return Eigen::Matrix3d::Identity();
+  return direction * direction.transpose();
+}
+
+}  // namespace
+
+Dynamics::Dynamics(const World& world) : world_(world) {
+  for (const Spring& s : world.springs) {
+    const BodyInstance& a = world.bodies[s.body_a];
+    reference_points_a_.push_back(a.body->point_world(a.reference_position, s.point_a));
+    if (s.body_b >= 0) {
+      const BodyInstance& b = world.bodies[s.body_b];
+      reference_points_b_.push_back(b.body->point_world(b.reference_position, s.point_b));
+    } else {
+      reference_points_b_.push_back(Eigen::Vector3d::Zero());
+    }
+    const bool offset_a = rotates(*a.body) && !s.point_a.isZero();
+    const bool offset_b = s.body_b >= 0 && rotates(*world.bodies[s.body_b].body) && !s.point_b.isZero();
+    if (offset_a || offset_b) constant_stiffness_ = false;
+  }
+  const int n = world.velocity_size;
+  Triplets mass, damping, stiffness;
+  for (const BodyInstance& b : world.bodies) {
+    has_elastic_bodies_ = has_elastic_bodies_ || b.body->elastic();
+    nonlinear_ = nonlinear_ || b.body->nonlinear();
+    gyroscopic_ = gyroscopic_ || b.body->has_inertial_force();
+    b.body->add_mass(b.velocity_offset, mass);
+    b.body->add_damping(b.velocity_offset, damping);
+    b.body->add_stiffness(b.velocity_offset, stiffness);
+  }
+  mass_.resize(n, n);
+  mass_.setFromTriplets(mass.begin(), mass.end());
+  damping_.resize(n, n);
+  damping_.setFromTriplets(damping.begin(), damping.end());
+  body_stiffness_.resize(n, n);
+  body_stiffness_.setFromTriplets(stiffness.begin(), stiffness.end());
+}
+
+void Dynamics::force(double t, const Vector& q, const Vector& v, Vector& f, Vector* loads, Vector* damping) const {
+  external(q, t, f);
+  add_inertial_forces(v, f);
+  if (loads) *loads = f;
+  add_internal_forces(q, f);
+  if (has_damping()) {
+    if (damping) {
+      damping->setZero(size());
+      add_damping_force(v, *damping);
+      f += *damping;
+    } else {
+      add_damping_force(v, f);
+    }
+  } else if (damping) {
+    damping->setZero(size());
+  }
+}
+
+void Dynamics::add_inertial_forces(const Vector& v, Vector& f) const {
+  if (!gyroscopic_) return;
+  for (const BodyInstance& b : world_.bodies)
+    if (b.body->has_inertial_force())
+      b.body->add_inertial_force(v.segment(b.velocity_offset, b.body->velocity_size()),
+                                 f.segment(b.velocity_offset, b.body->velocity_size()));
+}
+
+void Dynamics::add_internal_forces(const Vector& q, Vector& f) const {
+  add_spring_forces(q, f);
+  add_body_internal_forces(q, f);
+}
+
+void Dynamics::add_damping_force(const Vector& v, Vector& f) const {
+  if (has_damping()) f.noalias() -= damping_ * v;
+}
+
+std::size_t Dynamics::add_internal_forces_and_tangent(const Vector& q, Vector& f, Triplets* stiffness,
+                                                      const BodyFrames* frames) const {
+  add_spring_forces(q, f);
+  Vector frame_positions, frame_force;
+  auto in_frame = [&](int i) { return frames && frames->in_frame(i) && world_.bodies[i].body->nonlinear(); };
+  for (int i = 0; i < static_cast<int>(world_.bodies.size()); ++i) {
+    const BodyInstance& b = world_.bodies[i];
+    if (!in_frame(i)) continue;
+    frames->frame_positions(q, i, frame_positions);
+    frame_force.setZero(b.body->velocity_size());
+    if (stiffness) b.body->add_internal_force_and_tangent(frame_positions, frame_force, b.velocity_offset, *stiffness);
+    else b.body->add_internal_force(frame_positions, frame_force);
+    frames->add_turned_to_world(q, i, frame_force, f.segment(b.velocity_offset, b.body->velocity_size()));
+  }
+  const std::size_t world_from = stiffness ? stiffness->size() : 0;
+  for (int i = 0; i < static_cast<int>(world_.bodies.size()); ++i) {
+    const BodyInstance& b = world_.bodies[i];
+    if (!b.body->elastic() || in_frame(i)) continue;
+    VectorRef slice = f.segment(b.velocity_offset, b.body->velocity_size());
+    if (stiffness) b.body->add_internal_force_and_tangent(b.positions(q), slice, b.velocity_offset, *stiffness);
+    else b.body->add_internal_force(b.positions(q), slice);
+  }
+  if (stiffness) add_spring_stiffness(q, *stiffness);
+  return world_from;
+}
+
+void Dynamics::add_stiffness(const Vector& q, Triplets& K) const {
+  add_body_stiffness(q, K);
+  add_spring_stiffness(q, K);
+}
+
+void Dynamics::add_body_stiffness(const Vector& q, Triplets& K) const {
+  for (const BodyInstance& b : world_.bodies)
+    if (b.body->elastic()) b.body->add_tangent_stiffness(b.positions(q), b.velocity_offset, K);
+}
+
+// Central differences of each rotating body's gyroscopic force, on its own velocity components.
+void Dynamics::add_inertial_tangent(const Vector& v, Triplets& D) const {
+  if (!gyroscopic_) return;
+  for (const BodyInstance& b : world_.bodies) {
+    if (!b.body->has_inertial_force()) continue;
+    const int m = b.body->velocity_size();
+    Vector slice = v.segment(b.velocity_offset, m), plus(m), minus(m);
+    for (int j = 0; j < m; ++j) {
+      const double delta = 1e-6 * std::max(1.0, slice.cwiseAbs().maxCoeff());
+      const double kept = slice(j);
+      plus.setZero();
+      minus.setZero();
+      slice(j) = kept + delta;
+      b.body->add_inertial_force(slice, plus);
+      slice(j) = kept - delta;
+      b.body->add_inertial_force(slice, minus);
+      slice(j) = kept;
+      for (int i = 0; i < m; ++i) {
+        const double value = -(plus(i) - minus(i)) / (2.0 * delta);
+        if (value != 0.0) D.emplace_back(b.velocity_offset + i, b.velocity_offset + j, value);
+      }
+    }
+  }
+}
+
+void Dynamics::equality_rows(double t, EqualityRows& equalities) const {
+  const int n = world_.velocity_size;
+  equalities.prescriptions.clear();
+  for (int p = 0; p < static_cast<int>(world_.prescribed.size()); ++p)
+    if (world_.prescribed[p].active(t)) equalities.prescriptions.push_back(p);
+  const int nw = static_cast<int>(world_.constraints.size());
+  const int ne = nw + static_cast<int>(equalities.prescriptions.size());
+  equalities.rows.setZero(ne, n);
+  equalities.terms.assign(ne, {});
+  auto position_of = [&](int index) {
+    for (const BodyInstance& b : world_.bodies) {
+      const int local = index - b.velocity_offset;
+      if (local < 0 || local >= b.body->velocity_size()) continue;
+      const int coordinate = b.body->coordinate_of(local);
+      return coordinate < 0 ? -1 : b.position_offset + coordinate;
+    }
+    return -1;
+  };
+  for (int e = 0; e < nw; ++e)
+    for (const auto& [index, coefficient] : world_.constraints[e].terms) {
+      equalities.rows(e, index) += coefficient;
+      equalities.terms[e].emplace_back(position_of(index), coefficient);
+    }
+  for (int i = 0; i < static_cast<int>(equalities.prescriptions.size()); ++i) {
+    const PrescribedComponent& c = world_.prescribed[equalities.prescriptions[i]];
+    const int index = world_.bodies[c.body].velocity_offset + c.component;
+    equalities.rows(nw + i, index) = 1.0;
+    equalities.terms[nw + i].emplace_back(position_of(index), 1.0);
+  }
+}
+
+double Dynamics::kinetic_energy(const Vector& v) const {
+  work_.noalias() = mass_ * v;
+  return 0.5 * v.dot(work_);
+}
+
+void Dynamics::add_body_internal_forces(const Vector& q, Vector& f) const {
+  for (const BodyInstance& b : world_.bodies)
+    if (b.body->elastic())
+      b.body->add_internal_force(b.positions(q), f.segment(b.velocity_offset, b.body->velocity_size()));
+}
+
+namespace {
+
+// The relative velocity of a spring's two points, ṗ_a − ṗ_b, as the Jacobians of its ends, each with
+// its body's velocity offset.
+struct SpringEnds {
+  PointJacobian a, b;
+  int offset_a = 0, offset_b = 0;
+  bool has_b = false;
+};
+
+SpringEnds spring_ends(const World& world, const Spring& s, const Vector& q) {
+  SpringEnds ends;
+  const BodyInstance& a = world.bodies[s.body_a];
+  ends.a = a.body->point_jacobian(a.positions(q), s.point_a);
+  ends.offset_a = a.velocity_offset;
+  if (s.body_b >= 0) {
+    const BodyInstance& b = world.bodies[s.body_b];
+    ends.b = b.body->point_jacobian(b.positions(q), s.point_b);
+    ends.offset_b = b.velocity_offset;
+    ends.has_b = true;
+  }
+  return ends;
+}
+
+// The (global index, column) entries of a spring's Jacobian, at most six per end: a fixed-size list,
+// because this runs in every step.
+struct Entry {
+  int index = 0;
+  Eigen::Vector3d column = Eigen::Vector3d::Zero();
+};
+struct Entries {
+  std::array<Entry, 12> entry;
+  int count = 0;
+  const Entry* begin() const { return entry.data(); }
+  const Entry* end() const { return entry.data() + count; }
+};
+Entries entries_of(const SpringEnds& ends) {
+  Entries entries;
+  for (int k = 0; k < ends.a.count; ++k) entries.entry[entries.count++] = {ends.offset_a + ends.a.index[k], ends.a.column.col(k)};
+  if (ends.has_b)
+    for (int k = 0; k < ends.b.count; ++k)
+      entries.entry[entries.count++] = {ends.offset_b + ends.b.index[k], -ends.b.column.col(k)};
+  return entries;
+}
+
+}  // namespace
+
+void Dynamics::add_spring_stiffness(const Vector& q, Triplets& K) const {
+  for (const Spring& s : world_.springs) {
+    const Eigen::Matrix3d P = projector(s.direction);
+    const Entries entries = entries_of(spring_ends(world_, s, q));
+    for (const Entry& i : entries)
+      for (const Entry& j : entries) {
+        const double value = s.stiffness * i.column.dot(P * j.column);
+        if (value != 0.0) K.emplace_back(i.index, j.index, value);
+      }
+  }
+}
+
+void Dynamics::external(const Vector& q, double t, Vector& f) const {
+  f.setZero(world_.velocity_size);
+  if (!world_.gravity.isZero())
+    for (const BodyInstance& b : world_.bodies)
+      if (!b.body->fixed())
+        b.body->add_weight(b.positions(q), world_.gravity, f.segment(b.velocity_offset, b.body->velocity_size()));
+  for (const Load& load : world_.loads) {
+    const BodyInstance& b = world_.bodies[load.body];
+    const double multiplier = load.multiplier(t);
+    if (load.nodal_forces.size() > 0) {  // a distributed load, already in the body's coordinates
+      f.segment(b.velocity_offset, b.body->velocity_size()) += multiplier * load.nodal_forces;
+      continue;
+    }
+    const PointJacobian J = b.body->point_jacobian(b.positions(q), load.point);
+    for (int k = 0; k < J.count; ++k)
+      f(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier * load.force);
+  }
+}
+
+Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) const {
+  const std::size_t i = &s - world_.springs.data();
+  const BodyInstance& a = world_.bodies[s.body_a];
+  Eigen::Vector3d d = a.body->point_world(a.positions(q), s.point_a) - reference_points_a_[i];
+  if (s.body_b >= 0) {
+    const BodyInstance& b = world_.bodies[s.body_b];
+    d -= b.body->point_world(b.positions(q), s.point_b) - reference_points_b_[i];
+  }
+  return d;
+}
+
+void Dynamics::add_spring_forces(const Vector& q, Vector& f) const {
+  for (const Spring& s : world_.springs) {
+    const Eigen::Vector3d force_on_a = -s.stiffness * (projector(s.direction) * spring_displacement(s, q));
+    for (const Entry& e : entries_of(spring_ends(world_, s, q))) f(e.index) += e.column.dot(force_on_a);
+  }
+}
+
+void Dynamics::spring_stiffness(const Vector& q, Matrix& K) const {
+  K.setZero(world_.velocity_size, world_.velocity_size);
+  for (const Spring& s : world_.springs) {
+    const Eigen::Matrix3d P = projector(s.direction);
+    const Entries entries = entries_of(spring_ends(world_, s, q));
+    for (const Entry& i : entries)
+      for (const Entry& j : entries) K(i.index, j.index) += s.stiffness * i.column.dot(P * j.column);
+  }
+}
+
+double Dynamics::elastic_energy(const Vector& q) const {
+  double energy = 0.0;
+  for (const BodyInstance& b : world_.bodies)
+    if (b.body->elastic()) energy += b.body->strain_energy(b.positions(q));
+  for (const Spring& s : world_.springs)
+    energy += 0.5 * s.stiffness * (projector(s.direction) * spring_displacement(s, q)).squaredNorm();
+  return energy;
+}
+
+}  // namespace csim

@@ -1,0 +1,115 @@
+// The smooth dynamics of a World, shared by every stepper (MuJoCo's smooth stage, Siconos'
+// LagrangianDS): what the bodies and the forces on them are, with the contacts left out,
+//   M v̇ = f(t, q, v),   f = f_loads(t, q, v) + f_internal(q) − C v,
+// in the World's velocity coordinates (N, N·m):
+//   f_loads     loads λ(t)·F at their points and gravity m·g, as Jᵀ·F, and the bodies' inertial
+//               (gyroscopic) forces: the work of loads of the energy balance;
+//   f_internal  the linear springs of world.h, and the internal forces of the elastic bodies
+//               (−K u for linear elasticity, −∂W/∂q for a hyperelastic body): conservative, with
+//               the potential elastic_energy(q);
+//   −C v        viscous (Rayleigh) damping of the elastic bodies.
+// Its tangents, sparse: the mass M (kg, kg·m²; constant), the stiffness K(q) = −∂f/∂q (N/m; the
+// bodies' tangent and the springs' K = Σ k Jᵀ P J, without the geometric term of rotating attachment
+// points: first order), the damping C = −∂f/∂v (N·s/m; constant, the gyroscopic term left out). And the
+// rows of the equalities: the World's linear constraints and the prescriptions active at t
+// (equality_rows), and the ties (TieRows, linearized at q by their owner).
+//
+// Steppers compose these, each with its own time discretization, and sum no force themselves: a force
+// type added here reaches Moreau–Jean, the quasi-static stepper and IDA at once.
+// Evaluated with no allocation once the work buffers are sized.
+#pragma once
+
+#include "engine/world.h"
+
+#include <utility>
+#include <vector>
+
+namespace csim {
+
+// A finite-strain body that a stepper evaluates in a moving frame (the quasi-static stepper's bodies
+// riding on a hub, reduced_coordinates.h): its positions in that frame, and its frame force turned to
+// the world.
+class BodyFrames {
+ public:
+  virtual ~BodyFrames() = default;
+  virtual bool in_frame(int body) const = 0;
+  virtual void frame_positions(const Vector& q, int body, Vector& positions) const = 0;
+  virtual void add_turned_to_world(const Vector& q, int body, const Vector& frame_force, VectorRef f) const = 0;
+};
+
+// The equalities C v = target of a stepper at time t: the World's linear constraints, then the active
+// prescriptions. Each row's terms: (position index, or −1 for a velocity without one, coefficient).
+struct EqualityRows {
+  Matrix rows;                                            // equalities × velocity components
+  std::vector<std::vector<std::pair<int, double>>> terms;
+  std::vector<int> prescriptions;                         // index in world.prescribed of each prescription row
+};
+
+class Dynamics {
+ public:
+  explicit Dynamics(const World& world);
+
+  const World& world() const { return world_; }
+  int size() const { return world_.velocity_size; }
+
+  // f(t, q, v), all of it (sets f). loads (optional) gets f_loads alone, damping (optional) the
+  // damping force −C v alone.
+  void force(double t, const Vector& q, const Vector& v, Vector& f, Vector* loads = nullptr,
+             Vector* damping = nullptr) const;
+
+  // The parts, for steppers that weight them differently in time.
+  void external(const Vector& q, double t, Vector& f) const;    // loads and gravity (sets f)
+  void add_inertial_forces(const Vector& v, Vector& f) const;   // gyroscopic terms
+  void add_internal_forces(const Vector& q, Vector& f) const;   // springs and bodies
+  void add_spring_forces(const Vector& q, Vector& f) const;
+  void add_body_internal_forces(const Vector& q, Vector& f) const;
+  void add_damping_force(const Vector& v, Vector& f) const;     // f −= C v
+  // The internal forces and, when stiffness is given, their tangent K = −∂f/∂q as triplets, in one
+  // pass over the elements. A body that frames->in_frame holds is evaluated in its frame, its tangent
+  // left in that frame, first in the triplets; returns where the world-frame triplets start.
+  std::size_t add_internal_forces_and_tangent(const Vector& q, Vector& f, Triplets* stiffness,
+                                              const BodyFrames* frames = nullptr) const;
+
+  // Tangents.
+  const SparseMatrix& mass() const { return mass_; }
+  const SparseMatrix& damping() const { return damping_; }       // C
+  const SparseMatrix& body_stiffness() const { return body_stiffness_; }  // the bodies' K at u = 0
+  void add_spring_stiffness(const Vector& q, Triplets& K) const;
+  void spring_stiffness(const Vector& q, Matrix& K) const;       // dense, the springs only
+  void add_stiffness(const Vector& q, Triplets& K) const;        // the bodies' tangent at q and the springs'
+  void add_body_stiffness(const Vector& q, Triplets& K) const;   // the bodies' tangent at q alone
+  // −∂f_loads/∂v: the gyroscopic forces' tangent, by differences on each rotating body (N·m·s).
+  void add_inertial_tangent(const Vector& v, Triplets& D) const;
+
+  // The rows of the equalities at time t (EqualityRows).
+  void equality_rows(double t, EqualityRows& equalities) const;
+
+  double elastic_energy(const Vector& q) const;  // J: springs and elastic bodies
+  double kinetic_energy(const Vector& v) const;  // J: ½ vᵀ M v
+
+  bool has_elastic_bodies() const { return has_elastic_bodies_; }
+  bool has_springs() const { return !world_.springs.empty(); }
+  bool has_stiffness() const { return has_springs() || has_elastic_bodies_; }
+  bool has_damping() const { return damping_.nonZeros() > 0; }
+  bool nonlinear() const { return nonlinear_; }  // a body's internal force is nonlinear in q
+  // True when K does not depend on q (springs only on translating points, linear bodies), so that an
+  // iteration matrix can be factored once.
+  bool constant_stiffness() const { return constant_stiffness_ && !nonlinear_; }
+  // The same for the springs alone (a World of linear bodies may still have springs on rotating points).
+  bool constant_spring_stiffness() const { return constant_stiffness_; }
+
+ private:
+  // Relative displacement d of a spring's two points from the reference configuration (m).
+  Eigen::Vector3d spring_displacement(const Spring& s, const Vector& q) const;
+
+  const World& world_;
+  std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
+  SparseMatrix mass_, damping_, body_stiffness_;
+  bool constant_stiffness_ = true;
+  bool has_elastic_bodies_ = false;
+  bool nonlinear_ = false;
+  bool gyroscopic_ = false;  // a body has inertial forces
+  mutable Vector work_;
+};
+
+}  // namespace csim
