@@ -146,11 +146,13 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
         found = at_values_[c].has_value();
         r.time = check.time;
         if (found) r.value = *at_values_[c];
+        else if (check.time > end_time) r.note = "its time lies beyond the run's end";
         break;
       case Mode::mean:
         r.time = check.time_end;
-        found = mean_sums_[c].second > 0.0;
+        found = mean_sums_[c].second > 0.0 && check.time_end <= end_time * (1.0 + 1e-12);
         if (found) r.value = mean_sums_[c].first / mean_sums_[c].second;
+        else if (check.time_end > end_time) r.note = "its window reaches beyond the run's end";
         else r.note = "no sample inside the mean's window";
         break;
       case Mode::final_value:
@@ -176,6 +178,8 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
     }
     if (!found) {
       if (r.note.empty()) r.note = "no sample at the requested time";
+      r.evaluated = false;
+      r.note = "not evaluated: " + r.note;
       results.push_back(r);
       continue;
     }
@@ -185,7 +189,8 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
     try {
       r.reference = evaluate_expression(check.reference, scope);
     } catch (const std::exception& e) {
-      r.note = std::string("reference could not be evaluated: ") + e.what();
+      r.note = std::string("not evaluated: the reference could not be evaluated: ") + e.what();
+      r.evaluated = false;
       results.push_back(r);
       continue;
     }

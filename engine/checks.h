@@ -48,6 +48,9 @@ struct CheckResult {
   double absolute_tolerance = 0.0, relative_tolerance = 0.0;
   bool passed = false;
   bool skipped = false;     // only_if false for these parameters
+  // False when the run could not evaluate it (a time or window beyond the run's end, an extremum the
+  // run did not reach, a reference that fails): never a pass.
+  bool evaluated = true;
   std::string note;         // why it could not be evaluated, or why it was skipped
 };
 

@@ -18,18 +18,6 @@ namespace csim {
 
 namespace {
 
-State initial_state(const World& world) {
-  State state;
-  state.q.setZero(world.position_size);
-  state.v.setZero(world.velocity_size);
-  for (const BodyInstance& b : world.bodies) {
-    if (b.body->fixed()) continue;
-    state.q.segment(b.position_offset, b.body->position_size()) = b.initial_position;
-    state.v.segment(b.velocity_offset, b.body->velocity_size()) = b.initial_velocity;
-  }
-  return state;
-}
-
 void append_row(std::ostringstream& csv, double t, const std::vector<double>& values, RunReport& report) {
   report.sample_times.push_back(t);
   report.samples.push_back(values);
@@ -63,6 +51,18 @@ class Progress {
 };
 
 }  // namespace
+
+State initial_state(const World& world) {
+  State state;
+  state.q.setZero(world.position_size);
+  state.v.setZero(world.velocity_size);
+  for (const BodyInstance& b : world.bodies) {
+    if (b.body->fixed()) continue;
+    state.q.segment(b.position_offset, b.body->position_size()) = b.initial_position;
+    state.v.segment(b.velocity_offset, b.body->velocity_size()) = b.initial_velocity;
+  }
+  return state;
+}
 
 std::unique_ptr<Stepper> make_stepper(const Scene& scene) {
   const RunSettings& run = scene.run;
@@ -245,7 +245,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
         .value("relative_error", r.reference != 0.0 ? r.error / std::abs(r.reference) : 0.0);
     json.begin_object("tolerance")
         .value("absolute", r.absolute_tolerance).value("relative", r.relative_tolerance).end_object();
-    json.value("passed", r.passed).value("skipped", r.skipped);
+    json.value("passed", r.passed).value("skipped", r.skipped).value("evaluated", r.evaluated);
     if (!r.note.empty()) json.value("note", r.note);
     json.end_object();
   }

@@ -30,7 +30,15 @@ struct RunReport {
       if (!c.passed) return false;
     return true;
   }
+  bool any_failed() const {  // an evaluated check that failed
+    for (const CheckResult& c : checks)
+      if (!c.passed && !c.skipped && c.evaluated) return true;
+    return false;
+  }
 };
+
+// The state at t = 0: every body at its initial position and velocity.
+State initial_state(const World& world);
 
 // The scene's stepper, built (its checks of what it can run done) but not started. Throws RunError.
 std::unique_ptr<Stepper> make_stepper(const Scene& scene);

@@ -2,6 +2,9 @@
 #include "engine/bodies/point_mass.h"
 #include "engine/bodies/rigid_body_2d.h"
 #include "engine/dynamics.h"
+#include "engine/run.h"
+#include "engine/scene/scene.h"
+#include "engine/steppers/ida_integrator.h"
 
 #include <gtest/gtest.h>
 
@@ -107,6 +110,102 @@ TEST(Forces, LoadsFollowTheirTimeFunctionAndGravityActsOnTheMass) {
   forces.external(Eigen::Vector2d::Zero(), 10.0, f);
   EXPECT_DOUBLE_EQ(f(1), -30.0 - 2.0);   // held beyond the last point
 }
+
+
+// ---------------------------------------------------------------------------------------------------
+// One smooth stage for every stepper: a World with every body and force type (data/every_force.yaml)
+// goes through Moreau–Jean, the quasi-static stepper and IDA, and each must integrate the same
+// M v̇ = f(t, q, v) of Dynamics. A force that one stepper sums and another forgets fails here.
+namespace every_force {
+
+const char* kScene = CSIM_SOURCE_DIR "/tests/engine/data/every_force.yaml";
+
+// The parts of f at (t, q, v), to judge a residual against each of them.
+struct Parts {
+  Vector total, loads, internal, damping;
+};
+Parts parts(const Dynamics& dynamics, double t, const Vector& q, const Vector& v) {
+  Parts p;
+  dynamics.force(t, q, v, p.total, &p.loads, &p.damping);
+  p.internal = Vector::Zero(q.size() == v.size() ? v.size() : dynamics.size());
+  dynamics.add_internal_forces(q, p.internal);
+  return p;
+}
+
+TEST(Dynamics, MoreauJeanThetaOneStepsTheSmoothStagesEquationOfMotion) {
+  // θ = 1: M (v_{k+1} − v_k) = h f(t_{k+1}, q_{k+1}, v_{k+1}), up to the loads' points and the springs'
+  // directions taken at q_k (O(h ω) on the turning plate), to Newton's tolerance on the neo-Hookean block.
+  const auto scene = load_scene(kScene, {"time.step=1e-4"});
+  const Dynamics dynamics(scene->world);
+  auto stepper = make_stepper(*scene);
+  State state = initial_state(scene->world);
+  stepper->initialize(state);
+  for (int k = 0; k < 99; ++k) stepper->step(state);  // deformed, damped, loaded
+  const Vector v0 = state.v;
+  stepper->step(state);
+  const double h = 1e-4;
+  const Parts f = parts(dynamics, state.t, state.q, state.v);
+  const Vector residual = dynamics.mass() * (state.v - v0) / h - f.total;
+  // Each part must matter, so that leaving one out would fail the test by far.
+  for (const Vector* part : {&f.loads, &f.internal, &f.damping}) EXPECT_GT(part->norm(), 0.5);
+  const double smallest = std::min({f.loads.norm(), f.internal.norm(), f.damping.norm()});
+  EXPECT_LT(residual.norm(), 2e-3 * smallest) << "residual " << residual.norm();
+}
+
+TEST(Dynamics, QuasiStaticEquilibriumIsTheSmoothStagesAtRest) {
+  // No inertia, no damping: f(t, q, 0) = 0 at every converged load step.
+  const auto scene = load_scene(kScene, {"integrator.type=quasi-static"});
+  const Dynamics dynamics(scene->world);
+  auto stepper = make_stepper(*scene);
+  State state = initial_state(scene->world);
+  state.v.setZero();
+  stepper->initialize(state);
+  stepper->step(state);
+  const Vector at_rest = Vector::Zero(dynamics.size());
+  const Parts f = parts(dynamics, state.t, state.q, at_rest);
+  EXPECT_GT(f.loads.norm(), 10.0);
+  EXPECT_LT(f.total.norm(), 1e-8 * f.loads.norm()) << f.total.transpose();
+}
+
+TEST(Dynamics, IdaResidualIsMassTimesAccelerationLessTheSmoothStage) {
+  const auto scene = load_scene(kScene, {"integrator.type=ida"});
+  const Dynamics dynamics(scene->world);
+  IdaIntegrator ida(scene->world, scene->run.ida);
+  State state = initial_state(scene->world);
+  ida.initialize(state);
+  ida.step(state);
+  const int nq = scene->world.position_size, nv = scene->world.velocity_size;
+  const int size = nq + nv + 3;  // (q, v, work of loads, contact and damping dissipation)
+  Vector y = Vector::Zero(size), rate = Vector::Zero(size), r(size);
+  y.head(nq) = state.q;
+  y.segment(nq, nv) = state.v;
+  rate.segment(nq, nv) = Vector::LinSpaced(nv, -1.0, 1.0);  // any acceleration
+  ASSERT_EQ(ida.residual(state.t, y.data(), rate.data(), r.data()), 0);
+  const Parts f = parts(dynamics, state.t, state.q, state.v);
+  const Vector expected = dynamics.mass() * rate.segment(nq, nv) - f.total;
+  EXPECT_LT((r.segment(nq, nv) - expected).norm(), 1e-12 * f.total.norm());
+  EXPECT_NEAR(r(nq + nv), -f.loads.dot(state.v), 1e-12 * f.loads.norm());          // work of loads
+  EXPECT_NEAR(r(nq + nv + 2), f.damping.dot(state.v), 1e-12 * f.damping.norm());   // damping: D' = vᵀCv
+}
+
+TEST(Dynamics, IdaAndMoreauJeanFollowTheSameTrajectory) {
+  // Two discretizations of the same M v̇ = f: IDA at rtol 1e-10 and the trapezoidal rule (θ = ½) at
+  // h = 2e-5, whose error is O(h²) ≈ 1e-8 of the motion here.
+  const auto mj_scene = load_scene(kScene, {"integrator.theta=0.5", "time.step=2e-5"});
+  const auto ida_scene = load_scene(kScene, {"integrator.type=ida", "integrator.rtol=1e-10", "integrator.atol=1e-12"});
+  auto mj = make_stepper(*mj_scene);
+  auto ida = make_stepper(*ida_scene);
+  State a = initial_state(mj_scene->world), b = initial_state(ida_scene->world);
+  mj->initialize(a);
+  ida->initialize(b);
+  while (a.t < 0.01 - 1e-12) mj->step(a);
+  while (b.t < 0.01 - 1e-12) ida->step(b);
+  const Vector moved = a.q - initial_state(mj_scene->world).q;
+  EXPECT_LT((a.q - b.q).norm(), 1e-5 * moved.norm()) << (a.q - b.q).norm() << " of " << moved.norm();
+  EXPECT_LT((a.v - b.v).norm(), 1e-4 * a.v.norm());
+}
+
+}  // namespace every_force
 
 }  // namespace
 }  // namespace csim
