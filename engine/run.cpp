@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 namespace csim {
 
@@ -66,9 +67,13 @@ State initial_state(const World& world) {
 
 std::unique_ptr<Stepper> make_stepper(const Scene& scene) {
   const RunSettings& run = scene.run;
-  if (run.integrator == "ida" || run.integrator == "ida-events") return std::make_unique<IdaIntegrator>(scene.world, run.ida);
-  if (run.integrator == "quasi-static") return std::make_unique<QuasiStatic>(scene.world, run.quasi_static);
-  return std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
+  try {
+    if (run.integrator == "ida" || run.integrator == "ida-events") return std::make_unique<IdaIntegrator>(scene.world, run.ida);
+    if (run.integrator == "quasi-static") return std::make_unique<QuasiStatic>(scene.world, run.quasi_static);
+    return std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
+  } catch (const RunError& e) {  // before the first step: what the stepper cannot run, not a numerical failure
+    throw std::invalid_argument(e.what());
+  }
 }
 
 RunReport run_scene(const Scene& scene, const RunOptions& options) {

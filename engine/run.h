@@ -40,7 +40,8 @@ struct RunReport {
 // The state at t = 0: every body at its initial position and velocity.
 State initial_state(const World& world);
 
-// The scene's stepper, built (its checks of what it can run done) but not started. Throws RunError.
+// The scene's stepper, built (its checks of what it can run done) but not started. Throws
+// std::invalid_argument for what it cannot run.
 std::unique_ptr<Stepper> make_stepper(const Scene& scene);
 
 // Throws RunError on a numerical failure (no output file is left half-written).

@@ -213,12 +213,14 @@ void print_checks(const std::vector<csim::CheckResult>& checks) {
 void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
   const csim::SolverCounters& c = report.state.counters;
   const csim::IdaStatistics& ida = report.state.ida;
-  if (scene.run.integrator == "ida") {
+  if (scene.run.integrator == "ida" || scene.run.integrator == "ida-events") {
     std::printf("%s: IDA (rtol %g, atol %g, %s) to t = %g s in %.3f s: %ld steps, %ld residual evaluations, "
                 "%ld Jacobians, %ld error-test and %ld convergence failures\n",
                 scene.name.c_str(), scene.run.ida.rtol, scene.run.ida.atol, ida.linear_solver.c_str(),
                 report.state.t, report.wall_time, ida.steps, ida.residual_evaluations, ida.jacobian_evaluations,
                 ida.error_test_failures, ida.nonlinear_convergence_failures);
+    if (ida.linear_solver == "klu")
+      std::printf("  KLU: %ld symbolic analyses of the Jacobian's pattern\n", ida.symbolic_analyses);
   } else {
     std::printf("%s: %ld steps of %g s in %.3f s (%.3g steps/s)\n", scene.name.c_str(), c.steps,
                 scene.run.moreau_jean.step, report.wall_time, report.wall_time > 0 ? c.steps / report.wall_time : 0.0);

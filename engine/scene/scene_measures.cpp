@@ -63,8 +63,8 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     // motions or friction's dissipation: these terms would read 0 and the balance the elastic energy.
     const bool stored = p.energy_term == "kinetic" || p.energy_term == "elastic" || p.energy_term == "mechanical";
     if (run.integrator == "quasi-static" && !stored)
-      spec.fail("the quasi-static stepper accounts only the stored energy (elastic, kinetic = 0, mechanical), not '" +
-                p.energy_term + "'");
+      spec.fail("integrator.type quasi-static accounts only the stored energy (elastic, kinetic = 0, mechanical), not '" +
+                p.energy_term + "'; use moreau-jean or ida for this probe");
   } else if (kind == "contact_count") {
     spec.allow_only({"contact", "status"});
     p.kind = ProbeDefinition::Kind::contact_count;

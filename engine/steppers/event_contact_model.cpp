@@ -40,7 +40,8 @@ EventContactModel::EventContactModel(const World& world, const Vector& q0, const
     points_.push_back(p);
   }
   if (points_.empty())
-    throw RunError(0.0, "ida-events needs the contact of law '" + law.name + "' closed at t = 0 (no point within 1e-9 m)");
+    throw RunError(0.0, "integrator.type: ida-events needs the contact of law '" + law.name +
+                            "' closed at t = 0 (no point within 1e-9 m); use ida or moreau-jean for contacts that open");
 }
 
 void EventContactModel::rows_at(const Vector& q) {

@@ -6,12 +6,13 @@
 //     for it and a penetration of about 1e-7 m under its own weight;
 //   an elastic body in contact: kPenaltyRatio × the largest diagonal entry of its stiffness K (N/m), the
 //     stiffness of its stiffest node. A node pressed by F sinks F/k_p into the surface, 1/kPenaltyRatio
-//     = 10 times the displacement F/K_ii that the same force gives the node against the elements around
-//     it: the penalty is a contact layer softer than the elements, whose error is that penetration
-//     (3e-7 m on the SDNV104 shoe, against displacements of 15 m; a local, not a global error). A
-//     stiffer layer costs IDA dearly, because the contact nodes then rock on it at a higher frequency
-//     that IDA must resolve: on sdnv104-quad4 (5 × 5, rtol 1e-6, the 3.5 s run) kPenaltyRatio 0.01 took
-//     145 620 steps, 0.1 186 436, and 1 more than 3 000 000 by t = 2.5 s (bench/ida_fe.md).
+//     = 100 times the displacement F/K_ii that the same force gives the node against the elements
+//     around it: the penalty is a contact layer much softer than the elements. Its error is that
+//     penetration and what it does to the contact pressure's distribution (3e-6 m on the SDNV104 shoe,
+//     which slides 15 m: x1 and x2 move by less than 1e-5), not the motion of the body. A stiffer layer
+//     costs IDA dearly: the contact nodes rock on it at a higher frequency that IDA must resolve
+//     (bench/ida_fe.md: the 3.5 s run of sdnv104-quad8 takes 31 s at kPenaltyRatio 0.01, and had not
+//     finished after 8 minutes at 0.1). Set integrator.penalty_stiffness for a stiffer contact.
 // Default penalty damping, per law: the damping ratio ζ of the law's restitution (regularized_law.h)
 // on the pair's effective mass, a node's (the largest diagonal entry of M) for an elastic body.
 #pragma once
@@ -26,7 +27,7 @@ namespace csim {
 
 class RegularizedContactModel final : public SmoothContactModel {
  public:
-  static constexpr double kPenaltyRatio = 0.1;
+  static constexpr double kPenaltyRatio = 0.01;
 
   // penalty_stiffness (N/m; 0 = the default above), penalty_damping (N·s/m; < 0 = from each law's
   // restitution), epsilon (m/s), sample_step (s, for impulses).
