@@ -13,7 +13,6 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <sstream>
 
@@ -326,8 +325,7 @@ void IdaIntegrator::initialize(State& state) {
   IDASVtolerances(s.memory, parameters_.rtol, absolute);
   N_VDestroy(absolute);
   IDASetUserData(s.memory, this);
-  IDASetMaxNumSteps(s.memory, parameters_.max_steps);
-  if (const char* order = std::getenv("CSIM_IDA_MAXORD")) IDASetMaxOrd(s.memory, std::atoi(order));  // per sample; the run's total is checked in step()
+  IDASetMaxNumSteps(s.memory, parameters_.max_steps);  // per sample; the run's total is checked in step()
   // BDF's local error test is no guarantee of global accuracy on an oscillator taken in a few long
   // steps: at rtol = 1e-10 and unbounded steps the SDNV104 extrema came out 1.6e-8 off, at steps no
   // longer than the 1e-3 s sample interval 4e-11. The reference mode therefore bounds its steps.

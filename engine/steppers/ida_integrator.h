@@ -30,8 +30,9 @@
 // converges). KLU must never refactor a pattern it has not analysed: the Jacobian is stored on the
 // union of every pattern seen so far (entries that vanish stay as explicit zeros), and when a new
 // contact grows that union the symbolic analysis is redone (SUNLinSol_KLUReInit), counted in the
-// summary as symbolic_analyses. A node in contact with a rigid plane adds entries only to its own
-// block, so on the elastic shoe the pattern never grows after the first analysis.
+// summary as symbolic_analyses. A node in contact with a rigid plane adds entries to its own block
+// only: on the elastic shoe the pattern grows once, when friction first couples a node's normal and
+// tangential velocities (which the consistent mass matrix does not).
 //
 // ida-events (parameters.events): no regularization; the contact forces are the reactions of exact
 // Coulomb friction whose stick/slip mode switches at events located by IDA's root finding (see

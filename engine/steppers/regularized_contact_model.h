@@ -8,11 +8,9 @@
 //     stiffness of its stiffest node. A node pressed by F sinks F/k_p into the surface, 1/kPenaltyRatio
 //     = 100 times the displacement F/K_ii that the same force gives the node against the elements
 //     around it: the penalty is a contact layer much softer than the elements. Its error is that
-//     penetration and what it does to the contact pressure's distribution (3e-6 m on the SDNV104 shoe,
-//     which slides 15 m: x1 and x2 move by less than 1e-5), not the motion of the body. A stiffer layer
-//     costs IDA dearly: the contact nodes rock on it at a higher frequency that IDA must resolve
-//     (bench/ida_fe.md: the 3.5 s run of sdnv104-quad8 takes 31 s at kPenaltyRatio 0.01, and had not
-//     finished after 8 minutes at 0.1). Set integrator.penalty_stiffness for a stiffer contact.
+//     penetration and what it does to the distribution of the contact pressure, not the motion of the
+//     body. A stiffer layer costs IDA dearly: the contact nodes rock on it at a higher frequency that
+//     IDA must resolve (measured in bench/ida_fe.md). Set integrator.penalty_stiffness for a stiffer one.
 // Default penalty damping, per law: the damping ratio ζ of the law's restitution (regularized_law.h)
 // on the pair's effective mass, a node's (the largest diagonal entry of M) for an elastic body.
 #pragma once

@@ -230,6 +230,41 @@ TEST(IdaIntegrator, Sdnv104WithinTheRegularizationErrorAndNoExactStop) {
   }
 }
 
+TEST(IdaIntegrator, PenaltyEnergyIsElasticAndTheBalanceCloses) {
+  // A disk dropped 1 cm on a plane settles on its penalty spring (damped by the restitution e = 0.5):
+  // at rest the spring holds ½ k g² = (m g)² / (2k) of elastic energy, which must not be booked as
+  // dissipation, and the balance closes to IDA's tolerance.
+  World world;
+  world.dimension = 2;
+  world.gravity << 0, -10, 0;
+  world.bodies.push_back(point_mass("disk", 2, 1.0, Eigen::Vector3d(0, 0.11, 0)));
+  world.bodies[0].shapes.push_back(ShapeInstance{"disk", Sphere{0.1}, Eigen::Isometry3d::Identity()});
+  world.bodies[0].body->bounding_radius = 0.1;
+  BodyInstance ground;
+  ground.name = "ground";
+  ground.body = std::make_unique<FixedBody>(Eigen::Isometry3d::Identity());
+  ground.shapes.push_back(ShapeInstance{"top", Halfspace{Eigen::Vector3d::UnitY(), 0.0}, Eigen::Isometry3d::Identity()});
+  world.bodies.push_back(std::move(ground));
+  world.finalize_layout();
+  ContactLaw law;
+  law.body_a = 0;
+  law.body_b = 1;
+  law.restitution = 0.5;
+  world.contact_laws.push_back(law);
+  IdaParameters p = tight(0.01);
+  p.penalty_stiffness = 1e5;  // N/m: a 1e-4 m sink under m g = 10 N
+  IdaIntegrator ida(world, p);
+  State s = start(world);
+  ida.initialize(s);
+  while (s.t < 2.0 - 1e-9) ida.step(s);
+  const double k = 1e5, weight = 10.0;
+  EXPECT_NEAR(s.q(1), 0.1 - weight / k, 1e-7);      // resting on the spring
+  EXPECT_NEAR(s.energy.elastic, weight * weight / (2 * k), 1e-3 * weight * weight / (2 * k));
+  const double drop = weight * 0.01;                 // J, the energy the drop released
+  EXPECT_GT(s.energy.contact_dissipation, 0.9 * drop);  // the dashpot took it, not the spring
+  EXPECT_LT(std::abs(s.energy.residual()), 1e-6 * drop);
+}
+
 // Issue 28's targets on the elastic bodies, through the scene files and the run loop.
 State run_to_end(const Scene& scene) {
   RunOptions quiet;
