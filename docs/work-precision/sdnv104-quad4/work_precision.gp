@@ -2,14 +2,14 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.007890326 0.0022099571 "h=0.01"
-0.060774796 0.00021840196 "h=0.001"
-0.42478353 2.2242545e-05 "h=0.0001"
+0.006410327 0.0022099571 "h=0.01"
+0.056277844 0.00021840196 "h=0.001"
+0.42814151 2.2242545e-05 "h=0.0001"
 EOD
 $ida << EOD
-3.6670835 7.6759477e-05 "tol=0.0001"
-3.6986758 1.4062978e-05 "tol=1e-06"
-14.823865 1.358229e-06 "tol=1e-08"
+2.0973451 5.2930355e-05 "tol=0.0001"
+9.0583255 2.1327934e-05 "tol=1e-06"
+13.458294 1.2341615e-06 "tol=1e-08"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"

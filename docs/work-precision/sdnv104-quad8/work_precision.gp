@@ -2,13 +2,13 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.016083011 0.0022100277 "h=0.01"
-0.17568559 0.00021846471 "h=0.001"
-1.2229757 2.2309117e-05 "h=0.0001"
+0.016272382 0.0022100277 "h=0.01"
+0.15525583 0.00021846471 "h=0.001"
+1.2411197 2.2309117e-05 "h=0.0001"
 EOD
 $ida << EOD
-7.2958623 0.00018110613 "tol=0.0001"
-26.658073 6.1891906e-06 "tol=1e-06"
+8.0787397 0.00062550511 "tol=0.0001"
+26.26992 1.5759859e-05 "tol=1e-06"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"
