@@ -109,13 +109,12 @@ TEST(IdaIntegrator, SparseKluPathAgreesWithTheDenseOne) {
   EXPECT_GT(a.ida.jacobian_evaluations, 0);
 }
 
-TEST(IdaIntegrator, RegularizedFrictionCreepsAtTheVelocityItsLawPredicts) {
-  // A point mass on a plane pushed by 0.5 μ m g: true Coulomb friction holds it; the regularized law
-  // lets it creep at ε ρ / √(1 − ρ²) with ρ = 0.5.
+// A 1 kg disk of radius 0.1 m, its centre at `height` (m), above a fixed plane y = 0, under g = 10 m/s².
+World disk_on_ground(double height) {
   World world;
   world.dimension = 2;
   world.gravity << 0, -10, 0;
-  world.bodies.push_back(point_mass("block", 2, 1.0, Eigen::Vector3d(0, 0.1, 0)));
+  world.bodies.push_back(point_mass("disk", 2, 1.0, Eigen::Vector3d(0, height, 0)));
   world.bodies[0].shapes.push_back(ShapeInstance{"disk", Sphere{0.1}, Eigen::Isometry3d::Identity()});
   world.bodies[0].body->bounding_radius = 0.1;
   BodyInstance ground;
@@ -124,6 +123,13 @@ TEST(IdaIntegrator, RegularizedFrictionCreepsAtTheVelocityItsLawPredicts) {
   ground.shapes.push_back(ShapeInstance{"top", Halfspace{Eigen::Vector3d::UnitY(), 0.0}, Eigen::Isometry3d::Identity()});
   world.bodies.push_back(std::move(ground));
   world.finalize_layout();
+  return world;
+}
+
+TEST(IdaIntegrator, RegularizedFrictionCreepsAtTheVelocityItsLawPredicts) {
+  // A point mass on a plane pushed by 0.5 μ m g: true Coulomb friction holds it; the regularized law
+  // lets it creep at ε ρ / √(1 − ρ²) with ρ = 0.5.
+  World world = disk_on_ground(0.1);
   Load push;
   push.body = 0;
   push.force << 0.5 * 0.4 * 10.0, 0, 0;
@@ -234,18 +240,7 @@ TEST(IdaIntegrator, PenaltyEnergyIsElasticAndTheBalanceCloses) {
   // A disk dropped 1 cm on a plane settles on its penalty spring (damped by the restitution e = 0.5):
   // at rest the spring holds ½ k g² = (m g)² / (2k) of elastic energy, which must not be booked as
   // dissipation, and the balance closes to IDA's tolerance.
-  World world;
-  world.dimension = 2;
-  world.gravity << 0, -10, 0;
-  world.bodies.push_back(point_mass("disk", 2, 1.0, Eigen::Vector3d(0, 0.11, 0)));
-  world.bodies[0].shapes.push_back(ShapeInstance{"disk", Sphere{0.1}, Eigen::Isometry3d::Identity()});
-  world.bodies[0].body->bounding_radius = 0.1;
-  BodyInstance ground;
-  ground.name = "ground";
-  ground.body = std::make_unique<FixedBody>(Eigen::Isometry3d::Identity());
-  ground.shapes.push_back(ShapeInstance{"top", Halfspace{Eigen::Vector3d::UnitY(), 0.0}, Eigen::Isometry3d::Identity()});
-  world.bodies.push_back(std::move(ground));
-  world.finalize_layout();
+  World world = disk_on_ground(0.11);
   ContactLaw law;
   law.body_a = 0;
   law.body_b = 1;
