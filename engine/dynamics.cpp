@@ -36,8 +36,12 @@ Dynamics::Dynamics(const World& world) : world_(world) {
     if (offset_a || offset_b) constant_stiffness_ = false;
   }
   const int n = world.velocity_size;
+  position_of_velocity_.assign(n, -1);
   Triplets mass, damping, stiffness;
   for (const BodyInstance& b : world.bodies) {
+    for (int c = 0; c < b.body->velocity_size(); ++c)
+      if (const int coordinate = b.body->coordinate_of(c); coordinate >= 0)
+        position_of_velocity_[b.velocity_offset + c] = b.position_offset + coordinate;
     has_elastic_bodies_ = has_elastic_bodies_ || b.body->elastic();
     nonlinear_ = nonlinear_ || b.body->nonlinear();
     gyroscopic_ = gyroscopic_ || b.body->has_inertial_force();
@@ -58,17 +62,13 @@ void Dynamics::force(double t, const Vector& q, const Vector& v, Vector& f, Vect
   add_inertial_forces(v, f);
   if (loads) *loads = f;
   add_internal_forces(q, f);
-  if (has_damping()) {
-    if (damping) {
-      damping->setZero(size());
-      add_damping_force(v, *damping);
-      f += *damping;
-    } else {
-      add_damping_force(v, f);
-    }
-  } else if (damping) {
-    damping->setZero(size());
+  if (!damping) {
+    add_damping_force(v, f);
+    return;
   }
+  damping->setZero(size());
+  add_damping_force(v, *damping);
+  f += *damping;
 }
 
 void Dynamics::add_inertial_forces(const Vector& v, Vector& f) const {
@@ -158,25 +158,16 @@ void Dynamics::equality_rows(double t, EqualityRows& equalities) const {
   const int ne = nw + static_cast<int>(equalities.prescriptions.size());
   equalities.rows.setZero(ne, n);
   equalities.terms.assign(ne, {});
-  auto position_of = [&](int index) {
-    for (const BodyInstance& b : world_.bodies) {
-      const int local = index - b.velocity_offset;
-      if (local < 0 || local >= b.body->velocity_size()) continue;
-      const int coordinate = b.body->coordinate_of(local);
-      return coordinate < 0 ? -1 : b.position_offset + coordinate;
-    }
-    return -1;
-  };
   for (int e = 0; e < nw; ++e)
     for (const auto& [index, coefficient] : world_.constraints[e].terms) {
       equalities.rows(e, index) += coefficient;
-      equalities.terms[e].emplace_back(position_of(index), coefficient);
+      equalities.terms[e].emplace_back(position_of_velocity_[index], coefficient);
     }
   for (int i = 0; i < static_cast<int>(equalities.prescriptions.size()); ++i) {
     const PrescribedComponent& c = world_.prescribed[equalities.prescriptions[i]];
     const int index = world_.bodies[c.body].velocity_offset + c.component;
     equalities.rows(nw + i, index) = 1.0;
-    equalities.terms[nw + i].emplace_back(position_of(index), 1.0);
+    equalities.terms[nw + i].emplace_back(position_of_velocity_[index], 1.0);
   }
 }
 

@@ -83,6 +83,8 @@ class Dynamics {
 
   // The rows of the equalities at time t (EqualityRows).
   void equality_rows(double t, EqualityRows& equalities) const;
+  // The index in q of the coordinate whose rate velocity component i is, or −1 (a 3D rotation's).
+  int position_of_velocity(int i) const { return position_of_velocity_[i]; }
 
   double elastic_energy(const Vector& q) const;  // J: springs and elastic bodies
   double kinetic_energy(const Vector& v) const;  // J: ½ vᵀ M v
@@ -104,6 +106,7 @@ class Dynamics {
 
   const World& world_;
   std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
+  std::vector<int> position_of_velocity_;
   SparseMatrix mass_, damping_, body_stiffness_;
   bool constant_stiffness_ = true;
   bool has_elastic_bodies_ = false;

@@ -10,16 +10,11 @@ namespace csim {
 EventContactModel::EventContactModel(const World& world, const Vector& q0, const Matrix& projected_inverse_mass,
                                      double sample_step)
     : world_(world), P_(projected_inverse_mass), d_(world.dimension == 2 ? 2 : 3), sample_step_(sample_step) {
-  if (world.contact_laws.size() != 1)
-    throw RunError(0.0, "ida-events needs exactly one contact law (the scene has " +
-                            std::to_string(world.contact_laws.size()) + ")");
+  // One law between a moving and a fixed body: IdaIntegrator::unsupported refused the other Worlds.
   law_ = 0;
   const ContactLaw& law = world.contact_laws[0];
   mu_ = law.mu;
-  const bool a_moves = !world.bodies[law.body_a].body->fixed(), b_moves = !world.bodies[law.body_b].body->fixed();
-  if (a_moves == b_moves)
-    throw RunError(0.0, "ida-events needs a contact between one moving and one fixed body (law '" + law.name + "')");
-  moving_ = a_moves ? law.body_a : law.body_b;
+  moving_ = world.bodies[law.body_a].body->fixed() ? law.body_b : law.body_a;
 
   ContactDetector detector(world);
   std::vector<ActiveContact> contacts;

@@ -13,8 +13,8 @@
 // the friction rides on the normal columns). A least-squares solve gives the minimum-norm split where
 // the points are redundant (a box on a plane); the resultants are unique.
 //
-// Scope (checked at the start, an error otherwise): one contact law, between a moving body and a
-// fixed one, closed at t = 0, whose points slide together (a translating interface) and never lift
+// Scope (refused before the first step: by IdaIntegrator::unsupported, and here for the closed
+// contact): one contact law, between a moving body and a fixed one, closed at t = 0, whose points slide together (a translating interface) and never lift
 // off (a negative normal reaction stops the run with a message). The term Ḣv of a rotating contact
 // frame is neglected: exact for translating bodies, which is what this reference mode is for.
 #pragma once

@@ -98,11 +98,6 @@ IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters
   if (const std::string refusal = unsupported(world, parameters); !refusal.empty()) throw RunError(0.0, refusal);
   nq_ = world.position_size;
   nv_ = world.velocity_size;
-  position_of_velocity_.assign(nv_, -1);
-  for (const BodyInstance& b : world.bodies)
-    for (int c = 0; c < b.body->velocity_size(); ++c)
-      if (const int coordinate = b.body->coordinate_of(c); coordinate >= 0)
-        position_of_velocity_[b.velocity_offset + c] = b.position_offset + coordinate;
   // Linear constraints are eliminated: v = N w with N an orthonormal basis of ker C (small Worlds).
   constrained_ = !world.constraints.empty();
   if (constrained_) {
@@ -207,7 +202,6 @@ int IdaIntegrator::residual(double t, const double* y, const double* y_rate, dou
 // The assembled Jacobian of the header, J = ∂F/∂y + cj ∂F/∂y', on the union of the patterns seen so far.
 int IdaIntegrator::sparse_jacobian(double t, double cj, const double* y, const double* y_rate, void* sparse_matrix) {
   SUNMatrix J = static_cast<SUNMatrix>(sparse_matrix);
-  const Eigen::Map<const Vector> y_vector(y, size_);
   unpack(y);
   Triplets& entries = jacobian_triplets_;
   entries.clear();
@@ -251,7 +245,7 @@ int IdaIntegrator::sparse_jacobian(double t, double cj, const double* y, const d
   contact_model_->add_tangent(q_, v_, stiffness, damping);
   for (const auto& e : damping) entries.emplace_back(row0 + e.row(), v0 + e.col(), e.value());
   for (const auto& e : stiffness)
-    if (const int column = position_of_velocity_[e.col()]; column >= 0) entries.emplace_back(row0 + e.row(), column, e.value());
+    if (const int column = dynamics_.position_of_velocity(e.col()); column >= 0) entries.emplace_back(row0 + e.row(), column, e.value());
   // Energy rows: their diagonal.
   for (int i = nq_ + nr_; i < size_; ++i) entries.emplace_back(i, i, cj);
   // The union with the patterns before, as explicit zeros.
@@ -356,6 +350,11 @@ void IdaIntegrator::initialize(State& state) {
     IDASetRootDirection(s.memory, decreasing.data());
   }
   state.ida.linear_solver = sparse ? "klu" : "dense";
+  if (regularized_)
+    for (std::size_t l = 0; l < world_.contact_laws.size(); ++l) {
+      state.ida.penalty_stiffness.push_back(regularized_->law(static_cast<int>(l)).stiffness);
+      state.ida.penalty_damping.push_back(regularized_->law(static_cast<int>(l)).damping);
+    }
 
   state.energy.kinetic = state.energy.initial_kinetic = dynamics_.kinetic_energy(state.v);
   contact_model_->force(state.t, state.q, state.v, f_total_, f_contact_, nullptr);
@@ -398,24 +397,17 @@ void IdaIntegrator::fill_state(State& state) {
   e.contact_dissipation = y(nq_ + nr_ + 1) - (stored - initial_stored_energy_);
   e.damping_dissipation = damped_ ? y(nq_ + nr_ + 2) : 0.0;
   e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
-  const std::string solver = state.ida.linear_solver;
-  state.ida = counters_since_restart();
-  state.ida.linear_solver = solver;
+  // IDA's counters, those before the last event's restart added (the solver's name and the penalties
+  // were set by initialize).
+  const IdaStatistics counters = counters_since_restart();
   IdaStatistics& stats = state.ida;
+  stats.steps = counters.steps + before_restart_.steps;
+  stats.residual_evaluations = counters.residual_evaluations + before_restart_.residual_evaluations;
+  stats.jacobian_evaluations = counters.jacobian_evaluations + before_restart_.jacobian_evaluations;
+  stats.error_test_failures = counters.error_test_failures + before_restart_.error_test_failures;
+  stats.nonlinear_convergence_failures =
+      counters.nonlinear_convergence_failures + before_restart_.nonlinear_convergence_failures;
   stats.symbolic_analyses = symbolic_analyses_;
-  if (const RegularizedContactModel* regularized = regularized_) {
-    stats.penalty_stiffness.clear();
-    stats.penalty_damping.clear();
-    for (std::size_t l = 0; l < world_.contact_laws.size(); ++l) {
-      stats.penalty_stiffness.push_back(regularized->law(static_cast<int>(l)).stiffness);
-      stats.penalty_damping.push_back(regularized->law(static_cast<int>(l)).damping);
-    }
-  }
-  stats.steps += before_restart_.steps;
-  stats.residual_evaluations += before_restart_.residual_evaluations;
-  stats.jacobian_evaluations += before_restart_.jacobian_evaluations;
-  stats.error_test_failures += before_restart_.error_test_failures;
-  stats.nonlinear_convergence_failures += before_restart_.nonlinear_convergence_failures;
   IDAGetLastStep(s.memory, &stats.last_step);
 }
 

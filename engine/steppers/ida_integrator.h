@@ -109,7 +109,6 @@ class IdaIntegrator final : public Stepper {
   bool constrained_ = false;
   bool damped_ = false;                      // y has the damping's energy row
   int nq_, nv_, nr_, size_;                  // sizes of q, v, w and y
-  std::vector<int> position_of_velocity_;    // index in q of velocity component i's coordinate, or −1
   std::unique_ptr<Sundials> sundials_;
   std::string last_error_;
   long sample_ = 0;

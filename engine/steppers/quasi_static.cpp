@@ -32,31 +32,35 @@ ReducedCoordinates reduce(const World& world, double t) {
 std::string QuasiStatic::unsupported(const World& world) {
   if (!world.constraints.empty())
     return "quasi-static does not take linear constraints ('constraints'); use moreau-jean";
-  std::string message;
   try {
-    const ReducedCoordinates reduced(world, 0.0);
-    const bool springs = !world.springs.empty();
-    for (const BodyInstance& b : world.bodies) {
-      if (b.body->fixed() || b.body->elastic() || springs) continue;
-      bool held = false;  // every unknown of a lumped body needs stiffness: a tie, or a prescription
-      for (const RigidTie& tie : world.ties) held = held || &world.bodies[tie.rigid_body] == &b;
-      bool driven = true;
-      for (int c = 0; c < b.body->velocity_size(); ++c) driven = driven && reduced.unknown(b.velocity_offset + c) < 0;
-      if (!held && !driven)
-        return "quasi-static: body '" + b.name +
-               "' is held by no stiffness (its K would be singular): give it a spring, a tie or prescribed "
-               "motions, or use moreau-jean";
-    }
+    return unsupported(world, ReducedCoordinates(world, 0.0));
   } catch (const std::invalid_argument& e) {
     return std::string("quasi-static: ") + e.what();
   }
-  return message;
+}
+
+// Every unknown of a lumped body needs stiffness: a spring, a tie, or a prescription.
+std::string QuasiStatic::unsupported(const World& world, const ReducedCoordinates& reduced) {
+  if (!world.springs.empty()) return "";
+  for (const BodyInstance& b : world.bodies) {
+    if (b.body->fixed() || b.body->elastic()) continue;
+    bool held = false;
+    for (const RigidTie& tie : world.ties) held = held || &world.bodies[tie.rigid_body] == &b;
+    bool driven = true;
+    for (int c = 0; c < b.body->velocity_size(); ++c) driven = driven && reduced.unknown(b.velocity_offset + c) < 0;
+    if (!held && !driven)
+      return "quasi-static: body '" + b.name +
+             "' is held by no stiffness (its K would be singular): give it a spring, a tie or prescribed "
+             "motions, or use moreau-jean";
+  }
+  return "";
 }
 
 QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parameters)
     : world_(world), parameters_(parameters), dynamics_(world), detector_(world), reduced_(reduce(world, 0.0)),
       pgs_(parameters.solver), d_(detector_.dimension()) {
-  if (const std::string refusal = unsupported(world); !refusal.empty()) throw RunError(0.0, refusal);
+  if (!world.constraints.empty()) throw RunError(0.0, unsupported(world));
+  if (const std::string refusal = unsupported(world, reduced_); !refusal.empty()) throw RunError(0.0, refusal);
   bool nonlinear = false;
   for (const BodyInstance& b : world.bodies) nonlinear = nonlinear || b.body->nonlinear();
   for (const ContactLaw& law : world.contact_laws) penalty_friction_ = penalty_friction_ || law.elastic_slip > 0.0;

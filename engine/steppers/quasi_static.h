@@ -107,6 +107,7 @@ class QuasiStatic final : public Stepper {
   // What of the World this stepper cannot take, as a message naming it and what to use instead; empty
   // when it can run the World (checked by the scene loader before the first step).
   static std::string unsupported(const World& world);
+  static std::string unsupported(const World& world, const ReducedCoordinates& reduced);  // its bodies' part
 
   void initialize(State& state) override;
   void step(State& state) override;
