@@ -22,6 +22,9 @@ def rolling_run(command):
             return {"error": (process.stderr or process.stdout).strip().splitlines()[-1], "wall": wall}
         summary = json.load(open(summary_file))
     checks = {c["name"]: c for c in summary["checks"]}
+    for name in ("free_rolling_spin", "free_rolling_spin_earlier"):
+        if not checks[name]["evaluated"]:
+            return {"error": f"{name}: {checks[name]['note']}", "wall": wall}
     solver = summary["contact_solver"]
     return {"spin": checks["free_rolling_spin"]["value"], "earlier": checks["free_rolling_spin_earlier"]["value"],
             "wall": summary["wall_time"], "steps": summary["steps"],

@@ -1,6 +1,7 @@
 #include "engine/checks.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace csim {
@@ -91,6 +92,7 @@ CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& sc
 
 void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact) {
   for (std::size_t p = 0; p < values.size(); ++p) {
+    if (!run_.probes[p].undefined.empty()) continue;  // NaN; its checks are not evaluated
     trackers_[p].add(t, values[p], exact);
     Window& w = windows_[p];
     for (int i = 0; i < 2; ++i) { w.t[i] = w.t[i + 1]; w.value[i] = w.value[i + 1]; }
@@ -132,11 +134,27 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
     r.source = check.source;
     r.absolute_tolerance = check.absolute_tolerance;
     r.relative_tolerance = check.relative_tolerance;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const auto not_evaluated = [&](const std::string& why) {
+      r.evaluated = false;
+      r.value = r.error = nan;
+      r.note = "not evaluated: " + why;
+      results.push_back(r);
+    };
     if (!check.enabled) {
       r.skipped = true;
-      r.passed = true;
-      r.note = "skipped: only_if '" + check.only_if + "' is false for these parameters";
+      r.evaluated = false;
+      r.value = r.error = r.reference = nan;
+      r.note = "excluded: " + check.exclusion;
       results.push_back(r);
+      continue;
+    }
+    if (!check.unjudgeable.empty()) {
+      not_evaluated(check.unjudgeable);
+      continue;
+    }
+    if (const std::string& undefined = run_.probes[check.probe].undefined; !undefined.empty()) {
+      not_evaluated("probe '" + r.probe + "' has no value for these parameters: " + undefined);
       continue;
     }
     bool found = true;
@@ -177,10 +195,7 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
       }
     }
     if (!found) {
-      if (r.note.empty()) r.note = "no sample at the requested time";
-      r.evaluated = false;
-      r.note = "not evaluated: " + r.note;
-      results.push_back(r);
+      not_evaluated(r.note.empty() ? "no sample at the requested time" : r.note);
       continue;
     }
     ExpressionScope scope = scope_;
@@ -189,9 +204,8 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
     try {
       r.reference = evaluate_expression(check.reference, scope);
     } catch (const std::exception& e) {
-      r.note = std::string("not evaluated: the reference could not be evaluated: ") + e.what();
-      r.evaluated = false;
-      results.push_back(r);
+      r.reference = nan;
+      not_evaluated(std::string("the reference could not be evaluated: ") + e.what());
       continue;
     }
     r.error = r.value - r.reference;
@@ -200,6 +214,17 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
     results.push_back(r);
   }
   return results;
+}
+
+CheckCounts count_checks(const std::vector<CheckResult>& checks) {
+  CheckCounts n;
+  for (const CheckResult& c : checks) {
+    if (c.skipped) ++n.excluded;
+    else if (!c.evaluated) ++n.not_evaluated;
+    else if (c.passed) ++n.passed;
+    else ++n.failed;
+  }
+  return n;
 }
 
 }  // namespace csim

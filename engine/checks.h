@@ -42,17 +42,31 @@ class ExtremumTracker {
   double scale_ = 0.0;  // largest |value| seen, for the flatness threshold
 };
 
+// A check ends in one of four states. Only an evaluated check passes or fails; the two others are
+// never a pass, and carry their reason in `note`:
+// - excluded (skipped): its only_if is false for these parameters, or could not be evaluated (a
+//   reference function that has no answer for them, e.g. a rest time when the mass never stops);
+// - not evaluated: it applies, but the run cannot judge it (a time or window beyond the run's end or
+//   empty for these parameters, an extremum the run did not reach, a reference that fails, a probe
+//   without a value for these parameters). Its value and error are NaN.
 struct CheckResult {
   std::string name, probe, kind, source;
   double reference = 0.0, value = 0.0, error = 0.0, time = 0.0;
   double absolute_tolerance = 0.0, relative_tolerance = 0.0;
   bool passed = false;
-  bool skipped = false;     // only_if false for these parameters
-  // False when the run could not evaluate it (a time or window beyond the run's end, an extremum the
-  // run did not reach, a reference that fails): never a pass.
-  bool evaluated = true;
-  std::string note;         // why it could not be evaluated, or why it was skipped
+  bool skipped = false;     // excluded by its only_if
+  bool evaluated = true;    // false for excluded and not-evaluated checks
+  std::string note;         // why it was excluded or could not be evaluated
 };
+
+struct CheckCounts {
+  int passed = 0, failed = 0, not_evaluated = 0, excluded = 0;
+  int total() const { return passed + failed + not_evaluated + excluded; }
+  // The run's verdict: a pass needs at least one evaluated check, no failure, and every check either
+  // evaluated or excluded by its own only_if. A scene without checks is not judged (and not a pass).
+  bool pass() const { return passed > 0 && failed == 0 && not_evaluated == 0; }
+};
+CheckCounts count_checks(const std::vector<CheckResult>& checks);
 
 class CheckEvaluator {
  public:

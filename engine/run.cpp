@@ -100,7 +100,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   csv << '\n';
 
   const double h = run.moreau_jean.step;
-  const long steps = std::lround(std::ceil(run.end_time / h - 1e-9));
+  const long steps = run.steps;
   const double rate = std::max(run.output_rate, h);
   // ParaView frames of the elastic bodies, at the rows of probes.csv (DESIGN.md §4).
   std::unique_ptr<ParaviewSeries> paraview;
@@ -161,7 +161,8 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
   if (run.integrator == "moreau-jean")
     json.value("theta", run.moreau_jean.theta).value("close_gaps", run.moreau_jean.close_gaps);
   json.value("dimension", scene.world.dimension);
-  json.value("time_step", run.moreau_jean.step).value("end_time", run.end_time);
+  json.value("time_step", run.moreau_jean.step).value("requested_time_step", run.requested_step);
+  json.value("end_time", run.end_time);
   json.value("steps", c.steps).value("wall_time", report.wall_time);
   json.value("steps_per_second", report.wall_time > 0 ? c.steps / report.wall_time : 0.0);
   json.begin_object("contact_solver")
@@ -255,7 +256,12 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
     json.end_object();
   }
   json.end_array();
-  json.value("passed", report.all_passed());
+  const CheckCounts counts = report.counts();
+  json.begin_object("check_counts")
+      .value("passed", counts.passed).value("failed", counts.failed)
+      .value("not_evaluated", counts.not_evaluated).value("excluded", counts.excluded)
+      .end_object();
+  json.value("passed", counts.pass());
   json.end_object();
   return json.str();
 }

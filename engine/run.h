@@ -25,16 +25,8 @@ struct RunReport {
   std::vector<double> sample_times;               // s, the rows of probes.csv
   std::vector<std::vector<double>> samples;       // probe values at those times
   double wall_time = 0.0;        // s
-  bool all_passed() const {
-    for (const CheckResult& c : checks)
-      if (!c.passed) return false;
-    return true;
-  }
-  bool any_failed() const {  // an evaluated check that failed
-    for (const CheckResult& c : checks)
-      if (!c.passed && !c.skipped && c.evaluated) return true;
-    return false;
-  }
+  CheckCounts counts() const { return count_checks(checks); }
+  bool passed() const { return counts().pass(); }  // checks.h: CheckCounts::pass
 };
 
 // The state at t = 0: every body at its initial position and velocity.

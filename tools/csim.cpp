@@ -210,6 +210,18 @@ void print_checks(const std::vector<csim::CheckResult>& checks) {
   }
 }
 
+// One line: the verdict and the counts behind it (checks.h: CheckCounts::pass).
+std::string verdict(const csim::CheckCounts& n) {
+  const std::string counts = std::to_string(n.passed) + " passed, " + std::to_string(n.failed) + " failed, " +
+                             std::to_string(n.not_evaluated) + " not evaluated, " + std::to_string(n.excluded) +
+                             " excluded by only_if";
+  if (n.pass()) return "checks passed (" + counts + ")";
+  if (n.failed > 0) return "CHECKS FAILED (" + counts + ")";
+  if (n.total() == 0) return "NOT JUDGED: the scene has no checks (not a pass)";
+  if (n.not_evaluated > 0) return "NOT JUDGED: some checks could not be evaluated (not a pass; " + counts + ")";
+  return "NOT JUDGED: no check applies to these parameters (not a pass; " + counts + ")";
+}
+
 void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
   const csim::SolverCounters& c = report.state.counters;
   const csim::IdaStatistics& ida = report.state.ida;
@@ -379,12 +391,9 @@ int main(int argc, char** argv) {
     const csim::RunReport report = csim::run_scene(*scene, options);
     if (!arguments.quiet) print_summary(*scene, report);
     print_checks(report.checks);
-    std::printf("%s: %s (outputs in %s)\n", scene->name.c_str(),
-                report.all_passed() ? "all checks passed"
-                : report.any_failed() ? "CHECKS FAILED"
-                                      : "CHECKS NOT ALL EVALUATED (not a pass)",
+    std::printf("%s: %s (outputs in %s)\n", scene->name.c_str(), verdict(report.counts()).c_str(),
                 options.output_directory.c_str());
-    return report.all_passed() ? kPassed : kCheckFailed;
+    return report.passed() ? kPassed : kCheckFailed;
   } catch (const csim::SceneError& e) {
     std::cerr << "csim: error: " << e.what() << "\n";
   } catch (const csim::RunError& e) {

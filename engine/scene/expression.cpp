@@ -479,7 +479,8 @@ class Evaluator {
     try {
       return it->second(args);
     } catch (const std::exception& failure) {
-      throw error_at("function '" + node.name + "' failed", node.column, text_, failure.what());
+      throw ExpressionFunctionFailed(
+          error_at("function '" + node.name + "' failed", node.column, text_, failure.what()).what());
     }
   }
 

@@ -42,6 +42,13 @@ struct ExpressionError : std::runtime_error {
   using runtime_error::runtime_error;
 };
 
+// A user function that threw: the expression is well formed, but what it refers to does not exist for
+// these values (an analytical solution without a third extremum, say). Callers may treat this as
+// "cannot be judged" rather than as bad input.
+struct ExpressionFunctionFailed : ExpressionError {
+  using ExpressionError::ExpressionError;
+};
+
 // A user function receives its evaluated arguments. It checks their count itself and may throw any
 // std::exception; evaluate() reports it as an ExpressionError naming the function and its column.
 using ExpressionFunction = std::function<double(std::span<const double>)>;

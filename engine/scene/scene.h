@@ -27,6 +27,7 @@ struct ProbeDefinition {
   int contact_law = -1;                                 // contact_force probes: force on the law's first body
   std::string force_component;                          // normal, tangential, x, y, z; contact_count: closed, stick, slip
   double scale = 1.0;                                   // the value is multiplied by it (a normalization)
+  std::string undefined;  // non-empty: the probe has no value for these parameters (why; its scale is NaN)
 };
 
 // What a check compares with its reference.
@@ -45,13 +46,17 @@ struct CheckDefinition {
   double relative_tolerance = 0.0;
   std::string kind;          // analytical | literature | non-regression
   std::string source;
-  bool enabled = true;       // false when only_if evaluates to 0 for these parameters
+  bool enabled = true;       // false when only_if evaluates to 0, or cannot be evaluated, for these parameters
   std::string only_if;
+  std::string exclusion;     // why it is not enabled
+  std::string unjudgeable;   // non-empty: it applies but cannot be judged for these parameters (why)
 };
 
 struct RunSettings {
   std::string integrator = "moreau-jean";
   double end_time = 1.0;     // s
+  long steps = 0;            // end_time / moreau_jean.step, exactly (the step is adjusted to divide the window)
+  double requested_step = 0.0;  // s, time.step as written; moreau_jean.step is the one used
   MoreauJeanParameters moreau_jean;
   IdaParameters ida;         // used when integrator == "ida"; its sample_step is time.step
   QuasiStaticParameters quasi_static;  // used when integrator == "quasi-static"

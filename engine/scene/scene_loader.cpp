@@ -3,6 +3,7 @@
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_parts.h"
 
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -17,6 +18,19 @@ void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
   MoreauJeanParameters& mj = run.moreau_jean;
   mj.step = time.positive("step");
   if (mj.step > run.end_time) time.fail_at("step", "the step is longer than the time window");
+  // The step count is an integer that a double holds exactly (t = k h stays meaningful).
+  const double count = std::ceil(run.end_time / mj.step - 1e-9);
+  if (!(count <= 9007199254740992.0)) {
+    std::ostringstream what;
+    what << "time.end / time.step = " << run.end_time / mj.step << " steps, more than 2^53: use a longer step";
+    time.fail_at("step", what.str());
+  }
+  run.steps = static_cast<long>(count);
+  // The last step lands on time.end: a step that does not divide the window is shortened uniformly
+  // (to time.end / steps, reported in summary.json beside the requested one), not overshot.
+  run.requested_step = mj.step;
+  if (std::abs(static_cast<double>(run.steps) * mj.step - run.end_time) > 1e-9 * mj.step)
+    mj.step = run.end_time / static_cast<double>(run.steps);
 
   // Every integrator's settings are read (with their defaults) whatever the type, so that
   // `--set integrator.type=ida --set integrator.rtol=1e-8` works on any scene.

@@ -1,9 +1,41 @@
 // probes (named time series) and checks (a probe against a reference, with a tolerance).
 #include "engine/scene/scene_parts.h"
 
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
 namespace csim::scene_parts {
 
 namespace {
+
+// A value that may not exist for these parameters, although the scene is well formed: an expression
+// whose reference function has no answer for them (a rest time when the mass never stops) or whose
+// result is not finite (1/speed at speed 0). Gives nullopt and the reason then; a malformed expression
+// or an unknown name stays bad input.
+std::optional<double> value_for_these_parameters(const SceneNode& node, std::string& why) {
+  const std::string text = node.as_string();
+  if (text.empty() || text[0] != '=') return node.as_number();
+  double value = 0.0;
+  try {
+    value = evaluate_expression(std::string_view(text).substr(1), node.document().scope);
+  } catch (const ExpressionFunctionFailed& e) {
+    why = "'" + text + "' has no value for these parameters: " + e.what();
+    return std::nullopt;
+  } catch (const ExpressionError& e) {
+    node.fail(std::string("in expression '") + text + "': " + e.what());
+  }
+  if (!std::isfinite(value)) {
+    why = "'" + text + "' is not finite for these parameters";
+    return std::nullopt;
+  }
+  return value;
+}
+
+bool is_expression(const SceneNode& node) {
+  return node.is_scalar() && !node.as_string().empty() && node.as_string()[0] == '=';
+}
 
 Eigen::Vector3d component_direction(const SceneNode& node, int dimension) {
   if (node.has("direction")) {
@@ -91,7 +123,11 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     spec.fail("unknown probe kind '" + kind +
               "' (expected displacement, position, velocity, energy, contact_force, contact_count or reaction)");
   }
-  if (spec.is_map() && spec.has("scale")) p.scale = spec.number("scale");
+  if (spec.is_map() && spec.has("scale")) {
+    const std::optional<double> scale = value_for_these_parameters(spec.child("scale"), p.undefined);
+    p.scale = scale.value_or(std::numeric_limits<double>::quiet_NaN());
+    if (!scale) p.undefined = "its scale " + p.undefined;
+  }
   return p;
 }
 
@@ -108,8 +144,10 @@ CheckDefinition read_check(const std::string& name, const SceneNode& node, const
 
   int modes = 0;
   auto index_of = [&](const char* key) { return static_cast<int>(node.whole_number(key, std::nullopt, 1)); };
+  // A time beyond time.end is not evaluated (checks.h); one that parameters put before t = 0 neither.
   if (node.has("at")) { ++modes; c.mode = CheckDefinition::Mode::at; c.time = node.number("at");
-    if (c.time < 0) node.fail_at("at", "must be >= 0"); }  // beyond time.end: not evaluated (checks.h)
+    if (c.time < 0 && !is_expression(node.child("at"))) node.fail_at("at", "must be >= 0");
+    if (c.time < 0) c.unjudgeable = "its time " + std::to_string(c.time) + " s is before t = 0 for these parameters"; }
   if (node.has("extremum")) { ++modes; c.mode = CheckDefinition::Mode::extremum; c.index = index_of("extremum"); }
   if (node.has("maximum")) { ++modes; c.mode = CheckDefinition::Mode::maximum; c.index = index_of("maximum"); }
   if (node.has("minimum")) { ++modes; c.mode = CheckDefinition::Mode::minimum; c.index = index_of("minimum"); }
@@ -120,8 +158,14 @@ CheckDefinition read_check(const std::string& name, const SceneNode& node, const
     const Eigen::Vector3d window = node.vector("mean", 2, 2);
     c.time = window(0);
     c.time_end = window(1);
-    if (!(0.0 <= c.time && c.time < c.time_end))
-      node.fail_at("mean", "expected [start, end] with 0 <= start < end"); }
+    if (!(0.0 <= c.time && c.time < c.time_end)) {
+      const std::vector<SceneNode> bounds = node.child("mean").items();
+      if (!(is_expression(bounds[0]) || is_expression(bounds[1])))
+        node.fail_at("mean", "expected [start, end] with 0 <= start < end");
+      std::ostringstream why;
+      why << "its window [" << c.time << ", " << c.time_end << "] s is empty or starts before t = 0 for these parameters";
+      c.unjudgeable = why.str();
+    } }
   if (modes != 1) node.fail("give exactly one of: at, extremum, maximum, minimum, extremum_time, final, mean");
 
   // The reference is checked now (names known, syntax) and evaluated after the run, with t bound.
@@ -153,7 +197,11 @@ CheckDefinition read_check(const std::string& name, const SceneNode& node, const
   if (node.has("only_if")) {
     const SceneNode condition = node.child("only_if");
     c.only_if = condition.as_string();
-    c.enabled = condition.as_number() != 0.0;
+    std::string why;
+    const std::optional<double> value = value_for_these_parameters(condition, why);
+    c.enabled = value && *value != 0.0;
+    if (!value) c.exclusion = "only_if could not be evaluated, counted as false: " + why;
+    else if (!c.enabled) c.exclusion = "only_if '" + c.only_if + "' is false for these parameters";
   }
   return c;
 }

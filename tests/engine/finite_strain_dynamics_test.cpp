@@ -42,7 +42,7 @@ TEST(FiniteStrainDynamics, NewtonConvergesQuadratically) {
   EXPECT_GT(c.newton_iterations, 0);
   EXPECT_LE(c.max_newton_iterations, 3);
   EXPECT_EQ(c.newton_regularized, 0);  // a free bar's tangent plus mass is positive definite
-  EXPECT_TRUE(report.all_passed());
+  EXPECT_TRUE(report.passed());
 }
 
 // The benchmark's ring on its own coarse mesh (34 × 5, the Mooney–Rivlin default row of
@@ -60,7 +60,7 @@ TEST(FiniteStrainDynamics, TheCoarseRingRollsAtTheQuasiStaticSpin) {
     RunReport report = run_scene(*scene, {});
     double value = std::nan("");
     for (const CheckResult& check : report.checks)
-      if (check.name == "free_rolling_spin") value = check.value;
+      if (check.name == "free_rolling_spin" && check.evaluated) value = check.value;
     if (out) *out = std::move(report);
     return value;
   };

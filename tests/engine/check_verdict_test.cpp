@@ -1,0 +1,177 @@
+// What a run may claim about its checks (checks.h, README "exit status"): excluded and not-evaluated
+// checks are never passes, a run passes only when some check was evaluated and none failed, and
+// parameters for which a check has no reference, window or probe scale still run to the end.
+#include "engine/run.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_error.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace csim {
+namespace {
+
+// A block resting on the ground: x stays 0, so `still` passes whenever it is evaluated. CHECKS is
+// replaced by each test's checks.
+const char* kScene = R"(dimension: 2
+parameters:
+  mass: 2
+  speed: 1
+  start: 0.02
+gravity: [0, -9.81]
+bodies:
+  block:
+    type: rigid
+    mass: =mass
+    position: [0, 0.5]
+    shapes:
+      cube: {type: box, size: [1, 1]}
+  ground:
+    type: fixed
+    shapes:
+      top: {type: halfspace, normal: [0, 1]}
+contacts:
+  block_on_ground: {between: [block, ground], mu: 0.5}
+time: {end: 0.1, step: 0.01}
+probes:
+  x: {displacement: {body: block, component: x}}
+  y_per_speed: {displacement: {body: block, component: y, scale: =1/speed}}
+checks:
+CHECKS)";
+
+class CheckVerdict : public ::testing::Test {
+ protected:
+  std::unique_ptr<Scene> load(const std::string& checks, const std::vector<std::string>& overrides = {}) {
+    std::string text = kScene;
+    text.replace(text.find("CHECKS"), 6, checks);
+    path_ = std::filesystem::temp_directory_path() /
+            ("csim_verdict_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".yaml");
+    std::ofstream(path_) << text;
+    return load_scene(path_.string(), overrides);
+  }
+  void TearDown() override { std::filesystem::remove(path_); }
+  std::filesystem::path path_;
+};
+
+const char* kStill =
+    "  still: {probe: x, final: true, reference: 0, tolerance: {absolute: 1e-12}, kind: analytical, source: test}\n";
+
+TEST_F(CheckVerdict, AnEvaluatedPassingCheckPasses) {
+  const RunReport report = run_scene(*load(kStill), {});
+  const CheckCounts n = report.counts();
+  EXPECT_EQ(n.passed, 1);
+  EXPECT_TRUE(report.passed());
+}
+
+// An excluded check (only_if false) used to count as passed with the value 0: a run whose only check
+// was excluded said "all checks passed".
+TEST_F(CheckVerdict, AnExcludedCheckIsNeverAPass) {
+  const auto scene = load(
+      "  heavy_only: {probe: x, final: true, reference: 0, tolerance: {absolute: 1e-12}, kind: analytical,"
+      " source: test, only_if: =mass > 5}\n");
+  const RunReport report = run_scene(*scene, {});
+  ASSERT_EQ(report.checks.size(), 1u);
+  const CheckResult& c = report.checks[0];
+  EXPECT_TRUE(c.skipped);
+  EXPECT_FALSE(c.passed);
+  EXPECT_FALSE(c.evaluated);
+  EXPECT_TRUE(std::isnan(c.value));
+  EXPECT_NE(c.note.find("is false for these parameters"), std::string::npos) << c.note;
+  EXPECT_EQ(report.counts().excluded, 1);
+  EXPECT_FALSE(report.passed());
+  EXPECT_FALSE(CheckCounts{}.pass());  // no checks at all: not judged, not a pass
+}
+
+// A check whose time lies beyond the run's end is reported, with its reason, and spoils the pass even
+// when another check passed.
+TEST_F(CheckVerdict, ACheckBeyondTheWindowIsNotEvaluatedAndSpoilsThePass) {
+  const auto scene = load(std::string(kStill) +
+      "  later: {probe: x, at: 5, reference: 0, tolerance: {absolute: 1e-12}, kind: analytical, source: test}\n");
+  const RunReport report = run_scene(*scene, {});
+  const CheckCounts n = report.counts();
+  EXPECT_EQ(n.passed, 1);
+  EXPECT_EQ(n.not_evaluated, 1);
+  EXPECT_NE(report.checks[1].note.find("beyond the run's end"), std::string::npos) << report.checks[1].note;
+  EXPECT_FALSE(report.passed());
+}
+
+// Parameters can make a window empty or a time negative: the check is not evaluated, the scene still
+// loads and runs. Written as numbers, the same window is a mistake in the file.
+TEST_F(CheckVerdict, AWindowEmptyForTheseParametersIsNotEvaluated) {
+  const std::string mean =
+      "  settled: {probe: x, mean: [=start, 0.05], reference: 0, tolerance: {absolute: 1e-12}, kind: analytical, source: test}\n"
+      "  early: {probe: x, at: =0.05 - start, reference: 0, tolerance: {absolute: 1e-12}, kind: analytical, source: test}\n";
+  const RunReport report = run_scene(*load(mean, {"parameters.start=0.08"}), {});
+  ASSERT_EQ(report.checks.size(), 2u);
+  for (const CheckResult& c : report.checks) {
+    EXPECT_FALSE(c.evaluated) << c.name;
+    EXPECT_FALSE(c.skipped) << c.name;
+    EXPECT_NE(c.note.find("for these parameters"), std::string::npos) << c.note;
+  }
+  EXPECT_EQ(run_scene(*load(mean), {}).counts().passed, 2);  // start = 0.02: both judged
+  EXPECT_THROW(load("  bad: {probe: x, mean: [0.08, 0.05], reference: 0, tolerance: {absolute: 1}, kind: analytical, source: test}\n"),
+               SceneError);
+}
+
+// A probe normalized by a parameter that is 0 has no value: its checks are not evaluated and its
+// column holds NaN, instead of the scene being refused as bad input.
+TEST_F(CheckVerdict, AProbeWhoseScaleIsNotFiniteHasNoValueAndItsChecksAreNotEvaluated) {
+  const std::string checks =
+      std::string(kStill) +
+      "  height: {probe: y_per_speed, final: true, reference: 0, tolerance: {absolute: 1e-9}, kind: analytical, source: test}\n";
+  const RunReport report = run_scene(*load(checks, {"parameters.speed=0"}), {});
+  const CheckCounts n = report.counts();
+  EXPECT_EQ(n.passed, 1);
+  EXPECT_EQ(n.not_evaluated, 1);
+  EXPECT_NE(report.checks[1].note.find("probe 'y_per_speed' has no value"), std::string::npos) << report.checks[1].note;
+  EXPECT_TRUE(std::isnan(report.samples.back()[1]));
+  EXPECT_EQ(run_scene(*load(checks), {}).counts().passed, 2);  // speed = 1: judged
+}
+
+// SDNV104's analytical solution has no rest time when friction is 0 (the mass never stops): the `rest`
+// check's only_if cannot be evaluated, counts as false, and the other checks run and pass. It used to
+// be refused as bad input (exit 2).
+TEST(CheckVerdictScenes, AnOnlyIfWithoutAnAnswerExcludesItsCheck) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml", {"parameters.mu=0"});
+  const RunReport report = run_scene(*scene, {});
+  const CheckCounts n = report.counts();
+  EXPECT_EQ(n.failed, 0);
+  EXPECT_EQ(n.not_evaluated, 0);
+  EXPECT_GE(n.passed, 10);  // x1..x5, t1..t5 (x2, x4 are 0: judged by the absolute tolerance)
+  bool rest_seen = false;
+  for (const CheckResult& c : report.checks)
+    if (c.name == "rest") {
+      rest_seen = true;
+      EXPECT_TRUE(c.skipped);
+      EXPECT_NE(c.note.find("could not be evaluated, counted as false"), std::string::npos) << c.note;
+      EXPECT_NE(c.note.find("still moving"), std::string::npos) << c.note;
+    }
+  EXPECT_TRUE(rest_seen);
+  EXPECT_TRUE(report.passed());
+}
+
+// A step that does not divide the window is shortened so that the last step lands on time.end; a step
+// count beyond 2^53 is refused at load.
+TEST_F(CheckVerdict, TheLastStepLandsOnTheEndTime) {
+  const auto scene = load(kStill, {"time.step=0.03"});
+  EXPECT_EQ(scene->run.steps, 4);
+  EXPECT_DOUBLE_EQ(scene->run.moreau_jean.step, 0.025);
+  EXPECT_DOUBLE_EQ(scene->run.requested_step, 0.03);
+  const RunReport report = run_scene(*scene, {});
+  EXPECT_NEAR(report.state.t, 0.1, 1e-15);
+  EXPECT_NEAR(report.sample_times.back(), 0.1, 1e-15);
+  EXPECT_EQ(load(kStill)->run.moreau_jean.step, 0.01);  // a step that divides the window is kept as written
+  try {
+    load(kStill, {"time.step=1e-300"});
+    ADD_FAILURE() << "1e-300 accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("time.step: time.end / time.step = 1e+299 steps, more than 2^53"),
+              std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace csim
