@@ -475,6 +475,18 @@ Stress finite_strain_centroid_stress(const ElementGeometry& element,
   });
 }
 
+Eigen::Matrix3d finite_strain_centroid_gradient(const ElementGeometry& element,
+                                                const ElementVector& displacement) {
+  return dispatch(element.type, [&](auto kind) -> Eigen::Matrix3d {
+    using E = decltype(kind);
+    check_size(element.index, "the displacement", displacement.size(), E::dofs);
+    const typename E::Nodal u = Eigen::Map<const typename E::Nodal>(displacement.data());
+    return kinematics<E>(reference_coordinates<E>(element), u, reference<E>().centroid, 1.0, 1.0,
+                         element.index, Eigen::Vector3d::Zero())
+        .F;
+  });
+}
+
 double strain_energy(const FiniteStrainModel& model, const Eigen::VectorXd& displacement) {
   return assemble(model, displacement, nullptr, nullptr);
 }
@@ -507,6 +519,16 @@ std::vector<Stress> cauchy_stresses(const FiniteStrainModel& model,
         finite_strain_centroid_stress(geometry, model.material, model.formulation, u));
   }
   return stresses;
+}
+
+std::vector<Eigen::Matrix3d> centroid_gradients(const Mesh& mesh, const Eigen::VectorXd& displacement) {
+  check_size(-1, "the displacement", displacement.size(), mesh.dof_count());
+  std::vector<Eigen::Matrix3d> gradients;
+  gradients.reserve(mesh.elements.size());
+  for (int e = 0; e < static_cast<int>(mesh.elements.size()); ++e)
+    gradients.push_back(finite_strain_centroid_gradient(element_geometry(mesh, e),
+                                                        element_values(mesh, e, displacement)));
+  return gradients;
 }
 
 }  // namespace csim

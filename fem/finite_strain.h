@@ -86,6 +86,13 @@ Stress finite_strain_centroid_stress(const ElementGeometry& element,
                                      FiniteStrainFormulation formulation,
                                      const ElementVector& displacement);
 
+// The deformation gradient F = ∂x/∂X at the element centroid ξ = 0 (dimensionless; plane strain
+// F33 = 1, F13 = F23 = F31 = F32 = 0): the kinematics of finite_strain_centroid_stress, for strain
+// measures such as the Green–Lagrange E = ½(FᵀF − I). Throws FemError as the element does (a
+// non-positive reference Jacobian, det F ≤ 0, a displacement of the wrong size).
+Eigen::Matrix3d finite_strain_centroid_gradient(const ElementGeometry& element,
+                                                const ElementVector& displacement);
+
 // ---- whole mesh ---------------------------------------------------------------------------------
 
 // A mesh (not owned; it must outlive the model) of one element type and one material.
@@ -117,5 +124,9 @@ double assemble_finite_strain(const FiniteStrainModel& model, const Eigen::Vecto
 // finite_strain_centroid_stress of every element, in element order.
 std::vector<Stress> cauchy_stresses(const FiniteStrainModel& model,
                                     const Eigen::VectorXd& displacement);
+
+// finite_strain_centroid_gradient of every element of the mesh, in element order (u: m, dof_count
+// entries).
+std::vector<Eigen::Matrix3d> centroid_gradients(const Mesh& mesh, const Eigen::VectorXd& displacement);
 
 }  // namespace csim

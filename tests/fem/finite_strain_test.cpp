@@ -156,7 +156,8 @@ TEST(FiniteStrainElement, RigidRotationOfNinetyDegreesIsStrainFree) {
 }
 
 // A homogeneous deformation u = (F0 − I) X + c of a patch of distorted elements is reproduced
-// exactly: no force on interior nodes, energy W(F0) V, Cauchy stress J⁻¹ P(F0) F0ᵀ everywhere.
+// exactly: F = F0 at every centroid, no force on interior nodes, energy W(F0) V, Cauchy stress
+// J⁻¹ P(F0) F0ᵀ everywhere.
 void patch_test(Mesh mesh, double amplitude) {
   test::distort(mesh, amplitude, /*interior_only=*/true);
   const int d = mesh.dimension();
@@ -168,6 +169,8 @@ void patch_test(Mesh mesh, double amplitude) {
         ((F0 - Eigen::Matrix3d::Identity()) * mesh.nodes[i] + Eigen::Vector3d(0.1, 0.2, 0.3))
             .head(d);
   const std::vector<int>& boundary = mesh.node_sets["boundary"];
+  for (const Eigen::Matrix3d& F : centroid_gradients(mesh, u))
+    EXPECT_LT((F - F0).cwiseAbs().maxCoeff(), 1e-12) << to_string(mesh.element_type);
   for (FiniteStrainFormulation formulation : formulations(mesh.element_type))
     for (const HyperelasticMaterial& m : kMaterials) {
       const FiniteStrainModel model{mesh, m, kThickness, formulation};
