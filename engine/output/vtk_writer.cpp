@@ -2,7 +2,6 @@
 
 #include "engine/bodies/fe_body.h"
 #include "engine/output/atomic_file.h"
-#include "fem/assembly.h"
 
 #include <cctype>
 #include <charconv>
@@ -66,11 +65,19 @@ std::vector<double> as_vectors(const Eigen::VectorXd& dofs, int nodes, int d) {
   return out;
 }
 
+// An XML comment line: "--" may not occur inside one, nor '-' at its end.
+std::string comment_line(const std::string& text) {
+  std::string body;
+  for (char c : text) body += (c == '-' && !body.empty() && body.back() == '-') ? std::string(" -") : std::string(1, c);
+  return "<!-- " + body + " -->\n";
+}
+
 // The file's head and tail; the time also goes into FieldData (TimeValue), which ParaView reads when a
-// single .vtu is opened without its .pvd.
-std::string grid_head(double t, std::size_t points, std::size_t cells) {
-  std::string out =
-      "<?xml version=\"1.0\"?>\n"
+// single .vtu is opened without its .pvd. `comments`: lines that say what the arrays are, before the root.
+std::string grid_head(double t, std::size_t points, std::size_t cells, const std::vector<std::string>& comments = {}) {
+  std::string out = "<?xml version=\"1.0\"?>\n";
+  for (const std::string& c : comments) out += comment_line(c);
+  out +=
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "  <UnstructuredGrid>\n"
       "    <FieldData>\n"
@@ -118,6 +125,8 @@ int vtk_cell_type(ElementType type) {
   throw std::logic_error("vtk_cell_type: unknown element type");
 }
 
+double mean_pressure(const Stress& s) { return -(s(0) + s(1) + s(2)) / 3.0; }
+
 double von_mises(const Stress& s) {
   const double normal = (s(0) - s(1)) * (s(0) - s(1)) + (s(1) - s(2)) * (s(1) - s(2)) + (s(2) - s(0)) * (s(2) - s(0));
   const double shear = s(3) * s(3) + s(4) * s(4) + s(5) * s(5);
@@ -125,23 +134,32 @@ double von_mises(const Stress& s) {
 }
 
 std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
-                        const std::vector<Stress>& stresses, double t) {
+                        const ElementFields& fields, double t) {
   const int nodes = static_cast<int>(mesh.nodes.size()), d = mesh.dofs_per_node();
-  std::string out = grid_head(t, mesh.nodes.size(), mesh.elements.size());
+  const bool strain = !fields.strain.empty();
+  std::vector<std::string> comments{"stress: " + fields.stress_description,
+                                    "von_mises, pressure (-trace/3, compression positive): from stress"};
+  if (strain) comments.push_back("green_lagrange_strain: " + fields.strain_description);
+  std::string out = grid_head(t, mesh.nodes.size(), mesh.elements.size(), comments);
   out += "      <PointData Vectors=\"displacement\">\n";
   put_array(out, "Float64", "displacement", 3, as_vectors(displacement, nodes, d));
   put_array(out, "Float64", "velocity", 3, as_vectors(velocity, nodes, d));
   out += "      </PointData>\n";
   // Six components in VTK's symmetric-tensor order (XX, YY, ZZ, XY, YZ, XZ), which is fem's: ParaView
   // computes eigenvalues and invariants of it directly.
-  std::vector<double> stress, equivalent;
-  for (const Stress& s : stresses) {
+  const std::vector<std::string> components{"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+  std::vector<double> stress, equivalent, pressure, strains;
+  for (const Stress& s : fields.stress) {
     stress.insert(stress.end(), s.data(), s.data() + 6);
     equivalent.push_back(von_mises(s));
+    pressure.push_back(mean_pressure(s));
   }
+  for (const Stress& e : fields.strain) strains.insert(strains.end(), e.data(), e.data() + 6);
   out += "      <CellData Tensors=\"stress\" Scalars=\"von_mises\">\n";
-  put_array(out, "Float64", "stress", 6, stress, {"XX", "YY", "ZZ", "XY", "YZ", "XZ"});
+  put_array(out, "Float64", "stress", 6, stress, components);
   put_array(out, "Float64", "von_mises", 1, equivalent);
+  put_array(out, "Float64", "pressure", 1, pressure);
+  if (strain) put_array(out, "Float64", "green_lagrange_strain", 6, strains, components);
   out += "      </CellData>\n";
   std::vector<double> points;
   for (const Eigen::Vector3d& x : mesh.nodes) points.insert(points.end(), {x(0), x(1), x(2)});
@@ -260,9 +278,7 @@ void ParaviewSeries::write_frame(const World& world, const State& state, double 
     const Eigen::VectorXd u = body.full_displacement(state.q.segment(b.position_offset, body.position_size()));
     // v holds the same free dofs as q, so the same expansion gives the velocity of every dof.
     const Eigen::VectorXd v = body.full_displacement(state.v.segment(b.velocity_offset, body.velocity_size()));
-    const std::vector<Stress> stresses =
-        element_stresses(FeModel{body.mesh(), body.material(), body.thickness()}, u);
-    write(s, fe_body_vtu(body.mesh(), u, v, stresses, t));
+    write(s, fe_body_vtu(body.mesh(), u, v, element_fields(body, u), t));
   }
   times_.push_back(t);
 }

@@ -2,8 +2,13 @@
 // Float64) per output frame, and VTK Collection files (.pvd) that give ParaView each frame's real time.
 //
 //   DIR/paraview/BODY_NNNNNN.vtu      one per frame and elastic body: the reference mesh with point data
-//                                     displacement (m) and velocity (m/s), cell data stress (Pa, at the
-//                                     element centroid) and von_mises (Pa);
+//                                     displacement (m) and velocity (m/s); cell data, at each element's
+//                                     centroid (element_fields.h): stress (Pa, tension positive: the
+//                                     linear law's of the small strain for a linear body, the Cauchy
+//                                     stress J⁻¹ P Fᵀ of its law for a finite-strain body), von_mises
+//                                     (Pa) and pressure (−tr σ / 3, Pa, compression positive) of it, and
+//                                     for a finite-strain body green_lagrange_strain (dimensionless);
+//                                     comments before the root element say which stress the file holds;
 //   DIR/paraview/contacts_NNNNNN.vtu  one per frame: the active contacts as vertices, with status
 //                                     (0 open, 1 stick, 2 slip), impulse (N·s in the contact frame:
 //                                     normal, t1, t2), normal and gap (m);
@@ -14,6 +19,7 @@
 // displacement shows the deformed shape.
 #pragma once
 
+#include "engine/output/element_fields.h"
 #include "engine/state.h"
 #include "engine/world.h"
 #include "fem/elements.h"
@@ -31,11 +37,14 @@ int vtk_cell_type(ElementType type);
 
 // The von Mises equivalent stress (Pa) of (σxx, σyy, σzz, σxy, σyz, σxz) (Pa).
 double von_mises(const Stress& stress);
+// The mean pressure p = −(σxx + σyy + σzz) / 3 (Pa, compression positive) of the same.
+double mean_pressure(const Stress& stress);
 
 // One elastic body at one frame. displacement and velocity: all the mesh's dofs, node-major (m, m/s;
-// 2 or 3 per node as the mesh), stresses: one per element (Pa), t: the frame's time (s).
+// 2 or 3 per node as the mesh), fields: one stress (and strain, or none) per element, t: the frame's
+// time (s).
 std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
-                        const std::vector<Stress>& stresses, double t);
+                        const ElementFields& fields, double t);
 
 // The contact points at one frame, each at the midpoint of its two surface points (m). Zero contacts give
 // a valid empty grid, so that every frame of the series exists.

@@ -1,8 +1,8 @@
 // A minimal XML reader for the tests of the ParaView files: builds the element tree and throws
 // std::runtime_error (with the offset) on anything not well-formed: unbalanced or misnested tags,
 // unquoted, unseparated or duplicate attributes, unknown entities, content after the root element.
-// No DTD, comments, CDATA or processing instructions other than the leading <?xml ...?>: our writers
-// emit none.
+// No DTD, CDATA or processing instructions other than the leading <?xml ...?>, and comments only
+// before the root element (prolog_comments()): our writers emit no others.
 #pragma once
 
 #include <cctype>
@@ -51,11 +51,21 @@ class XmlReader {
       i_ = end + 2;
     }
     skip_space();
+    while (s_.compare(i_, 4, "<!--") == 0) {
+      const std::size_t end = s_.find("--", i_ + 4);
+      if (end == std::string::npos) fail("unterminated comment");
+      if (s_.compare(end, 3, "-->") != 0) fail("'--' inside a comment");
+      comments_.push_back(s_.substr(i_ + 4, end - i_ - 4));
+      i_ = end + 3;
+      skip_space();
+    }
     XmlElement root = element();
     skip_space();
     if (i_ != s_.size()) fail("content after the root element");
     return root;
   }
+  // The text of each comment before the root element, in order (read by document()).
+  const std::vector<std::string>& prolog_comments() const { return comments_; }
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
@@ -131,6 +141,7 @@ class XmlReader {
 
   std::string s_;
   std::size_t i_ = 0;
+  std::vector<std::string> comments_;
 };
 
 }  // namespace csim::test_xml
