@@ -211,18 +211,23 @@ class Lexer {
 // ---------------------------------------------------------------------------------------------------
 // Tree
 
-enum class BinaryOp { add, subtract, multiply, divide, power, less, less_equal, greater, greater_equal, equal, not_equal };
+enum class BinaryOp {
+  add, subtract, multiply, divide, less, less_equal, greater, greater_equal, equal, not_equal, logical_and, logical_or
+};
 
+// A left-associative level is one chain node, `a - b + c` = operands [a, b, c] joined by [-, +], evaluated
+// in a loop: as a binary tree, a chain of 10^5 terms nested 10^5 deep and overflowed the stack when
+// evaluated or destroyed. The tree's depth is then bounded by the parser's nesting guard.
 struct Expression::Node {
-  enum class Kind { number, constant, variable, call, negate, logical_not, binary, logical_and, logical_or };
+  enum class Kind { number, constant, variable, call, negate, logical_not, power, chain };
 
   Kind kind = Kind::number;
-  BinaryOp op = BinaryOp::add;               // binary only
   double value = 0.0;                        // number, or the built-in constant's value
   std::string name;                          // constant, variable, call
   const BuiltinFunction* builtin = nullptr;  // call of a built-in function
   int column = 0;                            // of the token that produced the node
   std::vector<Node> children;                // operands or arguments
+  std::vector<BinaryOp> operators;           // chain: operators[i] joins children[i] and children[i + 1]
 };
 
 namespace {
@@ -255,58 +260,42 @@ class Parser {
     advance();
   }
 
-  static Node make_binary(Node::Kind kind, BinaryOp op, int column, Node lhs, Node rhs) {
+  // One left-associative precedence level: `operand` parses the next level up, `ops` maps spellings.
+  template <typename Next>
+  Node chain(Next operand, std::initializer_list<std::pair<std::string_view, BinaryOp>> ops) {
+    auto match = [&] {
+      return std::find_if(ops.begin(), ops.end(), [&](const auto& entry) { return at_op(entry.first); });
+    };
+    Node first = (this->*operand)();
+    if (match() == ops.end()) return first;
     Node node;
-    node.kind = kind;
-    node.op = op;
-    node.column = column;
-    node.children.push_back(std::move(lhs));
-    node.children.push_back(std::move(rhs));
+    node.kind = Node::Kind::chain;
+    node.column = peek().column;
+    node.children.push_back(std::move(first));
+    for (auto op = match(); op != ops.end(); op = match()) {
+      advance();
+      node.operators.push_back(op->second);
+      node.children.push_back((this->*operand)());
+    }
     return node;
   }
 
-  // One left-associative precedence level: `operand` parses the next level up, `ops` maps spellings.
-  template <typename Next>
-  Node left_assoc(Next operand, std::initializer_list<std::pair<std::string_view, BinaryOp>> ops) {
-    Node lhs = (this->*operand)();
-    for (;;) {
-      const auto match = std::find_if(ops.begin(), ops.end(), [&](const auto& entry) { return at_op(entry.first); });
-      if (match == ops.end()) return lhs;
-      const int column = advance().column;
-      lhs = make_binary(Node::Kind::binary, match->second, column, std::move(lhs), (this->*operand)());
-    }
-  }
+  Node logical_or() { return chain(&Parser::logical_and, {{"||", BinaryOp::logical_or}}); }
 
-  Node logical_or() {
-    Node lhs = logical_and();
-    while (at_op("||")) {
-      const int column = advance().column;
-      lhs = make_binary(Node::Kind::logical_or, BinaryOp::add, column, std::move(lhs), logical_and());
-    }
-    return lhs;
-  }
+  Node logical_and() { return chain(&Parser::equality, {{"&&", BinaryOp::logical_and}}); }
 
-  Node logical_and() {
-    Node lhs = equality();
-    while (at_op("&&")) {
-      const int column = advance().column;
-      lhs = make_binary(Node::Kind::logical_and, BinaryOp::add, column, std::move(lhs), equality());
-    }
-    return lhs;
-  }
-
-  Node equality() { return left_assoc(&Parser::comparison, {{"==", BinaryOp::equal}, {"!=", BinaryOp::not_equal}}); }
+  Node equality() { return chain(&Parser::comparison, {{"==", BinaryOp::equal}, {"!=", BinaryOp::not_equal}}); }
 
   Node comparison() {
-    return left_assoc(&Parser::sum, {{"<=", BinaryOp::less_equal},
-                                     {">=", BinaryOp::greater_equal},
-                                     {"<", BinaryOp::less},
-                                     {">", BinaryOp::greater}});
+    return chain(&Parser::sum, {{"<=", BinaryOp::less_equal},
+                                {">=", BinaryOp::greater_equal},
+                                {"<", BinaryOp::less},
+                                {">", BinaryOp::greater}});
   }
 
-  Node sum() { return left_assoc(&Parser::product, {{"+", BinaryOp::add}, {"-", BinaryOp::subtract}}); }
+  Node sum() { return chain(&Parser::product, {{"+", BinaryOp::add}, {"-", BinaryOp::subtract}}); }
 
-  Node product() { return left_assoc(&Parser::unary, {{"*", BinaryOp::multiply}, {"/", BinaryOp::divide}}); }
+  Node product() { return chain(&Parser::unary, {{"*", BinaryOp::multiply}, {"/", BinaryOp::divide}}); }
 
   // Every recursion of the grammar passes through here; the bound turns a pathological input such as
   // 10^5 '(' into an error instead of a stack overflow.
@@ -336,8 +325,12 @@ class Parser {
   Node power() {
     Node base = primary();
     if (!at_op("^")) return base;
-    const int column = advance().column;
-    return make_binary(Node::Kind::binary, BinaryOp::power, column, std::move(base), unary());
+    Node node;
+    node.kind = Node::Kind::power;
+    node.column = advance().column;
+    node.children.push_back(std::move(base));
+    node.children.push_back(unary());
+    return node;
   }
 
   Node primary() {
@@ -413,11 +406,8 @@ class Evaluator {
       case Node::Kind::call: return call(node);
       case Node::Kind::negate: return -(*this)(node.children[0]);
       case Node::Kind::logical_not: return truth((*this)(node.children[0])) ? 0.0 : 1.0;
-      case Node::Kind::logical_and:
-        return truth((*this)(node.children[0])) && truth((*this)(node.children[1])) ? 1.0 : 0.0;
-      case Node::Kind::logical_or:
-        return truth((*this)(node.children[0])) || truth((*this)(node.children[1])) ? 1.0 : 0.0;
-      case Node::Kind::binary: return binary(node.op, (*this)(node.children[0]), (*this)(node.children[1]));
+      case Node::Kind::power: return std::pow((*this)(node.children[0]), (*this)(node.children[1]));
+      case Node::Kind::chain: return chain(node);
     }
     return std::numeric_limits<double>::quiet_NaN();  // unreachable: all kinds handled above
   }
@@ -425,19 +415,34 @@ class Evaluator {
  private:
   static bool truth(double x) { return x != 0.0; }
 
+  // Left to right; && and || skip their right operand as C does, so that a guard such as
+  // `shoe.extremum_count() >= 2 && shoe.extremum(2) > 0` never calls what it guards against.
+  double chain(const Node& node) const {
+    double value = (*this)(node.children[0]);
+    for (std::size_t i = 1; i < node.children.size(); ++i) {
+      const Node& operand = node.children[i];
+      const BinaryOp op = node.operators[i - 1];
+      if (op == BinaryOp::logical_and) value = truth(value) && truth((*this)(operand)) ? 1.0 : 0.0;
+      else if (op == BinaryOp::logical_or) value = truth(value) || truth((*this)(operand)) ? 1.0 : 0.0;
+      else value = binary(op, value, (*this)(operand));
+    }
+    return value;
+  }
+
   static double binary(BinaryOp op, double a, double b) {
     switch (op) {
       case BinaryOp::add: return a + b;
       case BinaryOp::subtract: return a - b;
       case BinaryOp::multiply: return a * b;
       case BinaryOp::divide: return a / b;
-      case BinaryOp::power: return std::pow(a, b);
       case BinaryOp::less: return a < b ? 1.0 : 0.0;
       case BinaryOp::less_equal: return a <= b ? 1.0 : 0.0;
       case BinaryOp::greater: return a > b ? 1.0 : 0.0;
       case BinaryOp::greater_equal: return a >= b ? 1.0 : 0.0;
       case BinaryOp::equal: return a == b ? 1.0 : 0.0;
       case BinaryOp::not_equal: return a != b ? 1.0 : 0.0;
+      case BinaryOp::logical_and:
+      case BinaryOp::logical_or: break;  // short-circuit: chain() evaluates them
     }
     return std::numeric_limits<double>::quiet_NaN();
   }

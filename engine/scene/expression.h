@@ -11,6 +11,8 @@
 //   unary   := ('-' | '+' | '!') unary | power
 //   power   := primary ('^' unary)?            right-associative and above unary minus: -2^2 = -4, 2^-1 = 0.5
 //   primary := number | name | name '(' [or (',' or)*] ')' | '(' or ')'
+// Nesting (parentheses, unary operators, '^', call arguments) is limited to 256 levels, a parse error
+// beyond; a chain of one level (`a + b - c + ...`) has no length limit and costs no stack per term.
 // Numbers: 12, 1.5, .5, 1e-3. Names: [A-Za-z_][A-Za-z0-9_.]* (a dot is part of the name, so
 // 'shoe.extremum' is one name). Comparisons and logic give 1 or 0; any non-zero operand is true.
 //

@@ -274,5 +274,46 @@ TEST(ExpressionErrors, DeepNestingIsAnErrorNotACrash) {
   EXPECT_EQ(eval(fine), 1.0);
 }
 
+// A chain of one precedence level is a loop, not a nesting: long ones parse, evaluate left to right and
+// are destroyed without a stack frame per term (64 000 terms overflowed the stack, issue 29).
+std::string repeated(std::string_view piece, int count) {
+  std::string text;
+  for (int i = 0; i < count; ++i) text += piece;
+  return text;
+}
+
+TEST(Expression, LongChainsOfBinaryOperators) {
+  EXPECT_EQ(eval(repeated("0+", 64000) + "0.3"), 0.3);
+  EXPECT_EQ(eval("100000" + repeated("-1", 100000)), 0.0);  // left to right: ((100000-1)-1)-...
+  EXPECT_EQ(eval("1" + repeated("*2/2", 50000)), 1.0);
+  EXPECT_EQ(eval("0" + repeated("<1", 100001)), 1.0);  // 0<1 = 1, 1<1 = 0, ...: odd count gives 1
+  EXPECT_EQ(eval("1" + repeated("==1", 100000)), 1.0);
+  EXPECT_EQ(eval(repeated("1&&", 100000) + "1"), 1.0);
+  EXPECT_EQ(eval(repeated("0||", 100000) + "0"), 0.0);
+  ExpressionScope scope;
+  scope.variables["x"] = 0.5;
+  EXPECT_EQ(eval(repeated("x+", 100000) + "x", scope), 50000.5);
+  // Parsed and dropped: destroying the tree must not recurse per term either.
+  EXPECT_TRUE(Expression::parse(repeated("1+", 1000000) + "1").names().empty());
+}
+
+TEST(Expression, ChainsInsideTheNestingLimit) {
+  EXPECT_EQ(eval(repeated("(1+", 250) + "1" + std::string(250, ')')), 251.0);
+  EXPECT_EQ(eval(repeated("-(1-", 100) + "1" + std::string(100, ')')), -99.0);  // v = -(1 - v), 100 times from 1
+  EXPECT_NE(parse_error(repeated("(1+", 300) + "1" + std::string(300, ')')).find("nested too deeply"),
+            std::string::npos);
+}
+
+TEST(Expression, LogicalChainsShortCircuit) {
+  int calls = 0;
+  ExpressionScope scope;
+  scope.functions["f"] = [&](std::span<const double>) { ++calls; return 1.0; };
+  EXPECT_EQ(eval("1 && 0 && f() && f()", scope), 0.0);
+  EXPECT_EQ(eval("0 || 1 || f()", scope), 1.0);
+  EXPECT_EQ(calls, 0);
+  EXPECT_EQ(eval("1 && f() && 1", scope), 1.0);
+  EXPECT_EQ(calls, 1);
+}
+
 }  // namespace
 }  // namespace csim
