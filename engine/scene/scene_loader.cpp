@@ -187,6 +187,7 @@ std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std
   }
   std::vector<std::string> on_defaults;
   for (const std::string& assignment : overrides) {
+    scene_parts::check_parameter_override(scene->document, assignment);
     if (key_exists(scene->document.root, assignment)) apply_override(scene->document, assignment);
     else on_defaults.push_back(assignment);
   }

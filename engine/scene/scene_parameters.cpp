@@ -11,19 +11,50 @@
 
 namespace csim::scene_parts {
 
+namespace {
+
+// A parameter's kind follows from how its value is spelt: a name is a text, anything else a number or
+// an '=expression' (which as_number then checks).
+bool spells_a_text(const std::string& value) {
+  return !value.empty() && std::isalpha(static_cast<unsigned char>(value[0])) &&
+         std::all_of(value.begin(), value.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_'; }) &&
+         value != "inf" && value != "nan";
+}
+
+}  // namespace
+
 void read_parameters(const SceneNode& root, SceneDocument& document) {
   if (!root.has("parameters")) return;
   for (const auto& [name, node] : root.child("parameters").entries()) {
     if (name == "t" || name == "pi" || name == "e")
       node.fail("'" + name + "' is a reserved name in expressions");
     const std::string text = node.is_scalar() ? node.yaml().Scalar() : std::string();
-    const bool is_text = !text.empty() && std::isalpha(static_cast<unsigned char>(text[0])) &&
-                         std::all_of(text.begin(), text.end(), [](char c) {
-                           return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
-                         });
-    if (is_text && text != "inf" && text != "nan") document.scope.texts[name] = text;
+    if (spells_a_text(text)) document.scope.texts[name] = text;
     else document.scope.variables[name] = node.as_number();
   }
+}
+
+// Since the kind follows from the spelling, `--set parameters.mu=abc` would turn mu into a text and fail
+// far away, where mu is used ("unknown name 'mu'"); the override is refused here, at its own key.
+void check_parameter_override(const SceneDocument& document, const std::string& assignment) {
+  const std::size_t equal = assignment.find('=');
+  const std::string prefix = "parameters.";
+  if (equal == std::string::npos || assignment.compare(0, prefix.size(), prefix) != 0) return;
+  const std::string name = assignment.substr(prefix.size(), equal - prefix.size());
+  const YAML::Node& root = document.root;
+  const YAML::Node parameters = root["parameters"];
+  if (!parameters.IsMap()) return;
+  const YAML::Node old_value = parameters[name];
+  if (!old_value.IsDefined() || !old_value.IsScalar()) return;  // apply_override names those
+  const std::string value = assignment.substr(equal + 1);
+  const bool was_text = spells_a_text(old_value.Scalar()), is_text = spells_a_text(value);
+  if (was_text == is_text) return;
+  const std::string expected = was_text ? "a name (letters first, then letters, digits, '-' or '_')"
+                                        : "a number or an '=expression'";
+  throw SceneError(document.file, old_value.Mark().line + 1, prefix + name,
+                   "--set " + assignment + ": " + name + " is a " + (was_text ? "text" : "numeric") +
+                       " parameter (" + old_value.Scalar() + " in the file), expected " + expected);
 }
 
 namespace {

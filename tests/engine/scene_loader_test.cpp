@@ -156,6 +156,20 @@ TEST_F(SceneLoaderTest, OverrideChangesEveryUseOfAParameter) {
   EXPECT_DOUBLE_EQ(scene->world.bodies[0].body->mass(), 5.0);
 }
 
+// A parameter's kind (number or text) follows from its spelling; an override may not change it.
+TEST_F(SceneLoaderTest, OverrideKeepsTheKindOfAParameter) {
+  const std::string file = variant("  mu: 0.3\n", "  mu: 0.3\n  law: neo-hookean\n");
+  std::string message = error_of(file, {"parameters.mu=abc"});
+  EXPECT_NE(message.find(".yaml:4: parameters.mu: --set parameters.mu=abc: mu is a numeric parameter"),
+            std::string::npos) << message;
+  EXPECT_NE(message.find("expected a number or an '=expression'"), std::string::npos) << message;
+  message = error_of(file, {"parameters.law=3"});
+  EXPECT_NE(message.find(".yaml:5: parameters.law: --set parameters.law=3: law is a text parameter"),
+            std::string::npos) << message;
+  EXPECT_EQ(error_of(file, {"parameters.mu==0.1*4", "parameters.law=saint-venant-kirchhoff"}), "");
+  EXPECT_DOUBLE_EQ(load_scene(file, {"parameters.mu==0.1*4"})->world.contact_laws[0].mu(0), 0.4);
+}
+
 TEST_F(SceneLoaderTest, CloseGapsIsOnByDefaultAndReadAsABoolean) {
   EXPECT_TRUE(load_scene(write(kValidScene), {})->run.moreau_jean.close_gaps);
   EXPECT_FALSE(load_scene(write(kValidScene), {"integrator.close_gaps=false"})->run.moreau_jean.close_gaps);
