@@ -1,5 +1,7 @@
 #include "engine/scene/scene_node.h"
 
+#include "engine/scene/strict_yaml.h"
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -203,8 +205,11 @@ SceneDocument load_scene_document(const std::string& file) {
   document.file = file;
   std::ifstream in(file);
   if (!in) throw SceneError(file, 0, "", "cannot open the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  check_strict_yaml(text.str(), file);
   try {
-    document.root = YAML::Load(in);
+    document.root = YAML::Load(text.str());
   } catch (const YAML::Exception& e) {
     throw SceneError(file, e.mark.line + 1, "", "malformed YAML: " + e.msg);
   }

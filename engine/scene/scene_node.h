@@ -93,7 +93,8 @@ class SceneNode {
   int line_hint_;  // the parent's line, for nodes that were not in the file
 };
 
-// Loads a scene file (throws SceneError naming the file for a missing file or malformed YAML).
+// Loads a scene file (throws SceneError naming the file for a missing file, malformed YAML or what
+// strict_yaml.h refuses: a duplicate key, a second document, an explicit tag).
 SceneDocument load_scene_document(const std::string& file);
 
 // Applies `--set KEY=VALUE`: KEY is a dotted path that must already exist in the file.
