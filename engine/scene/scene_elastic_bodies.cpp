@@ -15,7 +15,8 @@
 //     formulation: standard | mean-dilatation | linear-dilatation (quad8 only, Q2/P1) (default for
 //     mooney-rivlin, which is nearly incompressible: linear-dilatation on quad8, mean-dilatation on
 //     quad4 and hexa8; standard otherwise); or the name of an entry of the scene's top-level
-//     `materials` map (e.g. material: =material with a text parameter);
+//     `materials` map (e.g. material: =material with a text parameter); every entry of that map is
+//     checked, used or not;
 //   thickness (m, plane strain, default 1);
 //   mass: consistent | lumped; fixed: {SET: [x, y(, z)]}: the components held at zero on a node set
 //   (or face set) of the mesh; velocity: a uniform initial velocity (m/s); angular_velocity: a rigid
@@ -112,7 +113,17 @@ SceneNode material_definition(const SceneNode& body) {
   return root.child("materials").child(name);
 }
 
-FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string& law, ElementType element) {
+FiniteStrainFormulation formulation_named(const SceneNode& node, const std::string& name) {
+  if (name == "standard") return FiniteStrainFormulation::standard;
+  if (name == "mean-dilatation") return FiniteStrainFormulation::mean_dilatation;
+  if (name == "linear-dilatation") return FiniteStrainFormulation::linear_dilatation;
+  node.fail_at("formulation", "expected standard, mean-dilatation or linear-dilatation");
+}
+
+// Without an element (an entry of `materials` that no body uses), the formulation's default and its fit to
+// the element are left to the body that picks the entry; an explicit formulation's name is checked now.
+FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string& law,
+                                       std::optional<ElementType> element) {
   FiniteStrainLaw result;
   try {
     if (law == "saint-venant-kirchhoff" || law == "neo-hookean") {
@@ -133,21 +144,44 @@ FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string&
   } catch (const FemError& e) {
     node.fail(e.what());
   }
-  const char* mixed = element == ElementType::quad8 ? "linear-dilatation" : "mean-dilatation";
-  const std::string formulation = node.string("formulation", law == "mooney-rivlin" ? mixed : "standard");
-  if (formulation == "mean-dilatation") {
-    result.formulation = FiniteStrainFormulation::mean_dilatation;
-  } else if (formulation == "linear-dilatation") {
-    result.formulation = FiniteStrainFormulation::linear_dilatation;
-  } else if (formulation != "standard") {
-    node.fail_at("formulation", "expected standard, mean-dilatation or linear-dilatation");
+  if (!element) {
+    if (node.has("formulation")) formulation_named(node, node.string("formulation"));
+    return result;
   }
+  const char* mixed = *element == ElementType::quad8 ? "linear-dilatation" : "mean-dilatation";
+  result.formulation = formulation_named(node, node.string("formulation", law == "mooney-rivlin" ? mixed : "standard"));
   try {
-    check_formulation(element, result.formulation);
+    check_formulation(*element, result.formulation);
   } catch (const FemError& e) {
     node.fail_at("formulation", e.what());
   }
   return result;
+}
+
+// A body's material: linear elasticity, or a finite-strain law.
+struct BodyMaterial {
+  ElasticMaterial linear;
+  std::optional<FiniteStrainLaw> finite_strain;
+};
+
+BodyMaterial read_material(const SceneNode& node, std::optional<ElementType> element) {
+  node.expect_map();
+  BodyMaterial material;
+  const std::string law = node.string("law", "linear");
+  if (law != "linear") {
+    material.finite_strain = read_finite_strain_law(node, law, element);
+    return material;
+  }
+  node.allow_only({"law", "young", "poisson", "density"});
+  material.linear.young = node.number("young");
+  material.linear.poisson = node.number("poisson", 0.0);
+  material.linear.density = node.number("density");
+  try {
+    check_material(material.linear);
+  } catch (const FemError& e) {
+    node.fail(e.what());
+  }
+  return material;
 }
 
 // The nodes of a node set, or of a face set, of the mesh; nullopt when it has neither.
@@ -158,6 +192,13 @@ std::optional<std::vector<int>> nodes_of_set(const Mesh& mesh, const std::string
 }
 
 }  // namespace
+
+// Every entry of the top-level materials map is read, used or not: a mistake in an entry that the
+// parameters do not pick today would otherwise surface only on the day they do.
+void read_materials(const SceneNode& root) {
+  if (!root.has("materials")) return;
+  for (const auto& entry : root.child("materials").entries()) read_material(entry.second, std::nullopt);
+}
 
 // The ties of the elastic bodies, once every body exists (the rigid body may come later in the file).
 void read_ties(const SceneNode& root, World& world) {
@@ -197,18 +238,7 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
   if (mesh.dimension() != world.dimension)
     node.fail_at("mesh", "a " + std::string(to_string(mesh.element_type)) + " mesh in a " +
                              std::to_string(world.dimension) + "D scene");
-  const SceneNode material_node = material_definition(node);
-  const std::string law = material_node.string("law", "linear");
-  ElasticMaterial material;
-  std::optional<FiniteStrainLaw> finite_strain;
-  if (law == "linear") {
-    material_node.allow_only({"law", "young", "poisson", "density"});
-    material.young = material_node.number("young");
-    material.poisson = material_node.number("poisson", 0.0);
-    material.density = material_node.number("density");
-  } else {
-    finite_strain = read_finite_strain_law(material_node, law, mesh.element_type);
-  }
+  const BodyMaterial material = read_material(material_definition(node), mesh.element_type);
   const double thickness = node.has("thickness") ? node.positive("thickness") : 1.0;
   const std::string mass = node.string("mass", "consistent");
   if (mass != "consistent" && mass != "lumped") node.fail_at("mass", "expected consistent or lumped");
@@ -221,7 +251,7 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
     alpha = damping.non_negative("alpha", 0.0);
     beta = damping.non_negative("beta", 0.0);
     // β K_0 would resist rigid rotations (K_0 is the tangent at the reference configuration).
-    if (beta > 0.0 && finite_strain)
+    if (beta > 0.0 && material.finite_strain)
       damping.fail_at("beta", "stiffness-proportional damping is not defined for a finite-strain law (use alpha)");
   }
 
@@ -242,10 +272,11 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
   BodyInstance b;
   b.name = name;
   try {
-    if (finite_strain)
-      b.body = std::make_unique<FeBody>(std::move(mesh), *finite_strain, thickness, mass == "lumped", fixed, alpha, beta);
+    if (material.finite_strain)
+      b.body = std::make_unique<FeBody>(std::move(mesh), *material.finite_strain, thickness, mass == "lumped", fixed,
+                                        alpha, beta);
     else
-      b.body = std::make_unique<FeBody>(std::move(mesh), material, thickness, mass == "lumped", fixed, alpha, beta);
+      b.body = std::make_unique<FeBody>(std::move(mesh), material.linear, thickness, mass == "lumped", fixed, alpha, beta);
   } catch (const FemError& e) {
     node.child("material").fail(e.what());
   }

@@ -138,6 +138,7 @@ void build_scene(Scene* scene) {
   if (root.has("gravity")) world.gravity = root.vector("gravity", world.dimension, world.dimension);
   else scene->document.root["gravity"] = std::vector<double>(world.dimension, 0.0);
 
+  scene_parts::read_materials(root);
   scene_parts::read_bodies(root, world);
   scene_parts::read_springs(root, world);
   scene_parts::read_loads(root, world);

@@ -9,6 +9,7 @@ void read_parameters(const SceneNode& root, SceneDocument& document);
 // Refuses a `--set parameters.NAME=VALUE` that would change the parameter's kind (number or text).
 void check_parameter_override(const SceneDocument& document, const std::string& assignment);
 void read_references(const SceneNode& root, SceneDocument& document);
+void read_materials(const SceneNode& root);
 void read_bodies(const SceneNode& root, World& world);
 void read_elastic_body(const std::string& name, const SceneNode& node, World& world);
 void read_ties(const SceneNode& root, World& world);

@@ -264,6 +264,28 @@ TEST(SceneLoaderOverrides, OverrideOnADefaultKeepsPrescribedUntil) {
   EXPECT_EQ(dump_config(*plain), dump_config(*overridden));
 }
 
+// Every entry of the materials map is checked, also those the parameters do not pick (the rolling ring
+// uses mooney-rivlin unless told; its linear-elastic entry was read only when picked).
+TEST(SceneLoaderMaterials, EveryEntryIsCheckedUsedOrNot) {
+  const std::string ring = CSIM_SOURCE_DIR "/scenes/rolling-ring/scene.yaml";
+  auto error_of = [&](const std::vector<std::string>& overrides) {
+    try {
+      load_scene(ring, overrides);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error_of({"materials.linear-elastic.young=-1"})
+                .find("scene.yaml:48: materials.linear-elastic: material: young = -1"),
+            std::string::npos);
+  EXPECT_NE(error_of({"parameters.elastic_law=hooke"}).find("materials.linear-elastic.law: unknown material law 'hooke'"),
+            std::string::npos);
+  EXPECT_NE(error_of({"parameters.material=linear-elastic", "materials.mooney-rivlin.bulk=0"})
+                .find("materials.mooney-rivlin"),
+            std::string::npos);
+}
+
 // Mooney–Rivlin rings take their element's mixed formulation unless told: Q2/P1 on quad8, Q1/P0 on
 // quad4; a linear pressure on quad4 (which locks) is refused with the key and its line.
 TEST(SceneLoaderFormulation, MooneyRivlinDefaultsToTheElementsMixedPair) {
