@@ -25,8 +25,8 @@ struct FeModel {
   double thickness = 1.0;  // m
 };
 
-// Throws FemError naming the first bad element: wrong node count, node index out of range, or a
-// Jacobian det J ≤ 0 at one of its Gauss points (an inverted or degenerate element).
+// Throws FemError naming the first bad element (its index): wrong node count, node index out of range, a
+// node listed twice, or a Jacobian det J ≤ 0 at one of its Gauss points (an inverted or degenerate element).
 void check_mesh(const Mesh& mesh);
 
 // Stiffness K (N/m), dof_count × dof_count. Checks the material and every element.

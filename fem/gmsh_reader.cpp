@@ -174,6 +174,12 @@ struct MshContent {
   std::vector<RawElement> elements;
 };
 
+std::string node_list(const std::vector<long long>& tags) {
+  std::string text;
+  for (long long tag : tags) text += (text.empty() ? "" : " ") + std::to_string(tag);
+  return text;
+}
+
 // ----- sections -------------------------------------------------------------------------------------
 
 void read_mesh_format(MshTokens& in) {
@@ -266,6 +272,14 @@ void read_elements(MshTokens& in, MshContent& content) {
       RawElement element{0, kind, {entity_dimension, entity_tag}, {}, in.token_line()};
       element.tag = in.integer("an element tag");
       for (int k = 0; k < kind->node_count; ++k) element.node_tags.push_back(in.integer("an element node tag"));
+      // A repeated node collapses the element (a quadrangle 1 2 2 3 is a triangle) and its collapsed
+      // edge or face matches no neighbour's: a hole in the mesh, which the Jacobians need not show.
+      std::vector<long long> sorted = element.node_tags;
+      std::sort(sorted.begin(), sorted.end());
+      if (const auto twice = std::adjacent_find(sorted.begin(), sorted.end()); twice != sorted.end())
+        in.fail_at(element.line, "element " + std::to_string(element.tag) + " (" + kind->name + ", nodes " +
+                                     node_list(element.node_tags) + ") lists node " + std::to_string(*twice) +
+                                     " twice: a degenerate element leaves a hole in the mesh");
       content.elements.push_back(std::move(element));
     }
   }
@@ -302,12 +316,6 @@ MshContent read_sections(MshTokens& in) {
 std::string group_name(const MshContent& content, const EntityKey& group) {
   const auto found = content.physical_names.find(group);
   return found != content.physical_names.end() ? found->second : "physical_" + std::to_string(group.second);
-}
-
-std::string node_list(const std::vector<long long>& tags) {
-  std::string text;
-  for (long long tag : tags) text += (text.empty() ? "" : " ") + std::to_string(tag);
-  return text;
 }
 
 // Node tags of the file -> mesh node indices (file order, nodes of the mesh elements only).

@@ -27,7 +27,8 @@
 // Errors throw FemError naming the file and, where there is one, the line (path:line: ...): file that
 // cannot be opened, another version or binary file, missing or truncated sections, unreadable numbers,
 // unsupported element types, an element naming an unknown node tag, mixed mesh element types, a face
-// group element that is not on the boundary. Jacobian signs are checked by the elements, not here.
+// group element that is not on the boundary, an element that lists a node twice. Jacobian signs are
+// checked by the elements, not here.
 #pragma once
 
 #include "fem/mesh.h"

@@ -25,6 +25,7 @@
 #include "engine/bodies/fe_body.h"
 #include "engine/reduced_coordinates.h"
 #include "engine/scene/scene_parts.h"
+#include "fem/assembly.h"
 #include "fem/gmsh_reader.h"
 #include "fem/mesh_generators.h"
 
@@ -70,7 +71,7 @@ Mesh read_annulus(const SceneNode& node, const Placement& placement) {
                       whole(divisions, n.y(), "divisions"), type, placement);
 }
 
-Mesh read_mesh(const SceneNode& node, int dimension) {
+Mesh build_mesh(const SceneNode& node, int dimension) {
   node.allow_only({"generator", "file", "size", "divisions", "element", "inner_radius", "outer_radius", "width",
                    "position", "angle"});
   try {
@@ -100,6 +101,18 @@ Mesh read_mesh(const SceneNode& node, int dimension) {
   } catch (const FemError& e) {
     node.fail(e.what());
   }
+}
+
+// A degenerate or inverted element is named at the mesh key: FeBody finds it too, but its errors are
+// reported at the material key.
+Mesh read_mesh(const SceneNode& node, int dimension) {
+  Mesh mesh = build_mesh(node, dimension);
+  try {
+    check_mesh(mesh);
+  } catch (const FemError& e) {
+    node.fail(e.what());
+  }
+  return mesh;
 }
 
 // The body's material node, or the top-level `materials` entry it names.

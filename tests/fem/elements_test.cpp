@@ -289,6 +289,24 @@ TEST(Jacobian, InvertedElementThrowsNamingIt) {
   }
 }
 
+// A corner given twice collapses the element (a quad4 into a triangle) while its Gauss points can keep
+// a positive Jacobian; the collapsed edge or face matches no neighbour's and leaves a hole in the mesh.
+TEST(Jacobian, AnElementListingANodeTwiceIsRefused) {
+  for (ElementType type : kTypes) {
+    Mesh mesh = type == ElementType::hexa8 ? test::box(3, 1, 1, 3.0, 1.0, 1.0)
+                                           : test::rectangle(type, 3, 1, 3.0, 1.0);
+    mesh.elements[1][2] = mesh.elements[1][1];
+    try {
+      check_mesh(mesh);
+      ADD_FAILURE() << to_string(type) << ": no error for a repeated node";
+    } catch (const FemError& error) {
+      const std::string expected = "element 1 lists node " + std::to_string(mesh.elements[1][1]) +
+                                   " twice: a degenerate " + to_string(type);
+      EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
+    }
+  }
+}
+
 TEST(Jacobian, DegenerateAndMalformedElementsThrow) {
   Mesh mesh = test::rectangle(ElementType::quad4, 2, 1, 2.0, 1.0);
   Mesh collinear = mesh;

@@ -197,13 +197,35 @@ TEST_F(MalformedGmshTest, UnsupportedElementType) {
 }
 
 TEST_F(MalformedGmshTest, MixedElementTypes) {
-  // The second quadrangle becomes an 8-node one, reusing the nodes it has.
+  // The second quadrangle becomes an 8-node one: its own corners, nodes 1 and 4, and two new nodes.
   std::string text = rectangle_with("3 6 1 6", "4 6 1 6");
+  text.replace(text.find("7 6 1 10"), 8, "8 8 1 12");
+  text.replace(text.find("$EndNodes"), 9, "2 1 0 2\n11\n12\n1.5 0 0\n2 0.5 0\n$EndNodes");
   const std::string quadrangles = "2 1 3 2\n5 1 5 10 4\n6 5 2 3 10\n";
-  text.replace(text.find(quadrangles), quadrangles.size(), "2 1 3 1\n5 1 5 10 4\n2 1 16 1\n6 5 2 3 10 1 2 3 4\n");
+  text.replace(text.find(quadrangles), quadrangles.size(), "2 1 3 1\n5 1 5 10 4\n2 1 16 1\n6 5 2 3 10 1 4 11 12\n");
   const std::string message = error_reading(text);
-  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "6 5 2 3 10 1 2 3 4")) + ":");
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "6 5 2 3 10 1 4 11 12")) + ":");
   EXPECT_CONTAINS(message, "one element type per mesh");
+}
+
+// A node listed twice: named with the element's tag and line, whatever the element type.
+TEST_F(MalformedGmshTest, ElementListingANodeTwice) {
+  std::string text = rectangle_with("6 5 2 3 10", "6 5 2 2 10");
+  std::string message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "6 5 2 2 10")) +
+                               ": element 6 (4-node quadrangle, nodes 5 2 2 10) lists node 2 twice");
+
+  text = file_text(kCube);
+  text.replace(text.find("2 1 2 3 4 5 6 7 8"), 17, "2 1 2 3 4 5 6 7 5");
+  message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "2 1 2 3 4 5 6 7 5")) +
+                               ": element 2 (8-node hexahedron, nodes 1 2 3 4 5 6 7 5) lists node 5 twice");
+
+  // The rectangle's quadrangles as one 8-node quadrangle whose mid-side node 10 is also a corner.
+  text = rectangle_with("2 1 3 2\n5 1 5 10 4\n6 5 2 3 10\n", "2 1 16 1\n7 1 2 3 10 5 3 10 4\n");
+  message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "7 1 2 3 10 5 3 10 4")) +
+                               ": element 7 (8-node quadrangle, nodes 1 2 3 10 5 3 10 4) lists node 3 twice");
 }
 
 TEST_F(MalformedGmshTest, PlaneMeshOutOfItsPlane) {
