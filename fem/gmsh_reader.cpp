@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -24,6 +25,11 @@ namespace {
 class MshTokens {
  public:
   explicit MshTokens(const std::string& path) : path_(path) {
+    // Before opening: a FIFO would block, a device be read without end, a directory read as empty.
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(path, error);
+    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+      throw FemError(path + ": not a regular file (a directory, a FIFO or a device holds no Gmsh mesh)");
     std::ifstream file(path);
     if (!file) throw FemError(path + ": cannot open the Gmsh mesh file");
     for (std::string line; std::getline(file, line);) lines_.push_back(std::move(line));

@@ -25,10 +25,10 @@
 // Two groups of different dimensions with the same name are an error.
 //
 // Errors throw FemError naming the file and, where there is one, the line (path:line: ...): file that
-// cannot be opened, another version or binary file, missing or truncated sections, unreadable numbers,
-// unsupported element types, an element naming an unknown node tag, mixed mesh element types, a face
-// group element that is not on the boundary, an element that lists a node twice. Jacobian signs are
-// checked by the elements, not here.
+// cannot be opened or is not a regular file (refused before opening: a FIFO would block), another version
+// or binary file, missing or truncated sections, unreadable numbers, unsupported element types, an
+// element naming an unknown node tag, mixed mesh element types, a face group element that is not on the
+// boundary, an element that lists a node twice. Jacobian signs are checked by the elements, not here.
 #pragma once
 
 #include "fem/mesh.h"

@@ -71,6 +71,23 @@ Mesh read_annulus(const SceneNode& node, const Placement& placement) {
                       whole(divisions, n.y(), "divisions"), type, placement);
 }
 
+// Checked before the file is opened: opening a FIFO blocks until a writer comes, /dev/zero reads
+// gigabytes before the reader can say it is no mesh, and a directory reads as an empty file.
+void refuse_unless_regular(const SceneNode& key, const std::filesystem::path& file) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(file, error);
+  using std::filesystem::file_type;
+  const file_type type = status.type();
+  if (type == file_type::regular || type == file_type::not_found || type == file_type::none) return;  // read_gmsh
+  const char* kind = type == file_type::directory   ? "a directory"
+                     : type == file_type::fifo      ? "a FIFO (named pipe)"
+                     : type == file_type::character ? "a character device"
+                     : type == file_type::block     ? "a block device"
+                     : type == file_type::socket    ? "a socket"
+                                                    : "not a file that can be read";
+  key.fail("'" + file.string() + "' is " + kind + ", not a regular file: a mesh is read from a Gmsh .msh file");
+}
+
 Mesh build_mesh(const SceneNode& node, int dimension) {
   node.allow_only({"generator", "file", "size", "divisions", "element", "inner_radius", "outer_radius", "width",
                    "position", "angle"});
@@ -78,7 +95,9 @@ Mesh build_mesh(const SceneNode& node, int dimension) {
     if (node.has("file")) {
       if (node.has("generator")) node.fail("give either file or generator, not both");
       const std::filesystem::path scene_folder = std::filesystem::path(node.document().file).parent_path();
-      return read_gmsh((scene_folder / node.string("file")).string());
+      const std::filesystem::path file = scene_folder / node.string("file");
+      refuse_unless_regular(node.child("file"), file);
+      return read_gmsh(file.string());
     }
     Placement placement;
     if (node.has("position")) placement.offset = node.vector("position", dimension, dimension);
@@ -289,7 +308,8 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
       b.body = std::make_unique<FeBody>(std::move(mesh), *material.finite_strain, thickness, mass == "lumped", fixed,
                                         alpha, beta);
     else
-      b.body = std::make_unique<FeBody>(std::move(mesh), material.linear, thickness, mass == "lumped", fixed, alpha, beta);
+      b.body =
+          std::make_unique<FeBody>(std::move(mesh), material.linear, thickness, mass == "lumped", fixed, alpha, beta);
   } catch (const FemError& e) {
     node.child("material").fail(e.what());
   }

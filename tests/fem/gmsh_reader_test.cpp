@@ -139,6 +139,19 @@ TEST(GmshReaderTest, MissingFile) {
   }
 }
 
+// Refused before opening: a directory read as an empty file, a device without end.
+TEST(GmshReaderTest, NotARegularFile) {
+  for (const std::string& path : {kDataDirectory, std::string("/dev/zero")}) {
+    try {
+      read_gmsh(path);
+      ADD_FAILURE() << path << ": no FemError";
+    } catch (const FemError& error) {
+      EXPECT_EQ(std::string(error.what()),
+                path + ": not a regular file (a directory, a FIFO or a device holds no Gmsh mesh)");
+    }
+  }
+}
+
 TEST_F(MalformedGmshTest, WrongVersion) {
   const std::string message = error_reading(rectangle_with("4.1 0 8", "2.2 0 8"));
   EXPECT_CONTAINS(message, path_ + ":2:");
