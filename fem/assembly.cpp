@@ -44,8 +44,8 @@ void check_mesh(const Mesh& mesh) {
     std::vector<int> nodes = mesh.elements[e];
     std::sort(nodes.begin(), nodes.end());
     if (const auto twice = std::adjacent_find(nodes.begin(), nodes.end()); twice != nodes.end())
-      throw FemError("element " + std::to_string(e) + " lists node " + std::to_string(*twice) + " twice: a degenerate " +
-                     to_string(mesh.element_type) + " leaves a hole in the mesh");
+      throw FemError("element " + std::to_string(e) + " lists node " + std::to_string(*twice) +
+                     " twice: a degenerate " + to_string(mesh.element_type) + " leaves a hole in the mesh");
     jacobian_determinants(element_geometry(mesh, e));
   }
 }

@@ -279,7 +279,8 @@ TEST(SceneLoaderMaterials, EveryEntryIsCheckedUsedOrNot) {
   EXPECT_NE(error_of({"materials.linear-elastic.young=-1"})
                 .find("scene.yaml:48: materials.linear-elastic: material: young = -1"),
             std::string::npos);
-  EXPECT_NE(error_of({"parameters.elastic_law=hooke"}).find("materials.linear-elastic.law: unknown material law 'hooke'"),
+  EXPECT_NE(error_of({"parameters.elastic_law=hooke"})
+                .find("materials.linear-elastic.law: unknown material law 'hooke'"),
             std::string::npos);
   EXPECT_NE(error_of({"parameters.material=linear-elastic", "materials.mooney-rivlin.bulk=0"})
                 .find("materials.mooney-rivlin"),
