@@ -5,6 +5,7 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -94,6 +95,10 @@ class StrictHandler : public YAML::EventHandler {
     c.at_key = false;
     const std::string path = path_of_value();
     check_tag(mark, tag, path);
+    // A key is often a name that reaches the terminal and the output files (a body, a probe, a check).
+    auto control = [](char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7F; };
+    if (std::any_of(name.begin(), name.end(), control))
+      fail(mark, path, "a key with a control character: keys are printable text");
     const int line = mark.line + 1;
     const auto [first, inserted] = c.key_lines.emplace(name, line);
     if (!inserted)

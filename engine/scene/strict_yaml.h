@@ -4,7 +4,8 @@
 //   a second document after '---' (YAML::Load reads the first and drops the rest);
 //   an explicit tag other than YAML's core-schema ones (!!str, !!int, !!float, !!bool, !!null, !!seq,
 //     !!map): `!python/object` and the like mean nothing to a scene;
-//   a key that is not a plain value (a map, a list or an alias as a key).
+//   a key that is not a plain value (a map, a list or an alias as a key), or that holds a control
+//     character (a "\e[31m" key would reach the terminal as an escape sequence, through a body's name).
 // One pass over the parser's events, linear in the file's size (aliases are not expanded).
 #pragma once
 

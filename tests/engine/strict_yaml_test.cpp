@@ -61,6 +61,12 @@ TEST(StrictYaml, KeysArePlainNames) {
   EXPECT_NE(refusal("a: &k x\n*k : 1\n").find("an alias as a key"), std::string::npos);
 }
 
+TEST(StrictYaml, KeysHoldNoControlCharacters) {
+  EXPECT_NE(refusal("bodies:\n  \"\\e[31mblock\": {mass: 1}\n").find("a key with a control character"),
+            std::string::npos);
+  EXPECT_EQ(refusal("bodies:\n  θ_block: {μ: 1}\n"), "");
+}
+
 TEST(StrictYaml, MalformedYamlNamesTheLine) {
   EXPECT_NE(refusal("a: 1\nb: [1, 2\n").find("malformed YAML"), std::string::npos);
 }
