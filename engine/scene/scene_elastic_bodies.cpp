@@ -84,7 +84,7 @@ void refuse_unless_regular(const SceneNode& key, const std::filesystem::path& fi
                      : type == file_type::character ? "a character device"
                      : type == file_type::block     ? "a block device"
                      : type == file_type::socket    ? "a socket"
-                                                    : "not a file that can be read";
+                                                    : "of an unknown kind";
   key.fail("'" + file.string() + "' is " + kind + ", not a regular file: a mesh is read from a Gmsh .msh file");
 }
 
@@ -181,7 +181,8 @@ FiniteStrainLaw read_finite_strain_law(const SceneNode& node, const std::string&
     return result;
   }
   const char* mixed = *element == ElementType::quad8 ? "linear-dilatation" : "mean-dilatation";
-  result.formulation = formulation_named(node, node.string("formulation", law == "mooney-rivlin" ? mixed : "standard"));
+  const std::string formulation = node.string("formulation", law == "mooney-rivlin" ? mixed : "standard");
+  result.formulation = formulation_named(node, formulation);
   try {
     check_formulation(*element, result.formulation);
   } catch (const FemError& e) {
