@@ -1,10 +1,11 @@
-// csim: the command-line program (DESIGN.md §4).
+// csim: the command-line program (DESIGN.md §4); its commands and options are read in command_line.cpp.
 //   csim run SCENE [--set KEY=VALUE]... [--out DIR] [--quiet]
 //   csim validate SCENE [--set KEY=VALUE]...
 //   csim dump-config SCENE [--set KEY=VALUE]...
 //   csim compare SCENE [--set KEY=VALUE]... --integrators LIST [--steps LIST] [--tolerances LIST]
 //                [--repeats N] [--reference auto|analytical|ida-events|moreau-jean] [--out DIR]
 //   csim stress SCENE [--set KEY=VALUE]... [--sweeps FILE] [--out DIR] [--only SWEEP[,SWEEP...]]
+//   csim help [COMMAND], csim [COMMAND] --help: help on stdout, exit 0; a bad argument: one line, exit 2.
 // SCENE is a scene folder (holding scene.yaml) or a YAML file.
 // Exit status of run: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure.
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
@@ -15,182 +16,27 @@
 #include "engine/scene/scene.h"
 #include "engine/steppers/stepper.h"
 #include "engine/stress.h"
+#include "tools/command_line.h"
+#include "tools/scene_argument.h"
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace {
 
-constexpr int kPassed = 0, kCheckFailed = 1, kBadInput = 2;
+constexpr int kPassed = 0, kCheckFailed = 1, kBadInput = csim::cli::kBadInput;
 constexpr int kSomeRunFailed = 1;  // compare
 constexpr int kInvariantViolated = 1;  // stress
 
-struct Arguments {
-  std::string command, scene;
-  std::vector<std::string> overrides;
-  std::string output_directory;
-  bool quiet = false;
-  // compare
-  std::vector<std::string> integrators;
-  std::vector<double> steps, tolerances;
-  int repeats = 3;
-  std::string reference = "auto";
-  // stress
-  std::string sweeps_file;
-  std::vector<std::string> only;
-};
-
-void usage(std::ostream& out) {
-  out << "usage: csim run SCENE [--set KEY=VALUE]... [--out DIR] [--quiet]\n"
-         "       csim validate SCENE [--set KEY=VALUE]...\n"
-         "       csim dump-config SCENE [--set KEY=VALUE]...\n"
-         "       csim compare SCENE [--set KEY=VALUE]... --integrators moreau-jean,ida[,ida-events]\n"
-         "                    [--steps H1,H2,...] [--tolerances TOL1,TOL2,...] [--repeats N] [--out DIR]\n"
-         "                    [--reference auto|analytical|ida-events|moreau-jean]\n"
-         "       csim stress SCENE [--set KEY=VALUE]... [--sweeps FILE] [--out DIR] [--only SWEEP[,SWEEP...]]\n"
-         "SCENE is a scene folder (with scene.yaml) or a scene file.\n"
-         "compare runs moreau-jean once per step and ida, ida-events once per tolerance (rtol = atol), each N\n"
-         "times (default 3), and writes DIR/work_precision.csv and .png (default DIR: out/<scene>-compare).\n"
-         "stress runs each case of the sweeps FILE (default: stress.yaml beside the scene) with each of its\n"
-         "integrators and writes DIR/stability.md and .csv (default DIR: out/<scene>-stress).\n"
-         "Exit status: 0 checks pass (compare: every run succeeded; stress: no invariant violated), 1 a check\n"
-         "fails (compare: a run failed; stress: an invariant was violated), 2 bad input or numerical failure.\n";
-}
-
-// "a,b,c" -> {a, b, c}; an empty item is an error.
-bool split_list(const std::string& text, const std::string& option, std::vector<std::string>& items,
-                std::string& error) {
-  items.clear();
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    items.push_back(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (items.back().empty()) { error = option + ": empty item in '" + text + "'"; return false; }
-    if (comma == std::string::npos) return true;
-    start = comma + 1;
-  }
-}
-
-bool parse_numbers(const std::string& text, const std::string& option, std::vector<double>& numbers,
-                   std::string& error) {
-  std::vector<std::string> items;
-  if (!split_list(text, option, items, error)) return false;
-  numbers.clear();
-  for (const std::string& item : items) {
-    char* end = nullptr;
-    const double x = std::strtod(item.c_str(), &end);
-    if (end != item.c_str() + item.size() || !std::isfinite(x) || x <= 0.0) {
-      error = option + ": '" + item + "' is not a positive number";
-      return false;
-    }
-    numbers.push_back(x);
-  }
-  return true;
-}
-
-bool parse_repeats(const std::string& text, int& repeats, std::string& error) {
-  char* end = nullptr;
-  const long n = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || end != text.c_str() + text.size() || n < 1 || n > 1000000) {
-    error = "--repeats: '" + text + "' is not a whole number >= 1";
-    return false;
-  }
-  repeats = static_cast<int>(n);
-  return true;
-}
-
-// The options of `compare` (its value already taken by next()); false with error set on bad input.
-bool parse_compare_option(const std::string& option, const char* value, Arguments& a, std::string& error) {
-  if (option == "--integrators") return split_list(value, option, a.integrators, error);
-  if (option == "--steps") return parse_numbers(value, option, a.steps, error);
-  if (option == "--tolerances") return parse_numbers(value, option, a.tolerances, error);
-  if (option == "--reference") {
-    a.reference = value;
-    return true;
-  }
-  return parse_repeats(value, a.repeats, error);
-}
-
-bool is_compare_option(const std::string& arg) {
-  return arg == "--integrators" || arg == "--steps" || arg == "--tolerances" || arg == "--repeats" ||
-         arg == "--reference";
-}
-
-// The options of `stress` (its value already taken by next()).
-bool parse_stress_option(const std::string& option, const char* value, Arguments& a, std::string& error) {
-  if (option == "--only") return split_list(value, option, a.only, error);
-  a.sweeps_file = value;
-  return true;
-}
-
-bool is_stress_option(const std::string& arg) { return arg == "--sweeps" || arg == "--only"; }
-
-bool is_command(const std::string& command) {
-  return command == "run" || command == "validate" || command == "dump-config" || command == "compare" ||
-         command == "stress";
-}
-
-bool writes_outputs(const std::string& command) {
-  return command == "run" || command == "compare" || command == "stress";
-}
-
-bool parse(int argc, char** argv, Arguments& a, std::string& error) {
-  if (argc < 3) { error = "missing command or scene"; return false; }
-  a.command = argv[1];
-  if (!is_command(a.command)) {
-    error = "unknown command '" + a.command + "'";
-    return false;
-  }
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto next = [&](const char* option) -> const char* {
-      if (i + 1 >= argc) { error = std::string(option) + " needs a value"; return nullptr; }
-      return argv[++i];
-    };
-    if (arg == "--set") {
-      const char* value = next("--set");
-      if (!value) return false;
-      a.overrides.push_back(value);
-    } else if (arg.rfind("--set=", 0) == 0) {
-      a.overrides.push_back(arg.substr(6));
-    } else if (arg == "--out" && writes_outputs(a.command)) {
-      const char* value = next("--out");
-      if (!value) return false;
-      a.output_directory = value;
-    } else if (arg == "--quiet" && a.command == "run") {
-      a.quiet = true;
-    } else if (is_compare_option(arg) && a.command == "compare") {
-      const char* value = next(arg.c_str());
-      if (!value || !parse_compare_option(arg, value, a, error)) return false;
-    } else if (is_stress_option(arg) && a.command == "stress") {
-      const char* value = next(arg.c_str());
-      if (!value || !parse_stress_option(arg, value, a, error)) return false;
-    } else if (!arg.empty() && arg[0] == '-') {
-      error = "unknown option '" + arg + "'";
-      return false;
-    } else if (a.scene.empty()) {
-      a.scene = arg;
-    } else {
-      error = "more than one scene given ('" + a.scene + "', '" + arg + "')";
-      return false;
-    }
-  }
-  if (a.scene.empty()) { error = "missing scene"; return false; }
-  return true;
-}
-
-std::string scene_file(const std::string& scene) {
-  if (std::filesystem::is_directory(scene)) return (std::filesystem::path(scene) / "scene.yaml").string();
-  return scene;
-}
+using csim::cli::Arguments;
 
 void print_checks(const std::vector<csim::CheckResult>& checks) {
   for (const csim::CheckResult& c : checks) {
@@ -359,18 +205,10 @@ int run_stress(const Arguments& arguments, const std::string& file) {
 
 int main(int argc, char** argv) {
   Arguments arguments;
-  std::string error;
-  if (argc >= 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
-    usage(std::cout);
-    return kPassed;
-  }
-  if (!parse(argc, argv, arguments, error)) {
-    std::cerr << "csim: " << error << "\n";
-    usage(std::cerr);
-    return kBadInput;
-  }
-  const std::string file = scene_file(arguments.scene);
+  if (const std::optional<int> status = csim::cli::parse_command_line(argc, argv, arguments)) return *status;
+  std::string file = arguments.scene;
   try {
+    file = csim::cli::scene_file(arguments.scene);
     if (arguments.command == "compare") return run_compare(arguments, file);
     if (arguments.command == "stress") return run_stress(arguments, file);
     const auto scene = csim::load_scene(file, arguments.overrides);

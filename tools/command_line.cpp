@@ -1,0 +1,162 @@
+#include "tools/command_line.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <iostream>
+
+namespace csim::cli {
+
+namespace {
+
+const std::vector<std::string> kCommands{"run", "validate", "dump-config", "compare", "stress", "help"};
+
+void add_scene(CLI::App& command, Arguments& a) {
+  command.add_option("SCENE", a.scene, "a scene folder (holding scene.yaml) or a scene file")->required();
+}
+
+void add_overrides(CLI::App& command, Arguments& a) {
+  // One value per --set: a vector option would otherwise take the SCENE that follows as a second one.
+  command.add_option("--set", a.overrides, "override one value of the scene; repeatable (--set time.end=2)")
+      ->type_name("KEY=VALUE")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+void add_output(CLI::App& command, Arguments& a, const std::string& default_folder) {
+  command
+      .add_option("--out", a.output_directory,
+                  "output folder (default " + default_folder + "), replaced whole when the command ends")
+      ->type_name("DIR");
+}
+
+// A comma-separated list, one item per comma; several uses of the option add up.
+template <typename T>
+CLI::Option* add_list(CLI::App& command, const std::string& name, std::vector<T>& items, const std::string& help) {
+  return command.add_option(name, items, help)
+      ->type_name("LIST")
+      ->delimiter(',')
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+// CLI11's PositiveNumber would print the range it checks, up to DBL_MAX in full.
+const CLI::Validator kPositive(
+    [](std::string& text) {
+      double x = 0.0;
+      return CLI::detail::lexical_cast(text, x) && x > 0.0 ? std::string() : "'" + text + "' is not a positive number";
+    },
+    "POSITIVE");
+
+const char* const kStopped = "130 or 143: stopped by SIGINT or SIGTERM (the output folder is left as it was).";
+
+void define(CLI::App& app, Arguments& a, std::string& help_topic) {
+  app.description("csim: nonsmooth contact dynamics. `csim help COMMAND` or `csim COMMAND --help` for one command.");
+  app.require_subcommand(1);
+  app.footer("SCENE is a scene folder (holding scene.yaml) or a scene file, e.g. scenes/sdnv104-rigid.");
+
+  CLI::App* run = app.add_subcommand("run", "run a scene, write its outputs and evaluate its checks");
+  add_scene(*run, a);
+  add_overrides(*run, a);
+  add_output(*run, a, "out/<scene>");
+  run->add_flag("--quiet", a.quiet, "print only the checks and the verdict");
+  run->footer("Writes DIR/summary.json, DIR/probes.csv and, for elastic bodies, DIR/paraview/.\n"
+              "Exit status: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure;\n" +
+              std::string(kStopped));
+
+  CLI::App* validate = app.add_subcommand("validate", "check a scene (and what run would refuse) without running it");
+  add_scene(*validate, a);
+  add_overrides(*validate, a);
+  validate->footer("Exit status: 0 valid, 2 not (the message names the file, the line and the key).");
+
+  CLI::App* dump = app.add_subcommand("dump-config", "print the effective scene, every default written in");
+  add_scene(*dump, a);
+  add_overrides(*dump, a);
+  dump->footer("Exit status: 0, or 2 on bad input.");
+
+  CLI::App* compare = app.add_subcommand("compare", "the work-precision study: error against wall time per integrator");
+  add_scene(*compare, a);
+  add_overrides(*compare, a);
+  add_list(*compare, "--integrators", a.integrators, "integrators to compare: moreau-jean, ida, ida-events")
+      ->required();
+  add_list(*compare, "--steps", a.steps, "time steps of the moreau-jean runs (s)")->check(kPositive);
+  add_list(*compare, "--tolerances", a.tolerances, "rtol = atol of the ida and ida-events runs")
+      ->check(kPositive);
+  compare->add_option("--repeats", a.repeats, "runs per configuration, for the median wall time (default 3)")
+      ->type_name("N")
+      ->check(CLI::Range(1, 1000000));
+  compare->add_option("--reference", a.reference, "what the errors are measured against (default auto)")
+      ->type_name("auto|analytical|ida-events|moreau-jean")
+      ->check(CLI::IsMember({"auto", "analytical", "ida-events", "moreau-jean"}));
+  add_output(*compare, a, "out/<scene>-compare");
+  compare->footer("moreau-jean runs once per step, ida and ida-events once per tolerance, each N times; writes\n"
+                  "DIR/work_precision.csv, .gp and .png.\n"
+                  "Exit status: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input;\n" +
+                  std::string(kStopped));
+
+  CLI::App* stress = app.add_subcommand("stress", "the stability study: each case of a sweeps file with each integrator");
+  add_scene(*stress, a);
+  add_overrides(*stress, a);
+  stress->add_option("--sweeps", a.sweeps_file, "the sweeps file (default stress.yaml beside the scene)")
+      ->type_name("FILE");
+  add_list(*stress, "--only", a.only, "run only these sweeps of the file");
+  add_output(*stress, a, "out/<scene>-stress");
+  stress->footer("Writes DIR/stability.md and DIR/stability.csv.\n"
+                 "Exit status: 0 no run violated an invariant (failed checks and IDA stops are only reported),\n"
+                 "1 some run did, 2 bad input (sweeps file, --only, --set); " + std::string(kStopped));
+
+  CLI::App* help = app.add_subcommand("help", "print the help of csim or of one command");
+  help->add_option("COMMAND", help_topic, "the command to explain");
+}
+
+// The help text of one command, its usage line starting with "csim".
+std::string command_help(const CLI::App& app, const std::string& command) {
+  const CLI::App* sub = app.get_subcommand(command);
+  return sub->get_formatter()->make_help(sub, "csim " + command, CLI::AppFormatMode::Normal);
+}
+
+int bad_argument(const std::string& where, const std::string& message) {
+  std::cerr << "csim" << where << ": " << message << " (see csim help" << where << ")\n";
+  return kBadInput;
+}
+
+}  // namespace
+
+std::optional<int> parse_command_line(int argc, char** argv, Arguments& arguments) {
+  // Named before CLI11 reads it: its own message for a stray word would list every word after it.
+  if (argc >= 2 && argv[1][0] != '-' &&
+      std::find(kCommands.begin(), kCommands.end(), argv[1]) == kCommands.end())
+    return bad_argument("", "unknown command '" + std::string(argv[1]) +
+                                "' (commands: run, validate, dump-config, compare, stress, help)");
+  CLI::App app("", "csim");
+  std::string help_topic;
+  define(app, arguments, help_topic);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return kSuccess;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    return kSuccess;
+  } catch (const CLI::ParseError& e) {
+    const auto selected = app.get_subcommands();
+    if (argc < 2) return bad_argument("", "missing command (run, validate, dump-config, compare, stress, help)");
+    return bad_argument(selected.empty() ? "" : " " + selected.front()->get_name(), e.what());
+  }
+  arguments.command = app.get_subcommands().front()->get_name();
+  if (arguments.command != "help") return std::nullopt;
+  if (help_topic.empty()) {
+    std::cout << app.get_formatter()->make_help(&app, "csim", CLI::AppFormatMode::Normal);
+    return kSuccess;
+  }
+  if (std::find(kCommands.begin(), kCommands.end(), help_topic) == kCommands.end())
+    return bad_argument("", "help: no command '" + help_topic +
+                                "' (commands: run, validate, dump-config, compare, stress)");
+  std::cout << command_help(app, help_topic);
+  return kSuccess;
+}
+
+}  // namespace csim::cli
