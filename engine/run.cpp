@@ -4,11 +4,14 @@
 #include "engine/output/json_writer.h"
 #include "engine/output/vtk_writer.h"
 #include "engine/probes.h"
+#include "engine/scene/scene_error.h"
 #include "engine/steppers/ida_integrator.h"
 #include "engine/steppers/moreau_jean.h"
 #include "engine/steppers/quasi_static.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -51,7 +54,25 @@ class Progress {
   Clock::time_point start_, last_;
 };
 
+// Rows of probes.csv, and so ParaView frames, a run writes at most: the first, then at most one per step
+// and one per output interval, and the last.
+std::size_t output_rows(const RunSettings& run) {
+  const double h = run.moreau_jean.step;
+  const long steps = std::lround(std::ceil(run.end_time / h - 1e-9));
+  const double intervals = std::ceil(run.end_time / std::max(run.output_rate, h));
+  return static_cast<std::size_t>(std::min<double>(steps, intervals + 1.0)) + 1;
+}
+
 }  // namespace
+
+void check_outputs(const Scene& scene) {
+  const auto problem = paraview_name_problem(scene.world, output_rows(scene.run));
+  if (!problem) return;
+  int line = 0;  // of the body's name
+  for (const auto& entry : scene.document.root["bodies"])
+    if (entry.first.as<std::string>() == problem->body) line = entry.first.Mark().line + 1;
+  throw SceneError(scene.document.file, line, "bodies." + problem->body, problem->message);
+}
 
 State initial_state(const World& world) {
   State state;
@@ -78,6 +99,7 @@ std::unique_ptr<Stepper> make_stepper(const Scene& scene) {
 
 RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const RunSettings& run = scene.run;
+  if (!options.output_directory.empty()) check_outputs(scene);
   // A run that fails leaves no outputs behind, not even those of an earlier run in the same folder.
   if (!options.output_directory.empty()) {
     const std::filesystem::path dir(options.output_directory);

@@ -36,6 +36,11 @@ State initial_state(const World& world);
 // std::invalid_argument for what it cannot run.
 std::unique_ptr<Stepper> make_stepper(const Scene& scene);
 
+// What the output writers would refuse, checked before the first step by run and by validate alike:
+// ParaView file names of the elastic bodies that collide or are too long (vtk_writer.h). Throws
+// SceneError naming the scene file, the body's line and its key path.
+void check_outputs(const Scene& scene);
+
 // Throws RunError on a numerical failure (no output file is left half-written).
 RunReport run_scene(const Scene& scene, const RunOptions& options);
 

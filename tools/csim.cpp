@@ -214,6 +214,7 @@ int main(int argc, char** argv) {
     const auto scene = csim::load_scene(file, arguments.overrides);
     if (arguments.command == "validate") {
       csim::make_stepper(*scene);  // what the stepper refuses at its construction, as run would
+      csim::check_outputs(*scene);  // what the output writers would refuse, as run does before its first step
       std::printf("%s: valid (%zu bodies, %zu probes, %zu checks)\n", file.c_str(), scene->world.bodies.size(),
                   scene->run.probes.size(), scene->run.checks.size());
       return kPassed;

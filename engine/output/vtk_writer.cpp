@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <set>
+#include <map>
 #include <stdexcept>
 #include <system_error>
 
@@ -109,10 +109,14 @@ std::string file_stem(const std::string& name) {
 }
 
 std::string frame_name(const std::string& stem, std::size_t frame) {
-  char number[16];
+  char number[32];
   std::snprintf(number, sizeof number, "_%06zu.vtu", frame);
   return stem + number;
 }
+
+// The longest name a folder entry may have on Linux (NAME_MAX); a longer one fails at open().
+constexpr std::size_t kNameMax = 255;
+const char* const kTemporarySuffix = ".tmp";  // write_file_atomically's
 
 }  // namespace
 
@@ -233,17 +237,33 @@ void remove_paraview_outputs(const std::string& output_directory) {
   std::filesystem::remove(folder, error);  // only succeeds when empty: files of the user's stay
 }
 
+std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames) {
+  std::map<std::string, std::string> owners{{"contacts", "the contacts' series"}};  // stem -> whose
+  for (const BodyInstance& b : world.bodies) {
+    if (!dynamic_cast<const FeBody*>(b.body.get())) continue;
+    const std::string stem = file_stem(b.name);
+    const auto [owner, added] = owners.emplace(stem, "body '" + b.name + "'");
+    if (!added)
+      return ParaviewNameProblem{b.name, "its ParaView files would be named like those of " + owner->second + " (" +
+                                             stem + "_*.vtu): rename one of them"};
+    const std::string longest = frame_name(stem, frames > 0 ? frames - 1 : 0) + kTemporarySuffix;
+    if (longest.size() > kNameMax)
+      return ParaviewNameProblem{b.name, "the name is too long for its ParaView files (" + longest.substr(0, 12) +
+                                             "..." + longest.substr(longest.size() - 19) + ": " +
+                                             std::to_string(longest.size()) + " bytes, at most " +
+                                             std::to_string(kNameMax) + "): shorten it"};
+  }
+  return std::nullopt;
+}
+
 ParaviewSeries::ParaviewSeries(const World& world, const std::string& output_directory)
     : directory_((std::filesystem::path(output_directory) / "paraview").string()) {
-  std::set<std::string> stems{"contacts"};
-  for (std::size_t i = 0; i < world.bodies.size(); ++i) {
-    if (!dynamic_cast<const FeBody*>(world.bodies[i].body.get())) continue;
-    const std::string stem = file_stem(world.bodies[i].name);
-    if (!stems.insert(stem).second)
-      throw std::runtime_error(directory_ + ": the ParaView files of body '" + world.bodies[i].name +
-                               "' would be named like another series' (" + stem + "_*.vtu)");
-    series_.push_back({static_cast<int>(i), stem, {}});
-  }
+  // The caller has checked the names (check_outputs); this is what a series cannot be written without.
+  if (const auto problem = paraview_name_problem(world, 0))
+    throw std::runtime_error(directory_ + ": body '" + problem->body + "': " + problem->message);
+  for (std::size_t i = 0; i < world.bodies.size(); ++i)
+    if (dynamic_cast<const FeBody*>(world.bodies[i].body.get()))
+      series_.push_back({static_cast<int>(i), file_stem(world.bodies[i].name), {}});
   series_.push_back({-1, "contacts", {}});
   std::error_code error;
   std::filesystem::create_directories(directory_, error);

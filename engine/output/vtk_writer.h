@@ -26,6 +26,7 @@
 #include "fem/mesh.h"
 
 #include <Eigen/Dense>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,17 @@ std::string pvd_collection(const std::vector<CollectionEntry>& entries);
 
 // True when the world holds at least one finite-element body: only such scenes get ParaView files.
 bool has_elastic_bodies(const World& world);
+
+// What stops the ParaView files of `world` from being written when a series has `frames` frames: an
+// elastic body whose file names would be those of another series (two names that differ only in
+// characters outside [A-Za-z0-9_.-], or a body named "contacts"), or a file name longer than a folder
+// entry may be (NAME_MAX, 255 bytes). Checked before the first step (check_outputs in run.h), so that
+// validate refuses what run would.
+struct ParaviewNameProblem {
+  std::string body;     // the body's name in the scene
+  std::string message;  // what is wrong, without the body's name
+};
+std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames);
 
 // Deletes the ParaView files of an earlier run in DIR/paraview (*.vtu, *.pvd, *.tmp), and the folder
 // when that leaves it empty, so that a new run never mixes its frames with stale ones.
