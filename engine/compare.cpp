@@ -7,6 +7,7 @@
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 #include "engine/steppers/stepper.h"
+#include "engine/stop_request.h"
 
 #include <algorithm>
 #include <charconv>
@@ -125,6 +126,7 @@ RunReport run_configuration(const CompareOptions& options, std::vector<ComparedC
   RunReport report;
   try {
     for (int repeat = 0; repeat < options.repeats; ++repeat) {
+      honour_stop_request();
       const auto scene = load_scene(options.scene_file, overrides);
       report = run_scene(*scene, RunOptions{});
       row.wall_times.push_back(report.wall_time);
@@ -215,6 +217,7 @@ bool reference_run(const CompareOptions& options, const std::string& kind, Traje
     description = "a Moreau-Jean run at " + step.str() + " (100 times finer than the finest step asked)";
   }
   try {
+    honour_stop_request();
     const RunReport report = run_scene(*load_scene(options.scene_file, overrides), RunOptions{});
     trajectory.times = report.sample_times;
     trajectory.values = report.samples;

@@ -71,6 +71,7 @@ const std::vector<std::string>& comparable_integrators();
 // Runs the study. Throws SceneError for bad options (unknown integrator, empty or non-positive lists,
 // repeats < 1) or when the scene does not load with the user's overrides alone; every other failure
 // becomes a failed row. on_row is called after each configuration, in order, to report progress.
+// A stop request (stop_request.h) ends the study with StopRequested, between runs or at a step of one.
 Comparison run_comparison(const CompareOptions& options,
                           const std::function<void(const CompareRow&)>& on_row = {});
 

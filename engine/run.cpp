@@ -5,6 +5,7 @@
 #include "engine/output/vtk_writer.h"
 #include "engine/probes.h"
 #include "engine/scene/scene_error.h"
+#include "engine/stop_request.h"
 #include "engine/steppers/ida_integrator.h"
 #include "engine/steppers/moreau_jean.h"
 #include "engine/steppers/quasi_static.h"
@@ -141,6 +142,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   Progress progress(options.progress);
   const auto start = std::chrono::steady_clock::now();
   for (long k = 0; k < steps; ++k) {
+    honour_stop_request();
     stepper.step(state);
     // Events inside the step (stick/slip switches of ida-events) are exact samples.
     for (const EventSample& event : state.events) {

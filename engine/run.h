@@ -41,7 +41,8 @@ std::unique_ptr<Stepper> make_stepper(const Scene& scene);
 // SceneError naming the scene file, the body's line and its key path.
 void check_outputs(const Scene& scene);
 
-// Throws RunError on a numerical failure (no output file is left half-written).
+// Throws RunError on a numerical failure (no output file is left half-written), StopRequested at the
+// first step boundary after a stop request (stop_request.h).
 RunReport run_scene(const Scene& scene, const RunOptions& options);
 
 // The summary.json text of a finished run.

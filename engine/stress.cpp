@@ -10,6 +10,7 @@
 #include "engine/scene/scene_error.h"
 #include "engine/scene/scene_node.h"
 #include "engine/steppers/stepper.h"
+#include "engine/stop_request.h"
 
 #include <algorithm>
 #include <chrono>
@@ -276,6 +277,7 @@ StressStudy run_stress(const StressOptions& options, const std::function<void(co
         std::vector<std::string> overrides = common;
         overrides.push_back(sweep.key + "=" + value);
         overrides.push_back("integrator.type=" + integrator);
+        honour_stop_request();
         run_case(overrides, options.scene_file, row);
         if (on_row) on_row(row);
         study.rows.push_back(std::move(row));

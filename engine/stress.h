@@ -96,7 +96,8 @@ struct StressStudy {
 // Runs the study. Throws SceneError for a scene that does not load with the user's overrides, a bad
 // sweeps file, an unknown --only sweep, a baseline the scene rejects or a sweep key the scene does not
 // have; every failure of one case (a value the scene rejects included) becomes its row.
-// on_row is called after each run, in order.
+// on_row is called after each run, in order. A stop request (stop_request.h) ends the study with
+// StopRequested, between runs or at a step of one.
 StressStudy run_stress(const StressOptions& options, const std::function<void(const StressRow&)>& on_row = {});
 
 // stability.md (one table per sweep) and stability.csv (one row per run), written atomically.
