@@ -7,17 +7,23 @@
 //   csim stress SCENE [--set KEY=VALUE]... [--sweeps FILE] [--out DIR] [--only SWEEP[,SWEEP...]]
 //   csim help [COMMAND], csim [COMMAND] --help: help on stdout, exit 0; a bad argument: one line, exit 2.
 // SCENE is a scene folder (holding scene.yaml) or a YAML file.
+// run, compare and stress write into a temporary folder beside DIR and swap it in whole when they end
+// (engine/output/output_folder.h); SIGINT or SIGTERM stops them at the next step boundary or between
+// runs, removes that folder and leaves DIR as it was: exit status 130 or 143 (128 + the signal).
 // Exit status of run: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure.
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
 // Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
 // 1 some run did, 2 bad input (sweeps file, --only, --set).
 #include "engine/compare.h"
+#include "engine/output/output_folder.h"
 #include "engine/run.h"
 #include "engine/scene/scene.h"
 #include "engine/steppers/stepper.h"
+#include "engine/stop_request.h"
 #include "engine/stress.h"
 #include "tools/command_line.h"
 #include "tools/scene_argument.h"
+#include "tools/stop_signals.h"
 
 #include <unistd.h>
 
@@ -37,6 +43,32 @@ constexpr int kSomeRunFailed = 1;  // compare
 constexpr int kInvariantViolated = 1;  // stress
 
 using csim::cli::Arguments;
+
+// The output folder of a command: --out, or out/<scene name><suffix>.
+std::string output_destination(const Arguments& arguments, const std::string& file, const std::string& suffix) {
+  if (!arguments.output_directory.empty()) return arguments.output_directory;
+  return "out/" + csim::load_scene(file, arguments.overrides)->name + suffix;
+}
+
+// Runs the scene into a temporary folder that replaces options.output_directory when the run ends: passed,
+// failed its checks, or stopped by a numerical failure. The last leaves no outputs (run.h), and the
+// folder is swapped in all the same: an earlier run's results must not pass for this one's. A stop request
+// leaves the folder as it was.
+csim::RunReport run_into_folder(const csim::Scene& scene, const csim::RunOptions& options) {
+  csim::check_outputs(scene);  // the scene's mistakes before any file is touched
+  csim::OutputFolder folder(options.output_directory);
+  csim::RunOptions into_temporary = options;
+  into_temporary.output_directory = folder.path();
+  try {
+    csim::RunReport report = csim::run_scene(scene, into_temporary);
+    csim::honour_stop_request();
+    folder.commit();
+    return report;
+  } catch (const csim::RunError&) {
+    folder.commit();
+    throw;
+  }
+}
 
 void print_checks(const std::vector<csim::CheckResult>& checks) {
   for (const csim::CheckResult& c : checks) {
@@ -142,19 +174,21 @@ int run_compare(const Arguments& arguments, const std::string& file) {
   options.tolerances = arguments.tolerances;
   options.repeats = arguments.repeats;
   options.reference = arguments.reference;
-  options.output_directory = arguments.output_directory;
+  options.output_directory = output_destination(arguments, file, "-compare");
+  csim::OutputFolder folder(options.output_directory);
   bool header_printed = false;  // not before the options and the scene are known to be good
   const csim::Comparison comparison = csim::run_comparison(options, [&](const csim::CompareRow& row) {
     if (!header_printed) print_compare_header();
     header_printed = true;
     print_compare_row(row);
   });
-  const std::string directory =
-      options.output_directory.empty() ? "out/" + comparison.scene_name + "-compare" : options.output_directory;
-  csim::write_work_precision_csv(comparison, directory);
-  csim::write_gnuplot_script(comparison, directory);
-  const csim::PlotOutcome plot = csim::plot_work_precision(comparison, directory);
+  const std::string& directory = options.output_directory;
+  csim::write_work_precision_csv(comparison, folder.path());
+  csim::write_gnuplot_script(comparison, folder.path());
+  const csim::PlotOutcome plot = csim::plot_work_precision(comparison, folder.path());
   if (!plot.produced) std::cerr << "csim: warning: no work_precision.png: " << plot.message << "\n";
+  csim::honour_stop_request();
+  folder.commit();
   const auto failed = std::count_if(comparison.rows.begin(), comparison.rows.end(),
                                     [](const csim::CompareRow& r) { return !r.ok; });
   std::printf("%s: %zu configurations, %s (outputs in %s)\n", comparison.scene_name.c_str(), comparison.rows.size(),
@@ -182,16 +216,18 @@ int run_stress(const Arguments& arguments, const std::string& file) {
   options.sweeps_file = arguments.sweeps_file;
   options.overrides = arguments.overrides;
   options.only = arguments.only;
+  const std::string directory = output_destination(arguments, file, "-stress");
+  csim::OutputFolder folder(directory);
   bool header_printed = false;  // not before the sweeps file and the scene are known to be good
   const csim::StressStudy study = csim::run_stress(options, [&](const csim::StressRow& row) {
     if (!header_printed) print_stress_header();
     header_printed = true;
     print_stress_row(row);
   });
-  const std::string directory =
-      arguments.output_directory.empty() ? "out/" + study.scene_name + "-stress" : arguments.output_directory;
-  csim::write_stability_markdown(study, directory);
-  csim::write_stability_csv(study, directory);
+  csim::write_stability_markdown(study, folder.path());
+  csim::write_stability_csv(study, folder.path());
+  csim::honour_stop_request();
+  folder.commit();
   const auto violations = std::count_if(study.rows.begin(), study.rows.end(),
                                         [](const csim::StressRow& r) { return r.violates_invariant(); });
   std::printf("%s: %zu runs in %.1f s, %s (outputs in %s)\n", study.scene_name.c_str(), study.rows.size(),
@@ -207,6 +243,8 @@ int main(int argc, char** argv) {
   Arguments arguments;
   if (const std::optional<int> status = csim::cli::parse_command_line(argc, argv, arguments)) return *status;
   std::string file = arguments.scene;
+  if (arguments.command == "run" || arguments.command == "compare" || arguments.command == "stress")
+    csim::cli::install_stop_handlers();
   try {
     file = csim::cli::scene_file(arguments.scene);
     if (arguments.command == "compare") return run_compare(arguments, file);
@@ -227,14 +265,20 @@ int main(int argc, char** argv) {
     options.output_directory =
         arguments.output_directory.empty() ? "out/" + scene->name : arguments.output_directory;
     options.progress = !arguments.quiet && isatty(fileno(stderr));
-    const csim::RunReport report = csim::run_scene(*scene, options);
+    const csim::RunReport report = run_into_folder(*scene, options);
     if (!arguments.quiet) print_summary(*scene, report);
     print_checks(report.checks);
     std::printf("%s: %s (outputs in %s)\n", scene->name.c_str(), verdict(report.counts()).c_str(),
                 options.output_directory.c_str());
     return report.passed() ? kPassed : kCheckFailed;
+  } catch (const csim::StopRequested& stop) {
+    std::cerr << "csim: stopped by " << csim::cli::signal_name(stop.signal)
+              << " before the end; the output folder is left as it was\n";
+    return 128 + stop.signal;
   } catch (const csim::SceneError& e) {
     std::cerr << "csim: error: " << e.what() << "\n";
+  } catch (const csim::OutputFolderError& e) {
+    std::cerr << "csim: " << e.what() << "\n";
   } catch (const csim::RunError& e) {
     std::cerr << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what() << "\n";
   } catch (const std::exception& e) {
