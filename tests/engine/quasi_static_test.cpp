@@ -78,11 +78,14 @@ TEST(QuasiStatic, AStepWhoseNewtonFailsIsTakenAgainAsTwoHalves) {
   EXPECT_LE(halved.state.counters.max_newton_iterations, 4);
   EXPECT_EQ(halved.state.counters.steps, plain.state.counters.steps);  // whole steps, as the probes see them
   ASSERT_EQ(halved.checks.size(), plain.checks.size());
-  ASSERT_GT(plain.counts().passed, 0);  // values, not the NaN of checks that were not evaluated
+  // Values, not the NaN of checks that were not evaluated (this coarse ring is 0.6 % off Faria's spin,
+  // so its checks fail: what matters is that both runs judge the same values).
+  ASSERT_GT(plain.counts().passed + plain.counts().failed, 0);
   for (std::size_t i = 0; i < plain.checks.size(); ++i) {
     EXPECT_EQ(halved.checks[i].evaluated, plain.checks[i].evaluated) << plain.checks[i].name;
-    if (plain.checks[i].evaluated)
+    if (plain.checks[i].evaluated) {
       EXPECT_NEAR(halved.checks[i].value, plain.checks[i].value, 1e-6) << plain.checks[i].name;
+    }
   }
   try {
     run({"integrator.newton_max_iterations=4", "integrator.max_cutbacks=0"});
