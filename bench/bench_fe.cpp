@@ -5,8 +5,8 @@
 // the difference between runs of 2N and N steps, divided by N (the one-time work cancels); "total"
 // is the plain wall time per step of the N-step run, which includes it. The phase columns are
 // sampled on one step in 16 and include the first step's one-time work: indicative only.
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 
 #include <sys/resource.h>
 

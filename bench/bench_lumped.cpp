@@ -7,8 +7,8 @@
 //  3. Per-phase cost of one step on each scene (the stepper's own timers).
 //  4. Moreau–Jean against IDA (regularized) and ida-events at matched accuracy: the cheapest run whose
 //     error of x1 on SDNV104 is below 1e-3 and 1e-6, and the ratio of their wall times.
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 
 #include <algorithm>
 #include <cmath>

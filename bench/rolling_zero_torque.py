@@ -8,7 +8,7 @@ facets in contact, and then slides without turning (spin 0, docs/rolling.md). Wi
 that equilibrium is not available; the mean torque over a window averages the facets' passing out.
 
 For each row and mesh this script runs scenes/rolling-ring with parameters.imposed_spin = w, takes the
-Hann-weighted mean of the hub_torque probe over the last window (the weighting of engine/checks.h,
+Hann-weighted mean of the hub_torque probe over the last window (the weighting of tools/run/checks.h,
 every step sampled), and finds the zero of that mean torque T(w) by bisection on [0.5, 1.2] down to a
 bracket of 0.02, then the Illinois variant of regula falsi (Dowell & Jarratt 1971) down to 1e-4.
 T rises with w (a hub turning faster than it rolls is braked) and saturates at -+mu N R where the whole
@@ -48,7 +48,7 @@ BEGIN, END = "<!-- generated zero-torque: begin -->", "<!-- generated zero-torqu
 
 
 def hann_mean(rows, column, t1, t2):
-    """Mean of a column over [t1, t2] with weights sin²(pi (t - t1)/(t2 - t1)), as engine/checks.h."""
+    """Mean of a column over [t1, t2] with weights sin²(pi (t - t1)/(t2 - t1)), as tools/run/checks.h."""
     num = den = 0.0
     for r in rows:
         t = float(r["t"])

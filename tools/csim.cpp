@@ -8,19 +8,19 @@
 //   csim help [COMMAND], csim [COMMAND] --help: help on stdout, exit 0; a bad argument: one line, exit 2.
 // SCENE is a scene folder (holding scene.yaml) or a YAML file.
 // run, compare and stress write into a temporary folder beside DIR and swap it in whole when they end
-// (engine/output/output_folder.h); SIGINT or SIGTERM stops them at the next step boundary or between
+// (tools/output/output_folder.h); SIGINT or SIGTERM stops them at the next step boundary or between
 // runs, removes that folder and leaves DIR as it was: exit status 130 or 143 (128 + the signal).
 // Exit status of run: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure.
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
 // Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
 // 1 some run did, 2 bad input (sweeps file, --only, --set).
-#include "engine/compare.h"
-#include "engine/output/output_folder.h"
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/studies/compare.h"
+#include "tools/output/output_folder.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 #include "engine/steppers/stepper.h"
-#include "engine/stop_request.h"
-#include "engine/stress.h"
+#include "tools/run/stop_request.h"
+#include "tools/studies/stability_sweep.h"
 #include "tools/command_line.h"
 #include "tools/scene_argument.h"
 #include "tools/stop_signals.h"
@@ -201,7 +201,7 @@ void print_stress_header() {
               "wall (s)", "steps", "note");
 }
 
-void print_stress_row(const csim::StressRow& row) {
+void print_stress_row(const csim::StabilityRow& row) {
   char wall[32];
   std::snprintf(wall, sizeof wall, "%.3g", row.wall_time);
   std::printf("%-34s %-11s %-12s %-32s %-26s %9s %9s  %s\n", row.case_name().c_str(), row.integrator.c_str(),
@@ -210,8 +210,8 @@ void print_stress_row(const csim::StressRow& row) {
   std::fflush(stdout);  // the table is the progress report of a long study
 }
 
-int run_stress(const Arguments& arguments, const std::string& file) {
-  csim::StressOptions options;
+int run_stability_command(const Arguments& arguments, const std::string& file) {
+  csim::StabilityOptions options;
   options.scene_file = file;
   options.sweeps_file = arguments.sweeps_file;
   options.overrides = arguments.overrides;
@@ -219,7 +219,7 @@ int run_stress(const Arguments& arguments, const std::string& file) {
   const std::string directory = output_destination(arguments, file, "-stress");
   csim::OutputFolder folder(directory);
   bool header_printed = false;  // not before the sweeps file and the scene are known to be good
-  const csim::StressStudy study = csim::run_stress(options, [&](const csim::StressRow& row) {
+  const csim::StabilityStudy study = csim::run_stability_sweep(options, [&](const csim::StabilityRow& row) {
     if (!header_printed) print_stress_header();
     header_printed = true;
     print_stress_row(row);
@@ -229,7 +229,7 @@ int run_stress(const Arguments& arguments, const std::string& file) {
   csim::honour_stop_request();
   folder.commit();
   const auto violations = std::count_if(study.rows.begin(), study.rows.end(),
-                                        [](const csim::StressRow& r) { return r.violates_invariant(); });
+                                        [](const csim::StabilityRow& r) { return r.violates_invariant(); });
   std::printf("%s: %zu runs in %.1f s, %s (outputs in %s)\n", study.scene_name.c_str(), study.rows.size(),
               study.total_wall_time,
               violations == 0 ? "no invariant violated" : (std::to_string(violations) + " INVARIANT VIOLATIONS").c_str(),
@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
   try {
     file = csim::cli::scene_file(arguments.scene);
     if (arguments.command == "compare") return run_compare(arguments, file);
-    if (arguments.command == "stress") return run_stress(arguments, file);
+    if (arguments.command == "stress") return run_stability_command(arguments, file);
     const auto scene = csim::load_scene(file, arguments.overrides);
     if (arguments.command == "validate") {
       csim::make_stepper(*scene);  // what the stepper refuses at its construction, as run would

@@ -1,6 +1,6 @@
 #include "tools/scene_argument.h"
 
-#include "engine/scene/scene_error.h"
+#include "tools/scene/scene_error.h"
 
 #include <filesystem>
 #include <system_error>

@@ -1,6 +1,6 @@
 #include "tools/stop_signals.h"
 
-#include "engine/stop_request.h"
+#include "tools/run/stop_request.h"
 
 #include <signal.h>
 #include <unistd.h>

@@ -1,9 +1,9 @@
 // What a run may claim about its checks (checks.h, README "exit status"): excluded and not-evaluated
 // checks are never passes, a run passes only when some check was evaluated and none failed, and
 // parameters for which a check has no reference, window or probe scale still run to the end.
-#include "engine/run.h"
-#include "engine/scene/scene.h"
-#include "engine/scene/scene_error.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
+#include "tools/scene/scene_error.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The work-precision study on the SDNV104 shoe: Moreau–Jean's error falls with the step, the CSV has
 // one row per configuration with a full set of columns, bad options are rejected before any run, and
 // an integrator that cannot run gives a failed row, not an exception.
-#include "engine/compare.h"
-#include "engine/scene/scene_error.h"
+#include "tools/studies/compare.h"
+#include "tools/scene/scene_error.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

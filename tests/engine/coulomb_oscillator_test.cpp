@@ -1,4 +1,4 @@
-#include "engine/reference/coulomb_oscillator.h"
+#include "tools/reference/coulomb_oscillator.h"
 
 #include <gtest/gtest.h>
 

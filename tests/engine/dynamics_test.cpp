@@ -2,8 +2,8 @@
 #include "engine/bodies/point_mass.h"
 #include "engine/bodies/rigid_body_2d.h"
 #include "engine/dynamics.h"
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 #include "engine/steppers/ida_integrator.h"
 
 #include <gtest/gtest.h>

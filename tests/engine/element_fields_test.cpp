@@ -1,9 +1,9 @@
-// The stress the output shows for an elastic body (engine/output/element_fields.h), on homogeneous
+// The stress the output shows for an elastic body (tools/output/element_fields.h), on homogeneous
 // motions of small meshes: a rigid motion of a finite-strain body is stress- and strain-free whatever
 // the rotation (the linear law of the small strain was not: issue 29), and a uniaxial stretch and a
 // simple shear give the Cauchy stress of each law in closed form, derived below from the strain
 // energies of fem/hyperelastic.h (Holzapfel 2000, ch. 6), not from the code.
-#include "engine/output/element_fields.h"
+#include "tools/output/element_fields.h"
 
 #include "fem/assembly.h"
 #include "fem/mesh_generators.h"

@@ -1,4 +1,4 @@
-#include "engine/scene/expression.h"
+#include "tools/scene/expression.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "engine/checks.h"
+#include "tools/run/checks.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Finite-element bodies in the engine: energy of the θ-method on free vibration (consistent and lumped
 // mass), dissipation for θ > ½, and a static tension against the closed form.
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
 

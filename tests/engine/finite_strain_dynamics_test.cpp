@@ -1,8 +1,8 @@
 // Moreau–Jean with Newton iterations on a finite-strain body (scenes/spinning-bar): the step's
 // energy error is second order in h at θ = ½, and Newton converges quadratically (the tangent is
 // exact), so a step takes at most three iterations.
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
 

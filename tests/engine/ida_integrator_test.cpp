@@ -3,8 +3,8 @@
 // failure that becomes a RunError instead of an abort.
 #include "engine/bodies/fixed_body.h"
 #include "engine/bodies/point_mass.h"
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 #include "engine/steppers/ida_integrator.h"
 #include "tests/engine/test_worlds.h"
 

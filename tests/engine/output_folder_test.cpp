@@ -1,4 +1,4 @@
-#include "engine/output/output_folder.h"
+#include "tools/output/output_folder.h"
 
 #include <gtest/gtest.h>
 

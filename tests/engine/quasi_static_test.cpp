@@ -1,8 +1,8 @@
 // The quasi-static stepper's Newton iteration on the rolling ring (scenes/rolling-ring): while the ring
 // rolls, its tangent is held positive definite by the contacts it holds rather than by proximal terms,
 // and the iteration keeps Newton's quadratic rate (quasi_static.h).
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
 

@@ -6,8 +6,8 @@
 // the plane one; the frame's reduction of the stiffness (a ring evaluated in its hub's frame) against
 // the world's sparse product.
 #include "engine/reduced_coordinates.h"
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
 

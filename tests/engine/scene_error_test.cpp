@@ -1,5 +1,5 @@
 // Scene errors echo the scene's own bytes; those a terminal would act on are shown as \xNN.
-#include "engine/scene/scene_error.h"
+#include "tools/scene/scene_error.h"
 
 #include <gtest/gtest.h>
 

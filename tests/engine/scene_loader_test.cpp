@@ -1,6 +1,6 @@
 // Scene-loader errors: each bad input gives a SceneError whose message names the file, the key path
 // and (where the key is in the file) its line.
-#include "engine/scene/scene.h"
+#include "tools/scene/scene.h"
 #include "engine/bodies/fe_body.h"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
-#include "engine/stop_request.h"
+#include "tools/run/stop_request.h"
 
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
 

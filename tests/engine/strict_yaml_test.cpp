@@ -1,7 +1,7 @@
 // What YAML allows and a scene may not say: each case names the file, the line(s) and the key path.
-#include "engine/scene/strict_yaml.h"
+#include "tools/scene/strict_yaml.h"
 
-#include "engine/scene/scene_error.h"
+#include "tools/scene/scene_error.h"
 
 #include <gtest/gtest.h>
 

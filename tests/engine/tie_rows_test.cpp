@@ -4,7 +4,7 @@
 // in the plane and in space.
 #include "engine/tie_rows.h"
 #include "engine/bodies/fe_body.h"
-#include "engine/scene/scene.h"
+#include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
 

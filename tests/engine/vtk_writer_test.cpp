@@ -3,9 +3,9 @@
 // law's Cauchy stress: none under a rigid motion, the closed form under a stretch, a bounded one in the
 // tied pendulum's swing), the contact writer on hand-made states, and no ParaView files for lumped
 // scenes or for a run that stopped.
-#include "engine/output/vtk_writer.h"
-#include "engine/run.h"
-#include "engine/scene/scene.h"
+#include "tools/output/vtk_writer.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
 #include "fem/mesh_generators.h"
 #include "tests/engine/xml_reader.h"
 

@@ -1,0 +1,27 @@
+#include "tools/output/atomic_file.h"
+
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+namespace csim {
+
+void write_file_atomically(const std::string& path, const std::string& contents) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot open for writing");
+    out << contents;
+    out.close();
+    if (!out) {
+      std::remove(temporary.c_str());
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    throw std::runtime_error(path + ": cannot rename the finished file into place");
+  }
+}
+
+}  // namespace csim

@@ -1,0 +1,107 @@
+// ParaView output of finite-element scenes (DESIGN.md §4): VTK XML UnstructuredGrid files (.vtu, ASCII,
+// Float64) per output frame, and VTK Collection files (.pvd) that give ParaView each frame's real time.
+//
+//   DIR/paraview/BODY_NNNNNN.vtu      one per frame and elastic body: the reference mesh with point data
+//                                     displacement (m) and velocity (m/s); cell data, at each element's
+//                                     centroid (element_fields.h): stress (Pa, tension positive: the
+//                                     linear law's of the small strain for a linear body, the Cauchy
+//                                     stress J⁻¹ P Fᵀ of its law for a finite-strain body), von_mises
+//                                     (Pa) and pressure (−tr σ / 3, Pa, compression positive) of it, and
+//                                     for a finite-strain body green_lagrange_strain (dimensionless);
+//                                     comments before the root element say which stress the file holds;
+//   DIR/paraview/contacts_NNNNNN.vtu  one per frame: the active contacts as vertices, with status
+//                                     (0 open, 1 stick, 2 slip), impulse (N·s in the contact frame:
+//                                     normal, t1, t2), normal and gap (m);
+//   DIR/paraview/BODY.pvd, contacts.pvd  the collections, written when the run ends.
+//
+// The text builders take plain data and return the file's text; ParaviewSeries writes them, each file
+// atomically (atomic_file.h). Points are the reference coordinates: ParaView's "Warp By Vector" on
+// displacement shows the deformed shape.
+#pragma once
+
+#include "tools/output/element_fields.h"
+#include "engine/state.h"
+#include "engine/world.h"
+#include "fem/elements.h"
+#include "fem/mesh.h"
+
+#include <Eigen/Dense>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace csim {
+
+// VTK cell type of a mesh's elements: VTK_QUAD (9), VTK_QUADRATIC_QUAD (23) or VTK_HEXAHEDRON (12).
+// Our node orders (mesh.h) are VTK's, so connectivity is written as is.
+int vtk_cell_type(ElementType type);
+
+// The von Mises equivalent stress (Pa) of (σxx, σyy, σzz, σxy, σyz, σxz) (Pa).
+double von_mises(const Stress& stress);
+// The mean pressure p = −(σxx + σyy + σzz) / 3 (Pa, compression positive) of the same.
+double mean_pressure(const Stress& stress);
+
+// One elastic body at one frame. displacement and velocity: all the mesh's dofs, node-major (m, m/s;
+// 2 or 3 per node as the mesh), fields: one stress (and strain, or none) per element, t: the frame's
+// time (s).
+std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
+                        const ElementFields& fields, double t);
+
+// The contact points at one frame, each at the midpoint of its two surface points (m). Zero contacts give
+// a valid empty grid, so that every frame of the series exists.
+std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t);
+
+// A VTK Collection: one DataSet per frame, file relative to the .pvd's folder, timestep = time (s).
+struct CollectionEntry {
+  double time = 0.0;  // s
+  std::string file;
+};
+std::string pvd_collection(const std::vector<CollectionEntry>& entries);
+
+// True when the world holds at least one finite-element body: only such scenes get ParaView files.
+bool has_elastic_bodies(const World& world);
+
+// What stops the ParaView files of `world` from being written when a series has `frames` frames: an
+// elastic body whose file names would be those of another series (two names that differ only in
+// characters outside [A-Za-z0-9_.-], or a body named "contacts"), or a file name longer than a folder
+// entry may be (NAME_MAX, 255 bytes). Checked before the first step (check_outputs in run.h), so that
+// validate refuses what run would.
+struct ParaviewNameProblem {
+  std::string body;     // the body's name in the scene
+  std::string message;  // what is wrong, without the body's name
+};
+std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames);
+
+// Deletes the ParaView files of an earlier run in DIR/paraview (*.vtu, *.pvd, *.tmp), and the folder
+// when that leaves it empty, so that a new run never mixes its frames with stale ones.
+void remove_paraview_outputs(const std::string& output_directory);
+
+// The ParaView files of one run. Frames are written as they come; finish() writes the collections.
+// A series destroyed before finish() (the run stopped) deletes the frames it wrote: a failed run leaves
+// no outputs behind. Throws std::runtime_error naming the file on an I/O error.
+class ParaviewSeries {
+ public:
+  ParaviewSeries(const World& world, const std::string& output_directory);
+  ~ParaviewSeries();
+  ParaviewSeries(const ParaviewSeries&) = delete;
+  ParaviewSeries& operator=(const ParaviewSeries&) = delete;
+
+  // One frame of every elastic body and of the contacts, at time t (s).
+  void write_frame(const World& world, const State& state, double t);
+  void finish();
+
+ private:
+  struct Series {
+    int body = -1;      // index in World::bodies; −1 for the contacts
+    std::string stem;   // file-name prefix
+    std::vector<std::string> written;
+  };
+  void write(Series& series, const std::string& text);
+
+  std::string directory_;    // DIR/paraview
+  std::vector<Series> series_;  // the elastic bodies, then the contacts
+  std::vector<double> times_;   // s, one per frame
+  bool finished_ = false;
+};
+
+}  // namespace csim

@@ -1,0 +1,90 @@
+// Streaming evaluation of a scene's checks: every step's probe values go through an ExtremumTracker
+// (turning points, refined by the parabola through the three samples around them) and the values at
+// requested times (quadratic interpolation through the three samples around the time), so checks use
+// the full time resolution whatever the output rate.
+// A mean over a window [t1, t2] is weighted by the Hann window w = sin²(π (t − t1)/(t2 − t1)) (times
+// each sample's interval), so that a periodic ripple (a wheel's elements passing the contact) that
+// does not fit a whole number of times in the window leaves an error of order (period/window)³
+// instead of period/window.
+#pragma once
+
+#include "tools/scene/scene.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace csim {
+
+struct Extremum {
+  double time = 0.0;   // s
+  double value = 0.0;
+  bool maximum = false;
+};
+
+// Turning points of a sampled signal. A plateau (a stick phase) between a rise and a fall is one
+// extremum; a plateau that lasts to the end after a motion is a final extremum (the body came to rest).
+class ExtremumTracker {
+ public:
+  // exact: the sample sits exactly on a turning point (an event), so no parabola is fitted through it.
+  void add(double t, double value, bool exact = false);
+  void finish();
+  const std::vector<Extremum>& extrema() const { return extrema_; }
+
+ private:
+  struct Sample { double t, value; bool exact; };
+  void record(bool maximum);
+
+  std::vector<Extremum> extrema_;
+  std::optional<Sample> last_, pivot_, before_pivot_, after_pivot_;
+  int direction_ = 0;   // sign of the last significant change
+  bool flat_since_pivot_ = false;
+  double scale_ = 0.0;  // largest |value| seen, for the flatness threshold
+};
+
+// A check ends in one of four states. Only an evaluated check passes or fails; the two others are
+// never a pass, and carry their reason in `note`:
+// - excluded (skipped): its only_if is false for these parameters, or could not be evaluated (a
+//   reference function that has no answer for them, e.g. a rest time when the mass never stops);
+// - not evaluated: it applies, but the run cannot judge it (a time or window beyond the run's end or
+//   empty for these parameters, an extremum the run did not reach, a reference that fails, a probe
+//   without a value for these parameters). Its value and error are NaN.
+struct CheckResult {
+  std::string name, probe, kind, source;
+  double reference = 0.0, value = 0.0, error = 0.0, time = 0.0;
+  double absolute_tolerance = 0.0, relative_tolerance = 0.0;
+  bool passed = false;
+  bool skipped = false;     // excluded by its only_if
+  bool evaluated = true;    // false for excluded and not-evaluated checks
+  std::string note;         // why it was excluded or could not be evaluated
+};
+
+struct CheckCounts {
+  int passed = 0, failed = 0, not_evaluated = 0, excluded = 0;
+  int total() const { return passed + failed + not_evaluated + excluded; }
+  // The run's verdict: a pass needs at least one evaluated check, no failure, and every check either
+  // evaluated or excluded by its own only_if. A scene without checks is not judged (and not a pass).
+  bool pass() const { return passed > 0 && failed == 0 && not_evaluated == 0; }
+};
+CheckCounts count_checks(const std::vector<CheckResult>& checks);
+
+class CheckEvaluator {
+ public:
+  CheckEvaluator(const RunSettings& run, const ExpressionScope& scope);
+  void add_sample(double t, const std::vector<double>& probe_values, bool exact = false);
+  std::vector<CheckResult> finish(double end_time);
+
+ private:
+  struct Window { double t[3]; double value[3]; int count = 0; };
+  const RunSettings& run_;
+  const ExpressionScope& scope_;
+  std::vector<ExtremumTracker> trackers_;               // one per probe
+  std::vector<Window> windows_;                         // last three samples per probe
+  std::vector<std::optional<double>> at_values_;        // per check (Mode::at)
+  std::vector<std::pair<double, double>> mean_sums_;    // per check (Mode::mean): Σ w·value, Σ w
+  double last_time_ = 0.0;
+  std::vector<double> last_values_;
+  std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`
+};
+
+}  // namespace csim

@@ -1,0 +1,38 @@
+// Evaluation of the scene's probes on a State (see scene.h for their definitions).
+//   displacement  dir·(p(q) − p(q_ref)) of a material point (m);  position  dir·p(q) (m);
+//   velocity      one velocity component (m/s or rad/s);  energy  a term of the balance (J), or
+//                 mechanical = kinetic + elastic;
+//   contact_force the resultant of a contact law's impulses / h on its first body (N): normal
+//                 (compressive positive), tangential (2D: along e_z × n with n pointing into that
+//                 body; 3D: magnitude), or a world component;
+//   contact_count the number of a law's points that carry a normal force (closed), or of those in stick
+//                 or in slip;
+//   reaction      the generalized force a prescribed component's motion takes (N or N·m: a hub's
+//                 torque), quasi-static stepper.
+// Every probe but energy may carry a scale: its value is multiplied by it (a normalization such as
+// a spin in units of v/R).
+#pragma once
+
+#include "tools/scene/scene.h"
+#include "engine/state.h"
+
+#include <vector>
+
+namespace csim {
+
+class ProbeEvaluator {
+ public:
+  ProbeEvaluator(const World& world, const RunSettings& run);
+  void evaluate(const State& state, std::vector<double>& values) const;
+
+ private:
+  double evaluate(const ProbeDefinition& probe, const State& state) const;
+  double unscaled(const ProbeDefinition& probe, const State& state) const;
+  double contact_force(const ProbeDefinition& probe, const State& state) const;
+
+  const World& world_;
+  const RunSettings& run_;
+  std::vector<Eigen::Vector3d> reference_points_;  // world position at q_ref of each probe's point
+};
+
+}  // namespace csim

@@ -1,0 +1,293 @@
+#include "tools/run/run.h"
+
+#include "tools/output/atomic_file.h"
+#include "tools/output/json_writer.h"
+#include "tools/output/vtk_writer.h"
+#include "tools/run/probes.h"
+#include "tools/scene/scene_error.h"
+#include "tools/run/stop_request.h"
+#include "engine/steppers/ida_integrator.h"
+#include "engine/steppers/moreau_jean.h"
+#include "engine/steppers/quasi_static.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace csim {
+
+namespace {
+
+void append_row(std::ostringstream& csv, double t, const std::vector<double>& values, RunReport& report) {
+  report.sample_times.push_back(t);
+  report.samples.push_back(values);
+  csv << t;
+  for (double v : values) csv << ',' << v;
+  csv << '\n';
+}
+
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled), start_(Clock::now()), last_(start_) {}
+  void update(double t, double end) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < 1.0 ||
+        std::chrono::duration<double>(now - start_).count() < 2.0)
+      return;
+    last_ = now;
+    shown_ = true;
+    std::fprintf(stderr, "\r  t = %.6g / %.6g s (%3.0f %%)", t, end, 100.0 * t / end);
+    std::fflush(stderr);
+  }
+  ~Progress() {
+    if (shown_) std::fprintf(stderr, "\r%60s\r", "");
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  bool enabled_, shown_ = false;
+  Clock::time_point start_, last_;
+};
+
+// Rows of probes.csv, and so ParaView frames, a run writes at most: the first, then at most one per step
+// and one per output interval, and the last.
+std::size_t output_rows(const RunSettings& run) {
+  const double h = run.moreau_jean.step;
+  const long steps = std::lround(std::ceil(run.end_time / h - 1e-9));
+  const double intervals = std::ceil(run.end_time / std::max(run.output_rate, h));
+  return static_cast<std::size_t>(std::min<double>(steps, intervals + 1.0)) + 1;
+}
+
+}  // namespace
+
+void check_outputs(const Scene& scene) {
+  const auto problem = paraview_name_problem(scene.world, output_rows(scene.run));
+  if (!problem) return;
+  int line = 0;  // of the body's name
+  for (const auto& entry : scene.document.root["bodies"])
+    if (entry.first.as<std::string>() == problem->body) line = entry.first.Mark().line + 1;
+  throw SceneError(scene.document.file, line, "bodies." + problem->body, problem->message);
+}
+
+State initial_state(const World& world) {
+  State state;
+  state.q.setZero(world.position_size);
+  state.v.setZero(world.velocity_size);
+  for (const BodyInstance& b : world.bodies) {
+    if (b.body->fixed()) continue;
+    state.q.segment(b.position_offset, b.body->position_size()) = b.initial_position;
+    state.v.segment(b.velocity_offset, b.body->velocity_size()) = b.initial_velocity;
+  }
+  return state;
+}
+
+std::unique_ptr<Stepper> make_stepper(const Scene& scene) {
+  const RunSettings& run = scene.run;
+  try {
+    if (run.integrator == "ida" || run.integrator == "ida-events") return std::make_unique<IdaIntegrator>(scene.world, run.ida);
+    if (run.integrator == "quasi-static") return std::make_unique<QuasiStatic>(scene.world, run.quasi_static);
+    return std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
+  } catch (const RunError& e) {  // before the first step: what the stepper cannot run, not a numerical failure
+    throw std::invalid_argument(e.what());
+  }
+}
+
+RunReport run_scene(const Scene& scene, const RunOptions& options) {
+  const RunSettings& run = scene.run;
+  if (!options.output_directory.empty()) check_outputs(scene);
+  // A run that fails leaves no outputs behind, not even those of an earlier run in the same folder.
+  if (!options.output_directory.empty()) {
+    const std::filesystem::path dir(options.output_directory);
+    std::filesystem::remove(dir / "probes.csv");
+    std::filesystem::remove(dir / "summary.json");
+    remove_paraview_outputs(options.output_directory);
+  }
+  const std::unique_ptr<Stepper> stepper_owner = make_stepper(scene);
+  Stepper& stepper = *stepper_owner;
+  ProbeEvaluator probes(scene.world, run);
+  CheckEvaluator checks(run, scene.document.scope);
+  RunReport report;
+  State& state = report.state;
+  state = initial_state(scene.world);
+  stepper.initialize(state);
+
+  std::ostringstream csv;
+  csv << std::setprecision(15) << 't';
+  for (const ProbeDefinition& p : run.probes) csv << ',' << p.name;
+  csv << '\n';
+
+  const double h = run.moreau_jean.step;
+  const long steps = run.steps;
+  const double rate = std::max(run.output_rate, h);
+  // ParaView frames of the elastic bodies, at the rows of probes.csv (DESIGN.md §4).
+  std::unique_ptr<ParaviewSeries> paraview;
+  if (!options.output_directory.empty() && has_elastic_bodies(scene.world))
+    paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory);
+  const auto output_row = [&](const std::vector<double>& row) {
+    append_row(csv, state.t, row, report);
+    if (paraview) paraview->write_frame(scene.world, state, state.t);
+  };
+  std::vector<double> values;
+  probes.evaluate(state, values);
+  checks.add_sample(state.t, values);
+  output_row(values);
+  double next_output = rate;
+
+  Progress progress(options.progress);
+  const auto start = std::chrono::steady_clock::now();
+  for (long k = 0; k < steps; ++k) {
+    honour_stop_request();
+    stepper.step(state);
+    // Events inside the step (stick/slip switches of ida-events) are exact samples.
+    for (const EventSample& event : state.events) {
+      State at_event = state;
+      at_event.t = event.t;
+      at_event.q = event.q;
+      at_event.v = event.v;
+      probes.evaluate(at_event, values);
+      checks.add_sample(event.t, values, true);
+    }
+    probes.evaluate(state, values);
+    checks.add_sample(state.t, values);
+    if (state.t >= next_output - 0.5 * h || k + 1 == steps) {
+      output_row(values);
+      while (next_output <= state.t + 0.5 * h) next_output += rate;
+    }
+    progress.update(state.t, run.end_time);
+  }
+  report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.checks = checks.finish(state.t);
+
+  if (!options.output_directory.empty()) {
+    std::filesystem::create_directories(options.output_directory);
+    const std::filesystem::path dir(options.output_directory);
+    write_file_atomically((dir / "probes.csv").string(), csv.str());
+    write_file_atomically((dir / "summary.json").string(), summary_json(scene, report));
+    if (paraview) paraview->finish();
+  }
+  return report;
+}
+
+std::string summary_json(const Scene& scene, const RunReport& report) {
+  const State& s = report.state;
+  const SolverCounters& c = s.counters;
+  const RunSettings& run = scene.run;
+  JsonWriter json;
+  json.begin_object();
+  json.value("scene", scene.name).value("file", scene.document.file);
+  json.value("integrator", run.integrator);
+  if (run.integrator == "moreau-jean")
+    json.value("theta", run.moreau_jean.theta).value("close_gaps", run.moreau_jean.close_gaps);
+  json.value("dimension", scene.world.dimension);
+  json.value("time_step", run.moreau_jean.step).value("requested_time_step", run.requested_step);
+  json.value("end_time", run.end_time);
+  json.value("steps", c.steps).value("wall_time", report.wall_time);
+  json.value("steps_per_second", report.wall_time > 0 ? c.steps / report.wall_time : 0.0);
+  json.begin_object("contact_solver")
+      .value("method", "projected Gauss-Seidel")
+      .value("tolerance", run.moreau_jean.solver.tolerance)
+      .value("max_iterations", run.moreau_jean.solver.max_iterations)
+      .value("solves", c.solves)
+      .value("total_iterations", c.total_iterations)
+      .value("mean_iterations", c.solves > 0 ? double(c.total_iterations) / c.solves : 0.0)
+      .value("max_iterations_used", c.max_iterations)
+      .value("not_converged", c.not_converged)
+      .value("first_not_converged_time", c.first_not_converged_time)
+      .value("max_residual", c.max_residual)
+      .value("rejected_local_solutions", c.rejected_local_solutions)
+      .end_object();
+  if (run.integrator == "ida" || run.integrator == "ida-events") {
+    const IdaStatistics& ida = s.ida;
+    json.begin_object("ida")
+        .value("rtol", run.ida.rtol).value("atol", run.ida.atol)
+        .value("linear_solver", ida.linear_solver)
+        .value("jacobian", ida.linear_solver == "klu" ? "assembled from the tangents (ours, sparse)"
+                                                       : "IDA difference quotients (dense)")
+        .value("symbolic_analyses", ida.symbolic_analyses)
+        .value("steps", ida.steps).value("residual_evaluations", ida.residual_evaluations)
+        .value("jacobian_evaluations", ida.jacobian_evaluations)
+        .value("error_test_failures", ida.error_test_failures)
+        .value("nonlinear_convergence_failures", ida.nonlinear_convergence_failures)
+        .value("last_step", ida.last_step)
+        .value("epsilon", run.ida.epsilon);
+    json.begin_object("penalty_stiffness");  // N/m, per contact law (the defaults resolved)
+    for (std::size_t l = 0; l < ida.penalty_stiffness.size(); ++l)
+      json.value(scene.world.contact_laws[l].name, ida.penalty_stiffness[l]);
+    json.end_object();
+    json.begin_object("penalty_damping");  // N·s/m, per contact law
+    for (std::size_t l = 0; l < ida.penalty_damping.size(); ++l)
+      json.value(scene.world.contact_laws[l].name, ida.penalty_damping[l]);
+    json.end_object().end_object();
+  }
+  if (run.integrator == "quasi-static" || c.newton_iterations > 0)
+    json.begin_object("newton")
+        .value("tolerance", run.quasi_static.newton_tolerance)
+        .value("iterations", c.newton_iterations)
+        .value("mean_per_step", c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0)
+        .value("max_per_step", c.max_newton_iterations)
+        .value("regularized_iterations", c.newton_regularized)
+        .value("contact_held_iterations", c.newton_held)
+        .value("relaxed_iterations", c.newton_relaxed)
+        .value("backtracks", c.newton_backtracks)
+        .value("redetections", c.newton_redetections)
+        .value("activated_contacts", c.newton_activated_contacts)
+        .value("cutbacks", c.cutbacks)
+        .end_object();
+  json.begin_object("contacts")
+      .value("max_active", c.max_contact_points)
+      .value("mean_active", c.steps > 0 ? double(c.contact_points) / c.steps : 0.0)
+      .end_object();
+  const EnergyBalance& e = s.energy;
+  const double scale = std::max({std::abs(e.initial_kinetic) + std::abs(e.initial_elastic),
+                                 std::abs(e.work_of_loads), std::abs(e.kinetic) + std::abs(e.elastic), 1e-300});
+  // The quasi-static stepper stores only the elastic energy (no work of prescribed motions, no friction
+  // dissipation): a balance written from it would read the elastic energy as a residual.
+  const bool balance = run.integrator != "quasi-static";
+  json.begin_object("energy")
+      .value("kinetic", e.kinetic).value("elastic", e.elastic)
+      .value("initial_kinetic", e.initial_kinetic).value("initial_elastic", e.initial_elastic)
+      .value("balance_tracked", balance);
+  if (balance)
+    json.value("work_of_loads", e.work_of_loads)
+        .value("contact_dissipation", e.contact_dissipation)
+        .value("numerical_dissipation", e.numerical_dissipation)
+        .value("damping_dissipation", e.damping_dissipation)
+        .value("balance_residual", e.residual())
+        .value("max_abs_balance_residual", e.max_abs_residual)
+        .value("relative_balance_residual", e.max_abs_residual / scale);
+  json.end_object();
+  json.begin_object("timers")
+      .value("free_velocity", s.timers.free_velocity).value("detection", s.timers.detection)
+      .value("assembly", s.timers.assembly).value("solve", s.timers.solve).value("update", s.timers.update)
+      .end_object();
+  json.begin_array("checks");
+  for (const CheckResult& r : report.checks) {
+    json.begin_object()
+        .value("name", r.name).value("probe", r.probe).value("kind", r.kind).value("source", r.source)
+        .value("time", r.time).value("reference", r.reference).value("value", r.value)
+        .value("error", r.error)
+        .value("relative_error", r.reference != 0.0 ? r.error / std::abs(r.reference) : 0.0);
+    json.begin_object("tolerance")
+        .value("absolute", r.absolute_tolerance).value("relative", r.relative_tolerance).end_object();
+    json.value("passed", r.passed).value("skipped", r.skipped).value("evaluated", r.evaluated);
+    if (!r.note.empty()) json.value("note", r.note);
+    json.end_object();
+  }
+  json.end_array();
+  const CheckCounts counts = report.counts();
+  json.begin_object("check_counts")
+      .value("passed", counts.passed).value("failed", counts.failed)
+      .value("not_evaluated", counts.not_evaluated).value("excluded", counts.excluded)
+      .end_object();
+  json.value("passed", counts.pass());
+  json.end_object();
+  return json.str();
+}
+
+}  // namespace csim

@@ -1,0 +1,83 @@
+// A loaded scene: the World it describes plus how to run it (time window, integrator, contact solver,
+// probes, checks, output rate). Produced by load_scene(); see DESIGN.md §4 for the file contract.
+#pragma once
+
+#include "tools/scene/scene_node.h"
+#include "engine/steppers/ida_integrator.h"
+#include "engine/steppers/moreau_jean.h"
+#include "engine/steppers/quasi_static.h"
+#include "engine/world.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace csim {
+
+// A named time series sampled every step.
+struct ProbeDefinition {
+  enum class Kind { displacement, position, velocity, energy, contact_force, contact_count, reaction };
+  std::string name;
+  Kind kind = Kind::displacement;
+  int body = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();      // body frame (m)
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX(); // unit; the component measured
+  int velocity_index = -1;                              // velocity probes
+  std::string energy_term;                              // kinetic, elastic, work, contact_dissipation, numerical_dissipation, balance
+  int contact_law = -1;                                 // contact_force probes: force on the law's first body
+  std::string force_component;                          // normal, tangential, x, y, z; contact_count: closed, stick, slip
+  double scale = 1.0;                                   // the value is multiplied by it (a normalization)
+  std::string undefined;  // non-empty: the probe has no value for these parameters (why; its scale is NaN)
+};
+
+// What a check compares with its reference.
+struct CheckDefinition {
+  enum class Mode { at, extremum, maximum, minimum, extremum_time, final_value, mean };
+  std::string name;
+  int probe = -1;
+  Mode mode = Mode::final_value;
+  double time = 0.0;         // Mode::at (s); Mode::mean: the window's start (s)
+  double time_end = 0.0;     // Mode::mean: the window's end (s)
+  int index = 0;             // extremum index, from 1
+  std::string reference;     // expression text ('=' stripped) or a number; may use t (the check's time)
+                             // and initial (the probe's value at t = 0)
+  int reference_line = 0;
+  double absolute_tolerance = 0.0;
+  double relative_tolerance = 0.0;
+  std::string kind;          // analytical | literature | non-regression
+  std::string source;
+  bool enabled = true;       // false when only_if evaluates to 0, or cannot be evaluated, for these parameters
+  std::string only_if;
+  std::string exclusion;     // why it is not enabled
+  std::string unjudgeable;   // non-empty: it applies but cannot be judged for these parameters (why)
+};
+
+struct RunSettings {
+  std::string integrator = "moreau-jean";
+  double end_time = 1.0;     // s
+  long steps = 0;            // end_time / moreau_jean.step, exactly (the step is adjusted to divide the window)
+  double requested_step = 0.0;  // s, time.step as written; moreau_jean.step is the one used
+  MoreauJeanParameters moreau_jean;
+  IdaParameters ida;         // used when integrator == "ida"; its sample_step is time.step
+  QuasiStaticParameters quasi_static;  // used when integrator == "quasi-static"
+  double output_rate = 0.0;  // s between rows of probes.csv; 0 = every step
+  std::vector<ProbeDefinition> probes;
+  std::vector<CheckDefinition> checks;
+};
+
+struct Scene {
+  SceneDocument document;
+  std::string name;          // the scene folder's name
+  std::string description;
+  std::string declared_integrator;  // integrator.type as the file writes it, before --set ("" when absent)
+  World world;
+  RunSettings run;
+};
+
+// Reads, validates and builds a scene; the overrides (KEY=VALUE) are applied first. Throws SceneError.
+std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std::string>& overrides);
+
+// The effective configuration (file + overrides + defaults) as YAML text.
+std::string dump_config(const Scene& scene);
+
+}  // namespace csim

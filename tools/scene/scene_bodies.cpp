@@ -1,0 +1,221 @@
+// bodies: point masses, rigid bodies and fixed bodies with their collision shapes.
+//   type: point | rigid | fixed
+//   mass (kg), inertia (2D: kg·m² about the centre of mass; 3D: principal [I1, I2, I3]; default from a
+//   single box or sphere shape), position (reference configuration, m), angle (deg, about z, or about
+//   `axis` in 3D), initial_displacement (m), velocity (m/s), angular_velocity (rad/s; 3D: body frame)
+//   shapes: NAME: {type: box, size: [...]} | {type: sphere, radius} | {type: halfspace, normal, offset},
+//           each with an optional position and angle in the body frame;
+//   prescribed: {COMPONENT: value | [[t, value], ...]}: the component's displacement from the
+//           reference position (m, or rad for rz) as a constant or a table interpolated linearly in
+//           time (a ground moved along a path, a hub held at its centre; 3D rotations rx, ry, rz: the
+//           angle turned about that body axis, exact for turns about one axis), or
+//           {value: ..., until: T (s)}: prescribed until T, then free (a hub's spin held during a press).
+#include "engine/bodies/fe_body.h"
+#include "engine/bodies/fixed_body.h"
+#include "engine/bodies/point_mass.h"
+#include "engine/bodies/rigid_body_2d.h"
+#include "engine/bodies/rigid_body_3d.h"
+#include "tools/scene/scene_parts.h"
+
+#include <cmath>
+#include <limits>
+
+namespace csim::scene_parts {
+
+namespace {
+
+constexpr double kDegree = M_PI / 180.0;
+
+Eigen::Matrix3d rotation(const SceneNode& node, int dimension) {
+  const double angle = node.has("angle") ? node.number("angle") * kDegree : 0.0;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  if (dimension == 3 && node.has("axis")) {
+    axis = node.vector("axis", 3, 3);
+    if (axis.norm() == 0.0) node.fail_at("axis", "must not be zero");
+    axis.normalize();
+  }
+  return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+}
+
+ShapeInstance read_shape(const std::string& name, const SceneNode& node, int dimension) {
+  ShapeInstance shape;
+  shape.name = name;
+  const std::string type = node.string("type");
+  if (type == "box") {
+    node.allow_only({"type", "size", "position", "angle", "axis"});
+    Eigen::Vector3d size = node.vector("size", dimension, dimension);
+    if (dimension == 2) size.z() = 1.0;  // plane strain: unit depth
+    if ((size.array() <= 0.0).any()) node.fail_at("size", "every size must be > 0");
+    shape.shape = Box{0.5 * size};
+  } else if (type == "sphere") {
+    node.allow_only({"type", "radius", "position", "angle", "axis"});
+    shape.shape = Sphere{node.positive("radius")};
+  } else if (type == "halfspace") {
+    node.allow_only({"type", "normal", "offset", "position", "angle", "axis"});
+    Eigen::Vector3d normal = node.vector("normal", dimension, dimension);
+    if (normal.norm() == 0.0) node.fail_at("normal", "must not be zero");
+    shape.shape = Halfspace{normal.normalized(), node.number("offset", 0.0)};
+  } else {
+    node.fail_at("type", "unknown shape type '" + type + "' (available: box, sphere, halfspace)");
+  }
+  if (node.has("position")) shape.local_pose.translation() = node.vector("position", dimension, dimension);
+  shape.local_pose.linear() = rotation(node, dimension);
+  return shape;
+}
+
+double bounding_radius(const std::vector<ShapeInstance>& shapes) {
+  double radius = 0.0;
+  for (const ShapeInstance& s : shapes) {
+    const double offset = s.local_pose.translation().norm();
+    if (const auto* sphere = std::get_if<Sphere>(&s.shape)) radius = std::max(radius, offset + sphere->radius);
+    else if (const auto* box = std::get_if<Box>(&s.shape)) radius = std::max(radius, offset + box->half_extents.norm());
+    else radius = std::numeric_limits<double>::infinity();
+  }
+  return radius;
+}
+
+// Inertia about the centre of mass from a single centred box or sphere: 2D about z, 3D principal.
+Eigen::Vector3d default_inertia(const SceneNode& node, double mass, const std::vector<ShapeInstance>& shapes,
+                                int dimension) {
+  if (shapes.size() == 1 && shapes[0].local_pose.translation().isZero()) {
+    if (const auto* box = std::get_if<Box>(&shapes[0].shape)) {
+      const Eigen::Vector3d s = 2.0 * box->half_extents;
+      return mass / 12.0 * Eigen::Vector3d(s.y() * s.y() + s.z() * s.z(), s.x() * s.x() + s.z() * s.z(),
+                                           s.x() * s.x() + s.y() * s.y());
+    }
+    if (const auto* sphere = std::get_if<Sphere>(&shapes[0].shape)) {
+      const double r2 = sphere->radius * sphere->radius;
+      return Eigen::Vector3d::Constant(dimension == 2 ? 0.5 * mass * r2 : 0.4 * mass * r2);
+    }
+  }
+  node.fail_at("inertia", "required (it has no default unless the body has one centred box or sphere)");
+}
+
+void read_body(const std::string& name, const SceneNode& node, World& world) {
+  node.allow_only({"type", "mass", "inertia", "position", "angle", "axis", "initial_displacement", "velocity",
+                   "angular_velocity", "shapes", "prescribed"});
+  const int d = world.dimension;
+  BodyInstance b;
+  b.name = name;
+  if (node.has("shapes"))
+    for (const auto& [shape_name, shape_node] : node.child("shapes").entries())
+      b.shapes.push_back(read_shape(shape_name, shape_node, d));
+
+  const std::string type = node.string("type");
+  const Eigen::Vector3d position = node.has("position") ? node.vector("position", d, d) : Eigen::Vector3d::Zero();
+  const Eigen::Matrix3d orientation = rotation(node, d);
+  if (type == "fixed") {
+    for (const char* key : {"mass", "inertia", "initial_displacement", "velocity", "angular_velocity"})
+      if (node.has(key)) node.fail_at(key, "a fixed body takes no mass or motion");
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = position;
+    pose.linear() = orientation;
+    b.body = std::make_unique<FixedBody>(pose);
+  } else if (type == "point" || type == "rigid") {
+    const double mass = node.positive("mass");
+    if (type == "point") {
+      if (node.has("inertia") || node.has("angle") || node.has("angular_velocity"))
+        node.fail("a point mass has no inertia, angle or angular velocity");
+      b.body = std::make_unique<PointMass>(d, mass);
+    } else if (d == 2) {
+      const double inertia = node.has("inertia") ? node.positive("inertia")
+                                                 : default_inertia(node, mass, b.shapes, d).z();
+      b.body = std::make_unique<RigidBody2d>(mass, inertia);
+    } else {
+      const Eigen::Vector3d inertia = node.has("inertia") ? node.vector("inertia", 3, 3)
+                                                          : default_inertia(node, mass, b.shapes, d);
+      if ((inertia.array() <= 0.0).any()) node.fail_at("inertia", "every principal inertia must be > 0");
+      b.body = std::make_unique<RigidBody3d>(mass, inertia);
+    }
+  } else {
+    node.fail_at("type", "unknown body type '" + type + "' (available: point, rigid, fixed, elastic)");
+  }
+  b.body->bounding_radius = bounding_radius(b.shapes);
+  if (!b.body->fixed() && !std::isfinite(b.body->bounding_radius))
+    node.fail("a halfspace can only belong to a fixed body");
+
+  // Reference configuration, then the initial state.
+  const int nq = b.body->position_size(), nv = b.body->velocity_size();
+  b.reference_position.setZero(nq);
+  b.initial_velocity.setZero(nv);
+  if (nq > 0) {
+    b.reference_position.head(d) = position.head(d);
+    if (type == "rigid" && d == 2) {
+      b.reference_position(2) = node.has("angle") ? node.number("angle") * kDegree : 0.0;
+    } else if (type == "rigid") {
+      const Eigen::Quaterniond q(orientation);
+      b.reference_position.tail<4>() << q.w(), q.x(), q.y(), q.z();
+    }
+    b.initial_position = b.reference_position;
+    if (node.has("initial_displacement"))
+      b.initial_position.head(d) += node.vector("initial_displacement", d, d).head(d);
+    if (node.has("velocity")) b.initial_velocity.head(d) = node.vector("velocity", d, d).head(d);
+    if (node.has("angular_velocity")) {
+      if (type != "rigid") node.fail_at("angular_velocity", "only rigid bodies rotate");
+      if (d == 2) b.initial_velocity(2) = node.number("angular_velocity");
+      else b.initial_velocity.tail<3>() = node.vector("angular_velocity", 3, 3);
+    }
+  }
+  if (node.has("prescribed")) {
+    if (type == "fixed") node.fail_at("prescribed", "a fixed body does not move");
+    for (const auto& [component, value] : node.child("prescribed").entries()) {
+      PrescribedComponent p;
+      p.body = static_cast<int>(world.bodies.size());
+      p.component = b.body->velocity_index(component);
+      if (p.component < 0)
+        value.fail("body '" + name + "' has no prescribable component '" + component + "'");
+      if (value.is_map()) {  // {value: V | [[t, V], ...], until: T}
+        value.allow_only({"value", "until"});
+        p.until = value.number("until");
+      }
+      const SceneNode values = value.is_map() ? value.child("value") : value;
+      if (values.is_sequence()) {
+        read_table_rows(values, p.value.table);
+        if (p.value.table.empty()) values.fail("the table must not be empty");
+      } else {
+        p.value.table.emplace_back(0.0, values.as_number());
+      }
+      world.prescribed.push_back(p);
+    }
+  }
+  world.bodies.push_back(std::move(b));
+}
+
+}  // namespace
+
+void read_bodies(const SceneNode& root, World& world) {
+  for (const auto& [name, node] : root.child("bodies").entries()) {
+    node.expect_map();
+    if (node.has("type") && node.string("type") == "elastic") read_elastic_body(name, node, world);
+    else read_body(name, node, world);
+  }
+  if (world.bodies.empty()) root.fail_at("bodies", "a scene needs at least one body");
+  world.finalize_layout();
+  read_ties(root, world);
+}
+
+int contact_law_named(const SceneNode& node, const std::string& key, const World& world) {
+  const std::string name = node.string(key);
+  for (std::size_t i = 0; i < world.contact_laws.size(); ++i)
+    if (world.contact_laws[i].name == name) return static_cast<int>(i);
+  node.fail_at(key, "no contact law named '" + name + "'");
+}
+
+Eigen::Vector3d node_point(const SceneNode& node, const BodyInstance& body) {
+  const auto* fe = dynamic_cast<const FeBody*>(body.body.get());
+  if (!fe) node.fail_at("node", "node sets belong to elastic bodies");
+  const std::string set = node.string("node");
+  const auto it = fe->mesh().node_sets.find(set);
+  if (it == fe->mesh().node_sets.end() || it->second.size() != 1)
+    node.fail_at("node", "the mesh of '" + body.name + "' has no one-node set '" + set + "'");
+  return fe->mesh().nodes[it->second.front()];
+}
+
+int body_named(const SceneNode& node, const std::string& key, const World& world) {
+  const std::string name = node.string(key);
+  const int index = world.body_index(name);
+  if (index < 0) node.fail_at(key, "no body named '" + name + "'");
+  return index;
+}
+
+}  // namespace csim::scene_parts

@@ -1,0 +1,179 @@
+// springs, loads, constraints and contacts: what acts on the bodies.
+#include "engine/bodies/fe_body.h"
+#include "tools/scene/scene_parts.h"
+#include "fem/assembly.h"
+
+namespace csim::scene_parts {
+
+namespace {
+
+Eigen::Vector3d point(const SceneNode& node, const std::string& key, int dimension) {
+  return node.has(key) ? node.vector(key, dimension, dimension) : Eigen::Vector3d::Zero();
+}
+
+}  // namespace
+
+// A spring: {body, point | node, other (default: the ground), other_point, stiffness, direction}.
+// On an elastic body the attachment is a node: `node` names a one-node set of its mesh.
+void read_springs(const SceneNode& root, World& world) {
+  if (!root.has("springs")) return;
+  const int d = world.dimension;
+  for (const auto& [name, node] : root.child("springs").entries()) {
+    node.allow_only({"body", "point", "node", "other", "other_point", "stiffness", "direction"});
+    Spring s;
+    s.name = name;
+    s.body_a = body_named(node, "body", world);
+    s.point_a = point(node, "point", d);
+    if (node.has("node")) s.point_a = node_point(node, world.bodies[s.body_a]);
+    if (node.has("other")) {
+      s.body_b = body_named(node, "other", world);
+      if (world.bodies[s.body_b].body->fixed()) s.body_b = -1;  // a fixed body is the ground
+      s.point_b = point(node, "other_point", d);
+    }
+    s.stiffness = node.positive("stiffness");
+    if (node.has("direction")) {
+      s.direction = node.vector("direction", d, d);
+      if (s.direction.norm() == 0.0) node.fail_at("direction", "must not be zero");
+      s.direction.normalize();
+    }
+    if (world.bodies[s.body_a].body->fixed()) node.fail_at("body", "the first body of a spring must move");
+    world.springs.push_back(s);
+  }
+}
+
+// A load: {body, point, force, ramp (s) | table [[t, λ], ...]}, or on an elastic body a uniform
+// pressure (Pa, positive into the body) on a face set: {body, pressure, faces, ramp | table}.
+void read_loads(const SceneNode& root, World& world) {
+  if (!root.has("loads")) return;
+  const int d = world.dimension;
+  for (const auto& [name, node] : root.child("loads").entries()) {
+    node.allow_only({"body", "point", "force", "pressure", "faces", "ramp", "table"});
+    Load load;
+    load.name = name;
+    load.body = body_named(node, "body", world);
+    if (world.bodies[load.body].body->fixed()) node.fail_at("body", "a load on a fixed body does nothing");
+    if (node.has("pressure")) {
+      const auto* body = dynamic_cast<const FeBody*>(world.bodies[load.body].body.get());
+      if (!body) node.fail_at("pressure", "a pressure acts on the faces of an elastic body");
+      if (node.has("force") || node.has("point")) node.fail("give either pressure and faces, or force and point");
+      const std::string faces = node.string("faces");
+      if (!body->mesh().face_sets.count(faces)) node.fail_at("faces", "the mesh has no face set '" + faces + "'");
+      const FeModel model{body->mesh(), body->material(), body->thickness()};
+      load.nodal_forces = body->restrict(pressure_load(model, body->mesh().face_sets.at(faces), node.number("pressure")));
+    } else {
+      load.point = point(node, "point", d);
+      load.force = node.vector("force", d, d);
+    }
+    if (node.has("ramp") && node.has("table")) node.fail("give either ramp or table, not both");
+    // Read ramp (and so record its default in the tree) only without a table: a default ramp next to
+    // the file's table would make the tree that --set on a default key re-reads contradict itself.
+    if (node.has("table")) {
+      read_table_rows(node.child("table"), load.multiplier.table);
+      if (load.multiplier.table.empty()) node.fail_at("table", "must not be empty");
+    } else {
+      load.multiplier.ramp_time = node.non_negative("ramp", 0.0);
+    }
+    world.loads.push_back(load);
+  }
+}
+
+void read_table_rows(const SceneNode& list, std::vector<std::pair<double, double>>& table) {
+  for (const SceneNode& row : list.items()) {
+    const Eigen::Vector3d entry = row.as_vector(2, 2);
+    if (!table.empty() && entry(0) <= table.back().first) row.fail("table times must increase");
+    table.emplace_back(entry(0), entry(1));
+  }
+}
+
+// A linear constraint: {terms: {BODY.COMPONENT: coefficient, ...}, value (m)}.
+void read_constraints(const SceneNode& root, World& world) {
+  if (!root.has("constraints")) return;
+  for (const auto& [name, node] : root.child("constraints").entries()) {
+    node.allow_only({"terms", "value"});
+    LinearConstraint c;
+    c.name = name;
+    for (const auto& [term, coefficient] : node.child("terms").entries()) {
+      const std::size_t dot = term.rfind('.');
+      const int body = dot == std::string::npos ? -1 : world.body_index(term.substr(0, dot));
+      if (body < 0) coefficient.fail("expected BODY.COMPONENT with a known body");
+      const BodyInstance& b = world.bodies[body];
+      const int local = b.body->velocity_index(term.substr(dot + 1));
+      if (local < 0) coefficient.fail("body '" + b.name + "' has no component '" + term.substr(dot + 1) + "'");
+      c.terms.emplace_back(b.velocity_offset + local, coefficient.as_number());
+    }
+    if (c.terms.empty()) node.fail_at("terms", "a constraint needs at least one term");
+    c.value = node.number("value", 0.0);
+    world.constraints.push_back(c);
+  }
+}
+
+// A contact law: {between: [A, B], mu: μ | [μ1, μ2], friction_direction, restitution, features,
+// mu_ramp: [start, end] (s; μ grows linearly from 0 over that window), elastic_slip: γ (m, quasi-static
+// stepper only; 0 = exact stick)}.
+// features (with an elastic body): nodes (its boundary nodes on the other body's shapes, node-to-
+// surface), faces (the other body's sphere or box vertices on its boundary faces, so that a rigid body
+// can land on it), both, or smoothed (plane scenes: Gauss points on a smooth curve through its boundary
+// nodes, Catmull–Rom on quad4 boundaries, the quadratic edges of quad8, against the other body's
+// shapes; deformable_surface.h, boundary_curve.h).
+void read_contacts(const SceneNode& root, World& world) {
+  if (!root.has("contacts")) return;
+  for (const auto& [name, node] : root.child("contacts").entries()) {
+    node.allow_only({"between", "mu", "friction_direction", "restitution", "features", "mu_ramp",
+                     "elastic_slip"});
+    ContactLaw law;
+    law.name = name;
+    const auto pair = node.child("between").items();
+    if (pair.size() != 2) node.fail_at("between", "expected two body names");
+    for (int i = 0; i < 2; ++i) {
+      const int body = world.body_index(pair[i].as_string());
+      if (body < 0) pair[i].fail("no body named '" + pair[i].as_string() + "'");
+      (i == 0 ? law.body_a : law.body_b) = body;
+    }
+    if (law.body_a == law.body_b) node.fail_at("between", "a body cannot touch itself");
+    for (const ContactLaw& other : world.contact_laws)
+      if ((other.body_a == law.body_a && other.body_b == law.body_b) ||
+          (other.body_a == law.body_b && other.body_b == law.body_a))
+        node.fail_at("between", "these bodies already have the contact law '" + other.name + "'");
+    if (node.has("mu") && node.child("mu").is_sequence()) {
+      law.mu = node.vector("mu", 2, 2).head<2>();
+      if (!node.has("friction_direction"))
+        node.fail_at("friction_direction", "required with an anisotropic mu [mu1, mu2]: the axis of mu1");
+    } else {
+      law.mu.setConstant(node.number("mu", 0.0));
+    }
+    if ((law.mu.array() < 0.0).any()) node.fail_at("mu", "the friction coefficient must be >= 0");
+    if (node.has("mu_ramp")) {  // [start, end] (s): mu grows linearly from 0 to its value
+      const Eigen::Vector3d ramp = node.vector("mu_ramp", 2, 2);
+      if (!(ramp(0) >= 0.0 && ramp(1) > ramp(0))) node.fail_at("mu_ramp", "expected [start, end] with 0 <= start < end");
+      law.mu_ramp_start = ramp(0);
+      law.mu_ramp_end = ramp(1);
+    }
+    law.elastic_slip = node.non_negative("elastic_slip", 0.0);
+    if (node.has("friction_direction"))
+      law.friction_direction = node.vector("friction_direction", world.dimension, world.dimension);
+    law.restitution = node.number("restitution", 0.0);
+    if (law.restitution < 0.0 || law.restitution > 1.0)
+      node.fail_at("restitution", "must lie in [0, 1]");
+    // An elastic body touches through its boundary nodes; the other bodies through their shapes.
+    for (int body : {law.body_a, law.body_b})
+      if (world.bodies[body].shapes.empty() && !world.bodies[body].body->elastic())
+        node.fail_at("between", "body '" + world.bodies[body].name + "' has no shapes");
+    if (world.bodies[law.body_a].body->elastic() && world.bodies[law.body_b].body->elastic())
+      node.fail_at("between", "contact between two elastic bodies is not supported yet (node-to-surface "
+                              "contact works against rigid shapes)");
+    const bool has_elastic = world.bodies[law.body_a].body->elastic() || world.bodies[law.body_b].body->elastic();
+    const std::string features = node.string("features", "nodes");
+    if (features == "faces") law.features = SurfaceFeatures::faces;
+    else if (features == "both") law.features = SurfaceFeatures::both;
+    else if (features == "smoothed") law.features = SurfaceFeatures::smoothed;
+    else if (features != "nodes")
+      node.fail_at("features", "expected nodes, faces, both or smoothed, got '" + features + "'");
+    if (features == "smoothed" && world.dimension != 2)
+      node.fail_at("features", "smoothed is for plane scenes (dimension 2): a curve along the boundary edges");
+    if (!has_elastic && features != "nodes")
+      node.fail_at("features", "only meaningful when one of the bodies is elastic");
+    world.contact_laws.push_back(law);
+  }
+}
+
+}  // namespace csim::scene_parts
