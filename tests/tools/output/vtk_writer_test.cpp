@@ -7,7 +7,7 @@
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 #include "fem/mesh_generators.h"
-#include "tests/engine/xml_reader.h"
+#include "tests/tools/output/xml_reader.h"
 
 #include <gtest/gtest.h>
 
