@@ -2,7 +2,7 @@
 // row per run, for scripts), and the texts of a row both share with the command's own table.
 #include "tools/output/atomic_file.h"
 #include "tools/output/csv_text.h"
-#include "tools/studies/stability_sweep.h"
+#include "tools/output/stability_writer.h"
 
 #include <algorithm>
 #include <cmath>

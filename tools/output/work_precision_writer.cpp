@@ -1,5 +1,5 @@
 // The outputs of `csim compare`: work_precision.csv, work_precision.gp and the PNG gnuplot draws from it.
-#include "tools/studies/compare.h"
+#include "tools/output/work_precision_writer.h"
 #include "tools/output/csv_text.h"
 #include "tools/output/atomic_file.h"
 
