@@ -1,8 +1,7 @@
 #include "engine/contact_detector.h"
 
-#include "engine/bodies/fe_body.h"
-
 #include <cmath>
+#include <optional>
 
 namespace csim {
 
@@ -40,35 +39,12 @@ ContactDetector::ContactDetector(const World& world)
   for (int i = 0; i < nb; ++i) {
     if (!in_contact[i]) continue;
     const BodyInstance& b = world.bodies[i];
-    if (const auto* fe = dynamic_cast<const FeBody*>(b.body.get())) {
-      // An elastic body touches through its boundary nodes (node-to-surface against rigid shapes).
-      DeformableSurfaceGeometry geometry;
-      const std::vector<Face> faces = boundary_faces(fe->mesh());
-      std::vector<std::array<int, 2>> edges;            // quad4 boundary: the Catmull–Rom curve's nodes
-      std::vector<std::array<int, 3>> quadratic_edges;  // quad8 boundary: its curved edges
-      for (const Face& f : faces) {
-        if (f.nodes.size() == 2) {
-          geometry.segments.push_back({f.nodes[0], f.nodes[1]});
-          edges.push_back({f.nodes[0], f.nodes[1]});
-        } else if (fe->mesh().dimension() == 2) {  // quad8 edge: corner, corner, mid-side
-          geometry.segments.push_back({f.nodes[0], f.nodes[2]});
-          geometry.segments.push_back({f.nodes[2], f.nodes[1]});
-          quadratic_edges.push_back({f.nodes[0], f.nodes[1], f.nodes[2]});
-        } else {
-          geometry.triangles.push_back({f.nodes[0], f.nodes[1], f.nodes[2]});
-          geometry.triangles.push_back({f.nodes[0], f.nodes[2], f.nodes[3]});
-        }
-      }
-      geometry.contact_nodes = nodes_of(faces);
-      bool smoothed = false;
-      for (const ContactLaw& law : world.contact_laws)
-        smoothed |= (law.body_a == i || law.body_b == i) && law.features == SurfaceFeatures::smoothed;
-      if (smoothed) {
-        geometry.curve = catmull_rom_segments(edges, fe->mesh().nodes);
-        const std::vector<CurveSegment> quadratic = quadratic_segments(quadratic_edges);
-        geometry.curve.insert(geometry.curve.end(), quadratic.begin(), quadratic.end());
-      }
-      const int object = collision_->add_deformable_surface(i, fe->mesh().nodes, geometry);
+    bool smoothed = false;
+    for (const ContactLaw& law : world.contact_laws)
+      smoothed |= (law.body_a == i || law.body_b == i) && law.features == SurfaceFeatures::smoothed;
+    if (const std::optional<ContactSurface> surface = b.body->contact_surface(smoothed)) {
+      // A deformable body touches through its surface (node-to-surface against rigid shapes).
+      const int object = collision_->add_deformable_surface(i, surface->reference_nodes, surface->geometry);
       for (const ContactLaw& law : world.contact_laws) {
         if (law.body_a == i) collision_->set_surface_features(object, law.body_b, law.features);
         if (law.body_b == i) collision_->set_surface_features(object, law.body_a, law.features);
@@ -96,9 +72,8 @@ PointJacobian ContactDetector::side_jacobian(const Vector& q, int object, const 
                                              const Eigen::Vector3d& world_point) const {
   const BodyInstance& b = world_.bodies[object_body_[object]];
   if (b.body->fixed()) return {};
-  if (object_shape_[object] < 0) return static_cast<const FeBody&>(*b.body).surface_point_jacobian(c.surface);
-  const auto qb = b.positions(q);
-  return b.body->point_jacobian(qb, b.body->pose(qb).inverse() * world_point);
+  if (object_shape_[object] < 0) return b.body->surface_point_jacobian(b.positions(q), c.surface);
+  return b.body->world_point_jacobian(b.positions(q), world_point);
 }
 
 double ContactDetector::travel_bound(const Vector& v, double h) const {
@@ -128,11 +103,7 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;
     if (object_shape_[o] < 0) {
-      const auto& fe = static_cast<const FeBody&>(*b.body);
-      const auto qb = b.positions(q);
-      node_positions_.resize(fe.mesh().nodes.size());
-      for (std::size_t n = 0; n < node_positions_.size(); ++n)
-        node_positions_[n] = fe.mesh().nodes[n] + fe.node_displacement(qb, static_cast<int>(n));
+      b.body->surface_node_positions(b.positions(q), node_positions_);
       collision_->set_node_positions(static_cast<int>(o), node_positions_);
       continue;
     }

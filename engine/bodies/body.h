@@ -8,16 +8,28 @@
 // Displacements are measured from the reference configuration q_ref (the `position` of the scene);
 // the initial state may differ from it (`initial_displacement`), as in SDND100 where the pad is
 // released away from the spring's rest point.
+//
+// Contact asks a body, never its kind (Chrono's ChContactable): its contact features (the rigid shapes
+// of its BodyInstance, or a deformable surface of nodes, segments and triangles), the Jacobian of a
+// material point or of a surface point, its nodes (ties ride on them) and its rotation axes. Adding a
+// body type touches the body and the scene reader only.
 #pragma once
+
+#include "contact/contact_point.h"
+#include "contact/deformable_surface.h"
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <array>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace csim {
+
+class FeBody;
 
 using Vector = Eigen::VectorXd;
 using VectorRef = Eigen::Ref<Eigen::VectorXd>;
@@ -45,6 +57,13 @@ struct PointJacobian {
   void scatter(Rows&& rows, int offset, const Projection& projection, double sign) const {
     for (int k = 0; k < count; ++k) rows.col(offset + index[k]) += sign * (projection * column.col(k));
   }
+};
+
+// A deformable contact surface: the world positions of its nodes in the reference configuration (m)
+// and the features built on them (segments, triangles, the nodes that may touch, a smoothed curve).
+struct ContactSurface {
+  std::vector<Eigen::Vector3d> reference_nodes;
+  DeformableSurfaceGeometry geometry;
 };
 
 class Body {
@@ -129,6 +148,43 @@ class Body {
 
   // Index of a named velocity component ("x", "y", "z", "rx", "ry", "rz"), or -1.
   virtual int velocity_index(const std::string& component) const = 0;
+
+  // ---- Contact features and their Jacobians ----
+
+  // The deformable surface this body touches through, or nullopt when it touches through the rigid
+  // shapes of its BodyInstance (rigid bodies, point masses, fixed bodies). smoothed: also build the
+  // smooth curve through the boundary nodes (a contact law asks for SurfaceFeatures::smoothed).
+  virtual std::optional<ContactSurface> contact_surface(bool smoothed) const { return std::nullopt; }
+  // The world positions (m) of the contact surface's nodes at positions q, indexed as reference_nodes.
+  virtual void surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::Vector3d>& positions) const {
+    positions.clear();
+  }
+  // The Jacobian of a point of the contact surface given by its nodes and weights (a contact's
+  // SurfacePoint): Σ weight · (the node's columns). Empty for a body without a contact surface.
+  virtual PointJacobian surface_point_jacobian(const ConstVectorRef& q, const SurfacePoint& point) const { return {}; }
+  // The Jacobian of the material point at world position x (m): a contact point on one of the body's shapes.
+  PointJacobian world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x) const {
+    return point_jacobian(q, pose(q).inverse() * x);
+  }
+
+  // Nodes of a body discretized by nodes (an elastic body's mesh nodes); none for a lumped body.
+  virtual int node_count() const { return 0; }
+  // Displacement components per node (2 in plane scenes, 3 in space).
+  virtual int node_components() const { return 0; }
+  // A node's reference position (m).
+  virtual Eigen::Vector3d node_reference(int node) const { return Eigen::Vector3d::Zero(); }
+  // The index among this body's velocity components of node's displacement component c, or −1 when
+  // the component is fixed.
+  virtual int node_velocity_index(int node, int c) const { return -1; }
+
+  // The velocity components that are rotation rates (rad/s) with their axes in the body frame: (2, e_z)
+  // for a plane rigid body, (3, e_x), (4, e_y), (5, e_z) for a rigid body in space; none for a body
+  // that does not rotate as a whole.
+  virtual std::vector<std::pair<int, Eigen::Vector3d>> rotation_axes() const { return {}; }
+
+  // The finite-element body itself, or nullptr: for what needs its mesh and fields rather than its
+  // contact features (output writers, the scene reader's node and face sets, pressures).
+  virtual const FeBody* finite_elements() const { return nullptr; }
 
   // Radius of a sphere about the body origin that contains all its shapes (m), for speed bounds.
   double bounding_radius = 0.0;

@@ -165,13 +165,13 @@ Eigen::Vector3d FeBody::point_world(const ConstVectorRef& q, const Eigen::Vector
   return node < 0 ? local : local + node_displacement(q, node);
 }
 
-PointJacobian FeBody::point_jacobian(const ConstVectorRef&, const Eigen::Vector3d& local) const {
+PointJacobian FeBody::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
   const int node = node_at(local);
   if (node < 0) return {};
-  return surface_point_jacobian(SurfacePoint::at_node(node));
+  return surface_point_jacobian(q, SurfacePoint::at_node(node));
 }
 
-PointJacobian FeBody::surface_point_jacobian(const SurfacePoint& point) const {
+PointJacobian FeBody::surface_point_jacobian(const ConstVectorRef&, const SurfacePoint& point) const {
   PointJacobian J;
   for (int k = 0; k < point.count; ++k) {
     if (point.weights[k] == 0.0) continue;  // a face point on a corner: the other nodes do not move it
@@ -181,6 +181,41 @@ PointJacobian FeBody::surface_point_jacobian(const SurfacePoint& point) const {
     }
   }
   return J;
+}
+
+std::optional<ContactSurface> FeBody::contact_surface(bool smoothed) const {
+  ContactSurface surface;
+  surface.reference_nodes = mesh_.nodes;
+  DeformableSurfaceGeometry& geometry = surface.geometry;
+  const std::vector<Face> faces = boundary_faces(mesh_);
+  std::vector<std::array<int, 2>> edges;            // quad4 boundary: the Catmull–Rom curve's nodes
+  std::vector<std::array<int, 3>> quadratic_edges;  // quad8 boundary: its curved edges
+  for (const Face& f : faces) {
+    if (f.nodes.size() == 2) {
+      geometry.segments.push_back({f.nodes[0], f.nodes[1]});
+      edges.push_back({f.nodes[0], f.nodes[1]});
+    } else if (mesh_.dimension() == 2) {  // quad8 edge: corner, corner, mid-side
+      geometry.segments.push_back({f.nodes[0], f.nodes[2]});
+      geometry.segments.push_back({f.nodes[2], f.nodes[1]});
+      quadratic_edges.push_back({f.nodes[0], f.nodes[1], f.nodes[2]});
+    } else {
+      geometry.triangles.push_back({f.nodes[0], f.nodes[1], f.nodes[2]});
+      geometry.triangles.push_back({f.nodes[0], f.nodes[2], f.nodes[3]});
+    }
+  }
+  geometry.contact_nodes = nodes_of(faces);
+  if (smoothed) {
+    geometry.curve = catmull_rom_segments(edges, mesh_.nodes);
+    const std::vector<CurveSegment> quadratic = quadratic_segments(quadratic_edges);
+    geometry.curve.insert(geometry.curve.end(), quadratic.begin(), quadratic.end());
+  }
+  return surface;
+}
+
+void FeBody::surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::Vector3d>& positions) const {
+  positions.resize(mesh_.nodes.size());
+  for (std::size_t n = 0; n < positions.size(); ++n)
+    positions[n] = mesh_.nodes[n] + node_displacement(q, static_cast<int>(n));
 }
 
 void FeBody::add_weight(const ConstVectorRef&, const Eigen::Vector3d& g, VectorRef f) const {

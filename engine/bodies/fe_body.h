@@ -57,8 +57,18 @@ class FeBody final : public Body {
   Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   // The Jacobian of a point of the boundary given by its nodes and weights (a contact's surface point):
-  // Σ weight · (the node's unit columns); fixed components are left out.
-  PointJacobian surface_point_jacobian(const SurfacePoint& point) const;
+  // Σ weight · (the node's unit columns); fixed components are left out (constant: q is unused).
+  PointJacobian surface_point_jacobian(const ConstVectorRef& q, const SurfacePoint& point) const override;
+  // Contact through the boundary: segments of the plane boundary (a quad8 edge as two, corner–mid-side
+  // –corner), two triangles per face in space, the boundary nodes, and when smoothed the Catmull–Rom
+  // curve through quad4 boundary nodes and the quadratic quad8 edges.
+  std::optional<ContactSurface> contact_surface(bool smoothed) const override;
+  void surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::Vector3d>& positions) const override;
+  int node_count() const override { return static_cast<int>(mesh_.nodes.size()); }
+  int node_components() const override { return dofs_per_node(); }
+  Eigen::Vector3d node_reference(int node) const override { return mesh_.nodes[node]; }
+  int node_velocity_index(int node, int c) const override { return free_index(node, c); }
+  const FeBody* finite_elements() const override { return this; }
   void add_weight(const ConstVectorRef& q, const Eigen::Vector3d& g, VectorRef f) const override;
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                           VectorRef q_next) const override;

@@ -21,6 +21,9 @@ class RigidBody2d final : public Body {
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                           VectorRef q_next) const override;
   int velocity_index(const std::string& component) const override;
+  std::vector<std::pair<int, Eigen::Vector3d>> rotation_axes() const override {
+    return {{2, Eigen::Vector3d::UnitZ()}};
+  }
 
  private:
   double mass_;     // kg

@@ -31,6 +31,9 @@ class RigidBody3d final : public Body {
   bool has_inertial_force() const override { return true; }
   bool position_rate_is_velocity() const override { return false; }
   int velocity_index(const std::string& component) const override;
+  std::vector<std::pair<int, Eigen::Vector3d>> rotation_axes() const override {
+    return {{3, Eigen::Vector3d::UnitX()}, {4, Eigen::Vector3d::UnitY()}, {5, Eigen::Vector3d::UnitZ()}};
+  }
 
  private:
   double mass_;               // kg
