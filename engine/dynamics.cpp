@@ -3,16 +3,11 @@
 #include <algorithm>
 #include <array>
 
-#include "engine/bodies/rigid_body_2d.h"
-#include "engine/bodies/rigid_body_3d.h"
-
 namespace csim {
 
 namespace {
 
-bool rotates(const Body& body) {
-  return dynamic_cast<const RigidBody2d*>(&body) || dynamic_cast<const RigidBody3d*>(&body);
-}
+bool rotates(const Body& body) { return !body.rotation_axes().empty(); }
 
 Eigen::Matrix3d projector(const Eigen::Vector3d& direction) {
   if (direction.isZero()) return Eigen::Matrix3d::Identity();

@@ -1,9 +1,5 @@
 #include "engine/reduced_coordinates.h"
 
-#include "engine/bodies/fe_body.h"
-#include "engine/bodies/rigid_body_2d.h"
-#include "engine/bodies/rigid_body_3d.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -50,9 +46,8 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
   for (const RigidTie& tie : world.ties) {
     const BodyInstance& ring = world.bodies[tie.elastic_body];
     const BodyInstance& rigid = world.bodies[tie.rigid_body];
-    const auto* fe = dynamic_cast<const FeBody*>(ring.body.get());
-    const bool plane = dynamic_cast<const RigidBody2d*>(rigid.body.get()) != nullptr;
-    if (!fe || !(plane || dynamic_cast<const RigidBody3d*>(rigid.body.get())))
+    const Body& tied = *ring.body;  // its nodes ride in the hub's frame
+    if (tied.node_count() == 0 || rigid.body->rotation_axes().empty())
       throw std::invalid_argument("tie '" + tie.name + "' must join an elastic body to a rigid body");
     if (floating_of_[ring.velocity_offset] >= 0) throw std::invalid_argument("body '" + ring.name + "' has two ties");
     int hub_index = 0;
@@ -63,15 +58,14 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
       const Eigen::Isometry3d reference = rigid.body->pose(rigid.reference_position);
       hub.rotation_ref = reference.linear();
       hub.centre_ref = reference.translation();
-      if (plane) hub.axes = {{2, Eigen::Vector3d::UnitZ()}};
-      else hub.axes = {{3, Eigen::Vector3d::UnitX()}, {4, Eigen::Vector3d::UnitY()}, {5, Eigen::Vector3d::UnitZ()}};
+      hub.axes = rigid.body->rotation_axes();
       hubs_.push_back(hub);
     }
     const Hub& hub = hubs_[hub_index];
-    const int nodes = static_cast<int>(fe->mesh().nodes.size()), dimension = fe->dofs_per_node();
+    const int nodes = tied.node_count(), dimension = tied.node_components();
     for (int c = 0; c < dimension; ++c)
       for (int node = 0; node < nodes; ++node)
-        if (fe->free_index(node, c) < 0) {
+        if (tied.node_velocity_index(node, c) < 0) {
           check_fixed_component(hub, c, ring.name);
           break;
         }
@@ -82,9 +76,9 @@ ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&w
     for (int node = 0; node < nodes; ++node) {
       Floating f;
       f.hub = hub_index;
-      f.arm = fe->mesh().nodes[node] - hub.centre_ref;
+      f.arm = tied.node_reference(node) - hub.centre_ref;
       for (int c = 0; c < dimension; ++c) {
-        const int free = fe->free_index(node, c);
+        const int free = tied.node_velocity_index(node, c);
         if (free < 0) continue;
         f.dof[c] = ring.velocity_offset + free;
         f.position[c] = ring.position_offset + free;

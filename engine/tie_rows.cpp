@@ -1,19 +1,17 @@
 #include "engine/tie_rows.h"
 
-#include "engine/bodies/fe_body.h"
-
 namespace csim {
 
 TieRows::TieRows(const World& world) : world_(world) {
   for (const RigidTie& tie : world.ties) {
     const BodyInstance& ring = world.bodies[tie.elastic_body];
     const BodyInstance& hub = world.bodies[tie.rigid_body];
-    const auto& fe = static_cast<const FeBody&>(*ring.body);
+    const Body& nodes = *ring.body;
     const Eigen::Isometry3d reference = hub.body->pose(hub.reference_position);
     for (int node : tie.nodes) {
-      const Eigen::Vector3d X = fe.mesh().nodes[node];
-      for (int c = 0; c < fe.dofs_per_node(); ++c) {
-        const int free = fe.free_index(node, c);
+      const Eigen::Vector3d X = nodes.node_reference(node);
+      for (int c = 0; c < nodes.node_components(); ++c) {
+        const int free = nodes.node_velocity_index(node, c);
         if (free < 0) continue;
         Entry e;
         e.node_velocity = ring.velocity_offset + free;
