@@ -220,7 +220,7 @@ std::string pvd_collection(const std::vector<CollectionEntry>& entries) {
 
 bool has_elastic_bodies(const World& world) {
   for (const BodyInstance& b : world.bodies)
-    if (dynamic_cast<const FeBody*>(b.body.get())) return true;
+    if (b.body->finite_elements()) return true;
   return false;
 }
 
@@ -240,7 +240,7 @@ void remove_paraview_outputs(const std::string& output_directory) {
 std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames) {
   std::map<std::string, std::string> owners{{"contacts", "the contacts' series"}};  // stem -> whose
   for (const BodyInstance& b : world.bodies) {
-    if (!dynamic_cast<const FeBody*>(b.body.get())) continue;
+    if (!b.body->finite_elements()) continue;
     const std::string stem = file_stem(b.name);
     const auto [owner, added] = owners.emplace(stem, "body '" + b.name + "'");
     if (!added)
@@ -262,7 +262,7 @@ ParaviewSeries::ParaviewSeries(const World& world, const std::string& output_dir
   if (const auto problem = paraview_name_problem(world, 0))
     throw std::runtime_error(directory_ + ": body '" + problem->body + "': " + problem->message);
   for (std::size_t i = 0; i < world.bodies.size(); ++i)
-    if (dynamic_cast<const FeBody*>(world.bodies[i].body.get()))
+    if (world.bodies[i].body->finite_elements())
       series_.push_back({static_cast<int>(i), file_stem(world.bodies[i].name), {}});
   series_.push_back({-1, "contacts", {}});
   std::error_code error;
@@ -294,7 +294,7 @@ void ParaviewSeries::write_frame(const World& world, const State& state, double 
       continue;
     }
     const BodyInstance& b = world.bodies[s.body];
-    const auto& body = dynamic_cast<const FeBody&>(*b.body);
+    const FeBody& body = *b.body->finite_elements();  // a series is only opened for a finite-element body
     const Eigen::VectorXd u = body.full_displacement(state.q.segment(b.position_offset, body.position_size()));
     // v holds the same free dofs as q, so the same expansion gives the velocity of every dof.
     const Eigen::VectorXd v = body.full_displacement(state.v.segment(b.velocity_offset, body.velocity_size()));

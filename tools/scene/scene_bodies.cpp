@@ -202,7 +202,7 @@ int contact_law_named(const SceneNode& node, const std::string& key, const World
 }
 
 Eigen::Vector3d node_point(const SceneNode& node, const BodyInstance& body) {
-  const auto* fe = dynamic_cast<const FeBody*>(body.body.get());
+  const FeBody* fe = body.body->finite_elements();
   if (!fe) node.fail_at("node", "node sets belong to elastic bodies");
   const std::string set = node.string("node");
   const auto it = fe->mesh().node_sets.find(set);

@@ -243,7 +243,7 @@ void read_ties(const SceneNode& root, World& world) {
     tie.name = name;
     tie.elastic_body = world.body_index(name);
     tie.rigid_body = body_named(tie_node, "body", world);
-    const auto* fe = static_cast<const FeBody*>(world.bodies[tie.elastic_body].body.get());
+    const FeBody* fe = world.bodies[tie.elastic_body].body->finite_elements();  // read_ties: only elastic bodies
     const Body& rigid = *world.bodies[tie.rigid_body].body;
     if (rigid.elastic() || rigid.velocity_size() != 3 * (world.dimension - 1))
       tie_node.fail_at("body", "a tie joins an elastic body to a rigid body");
@@ -304,17 +304,19 @@ void read_elastic_body(const std::string& name, const SceneNode& node, World& wo
 
   BodyInstance b;
   b.name = name;
+  std::unique_ptr<FeBody> fe_body;
   try {
     if (material.finite_strain)
-      b.body = std::make_unique<FeBody>(std::move(mesh), *material.finite_strain, thickness, mass == "lumped", fixed,
-                                        alpha, beta);
+      fe_body = std::make_unique<FeBody>(std::move(mesh), *material.finite_strain, thickness, mass == "lumped", fixed,
+                                         alpha, beta);
     else
-      b.body =
+      fe_body =
           std::make_unique<FeBody>(std::move(mesh), material.linear, thickness, mass == "lumped", fixed, alpha, beta);
   } catch (const FemError& e) {
     node.child("material").fail(e.what());
   }
-  const FeBody& body = static_cast<const FeBody&>(*b.body);
+  const FeBody& body = *fe_body;
+  b.body = std::move(fe_body);
   const int n = body.velocity_size();
   b.reference_position.setZero(n);
   b.initial_position.setZero(n);

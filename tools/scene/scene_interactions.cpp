@@ -53,7 +53,7 @@ void read_loads(const SceneNode& root, World& world) {
     load.body = body_named(node, "body", world);
     if (world.bodies[load.body].body->fixed()) node.fail_at("body", "a load on a fixed body does nothing");
     if (node.has("pressure")) {
-      const auto* body = dynamic_cast<const FeBody*>(world.bodies[load.body].body.get());
+      const FeBody* body = world.bodies[load.body].body->finite_elements();
       if (!body) node.fail_at("pressure", "a pressure acts on the faces of an elastic body");
       if (node.has("force") || node.has("point")) node.fail("give either pressure and faces, or force and point");
       const std::string faces = node.string("faces");
