@@ -93,7 +93,7 @@ struct CollisionWorld::Impl {
   };
 
   struct Object {
-    ShapeInstance instance;
+    CollisionShape instance;
     int body = -1;
     bool fixed = false;
     std::unique_ptr<MarginCollisionObject> fcl_object;  // null for halfspaces (kept out of the tree)

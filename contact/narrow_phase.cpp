@@ -32,7 +32,7 @@ struct PairQuery {
 
 // A pair function appends contacts between `first` and `second`, normal from first to second,
 // feature set, keys and frames left to the caller.
-using PairFunction = void (*)(const ShapeInstance& first, const ShapeInstance& second,
+using PairFunction = void (*)(const CollisionShape& first, const CollisionShape& second,
                               PairQuery& query, std::vector<ContactPoint>& out);
 
 void add_contact(const Eigen::Vector3d& point_first, const Eigen::Vector3d& point_second,
@@ -52,7 +52,7 @@ struct WorldPlane {
   double offset;  // m
 };
 
-WorldPlane world_plane(const ShapeInstance& instance) {
+WorldPlane world_plane(const CollisionShape& instance) {
   const auto& halfspace = std::get<Halfspace>(instance.shape);
   const Eigen::Vector3d n = instance.pose.linear() * halfspace.normal;
   return {n, halfspace.offset + n.dot(instance.pose.translation())};
@@ -60,7 +60,7 @@ WorldPlane world_plane(const ShapeInstance& instance) {
 
 // FCL's deepest penetration point as a contact (pos is FCL's midpoint between the two surfaces), the
 // second shape taken at `second_pose`.
-bool add_deepest_fcl_contact(const ShapeInstance& first, const ShapeInstance& second,
+bool add_deepest_fcl_contact(const CollisionShape& first, const CollisionShape& second,
                              const Eigen::Isometry3d& second_pose, PairQuery& query,
                              std::vector<ContactPoint>& out) {
   auto& result = query.fcl.collision_result;
@@ -76,7 +76,7 @@ bool add_deepest_fcl_contact(const ShapeInstance& first, const ShapeInstance& se
 }
 
 // FCL's separation distance (≥ 0), or a negative value when FCL finds the shapes overlapping.
-double fcl_distance(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query) {
+double fcl_distance(const CollisionShape& first, const CollisionShape& second, PairQuery& query) {
   auto& result = query.fcl.distance_result;
   result.clear();
   fcl::distance(first.geometry.get(), first.pose, second.geometry.get(), second.pose,
@@ -84,7 +84,7 @@ double fcl_distance(const ShapeInstance& first, const ShapeInstance& second, Pai
   return result.min_distance;
 }
 
-void sphere_sphere(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+void sphere_sphere(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
                    std::vector<ContactPoint>& out) {
   const double r1 = std::get<Sphere>(first.shape).radius;
   const double r2 = std::get<Sphere>(second.shape).radius;
@@ -99,7 +99,7 @@ void sphere_sphere(const ShapeInstance& first, const ShapeInstance& second, Pair
   add_contact(c1 + r1 * n, c2 - r2 * n, n, gap, 0, out);
 }
 
-void sphere_box(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+void sphere_box(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
                 std::vector<ContactPoint>& out) {
   const double gap = fcl_distance(first, second, query);
   if (gap < 0.0) {  // FCL's sphere–box distance only proves separation; -1 means overlapping
@@ -120,7 +120,7 @@ void sphere_box(const ShapeInstance& first, const ShapeInstance& second, PairQue
 // normal. The push goes along GJK's (roughly right) witness direction, or along the line of centres
 // when GJK has none (that line has a positive component on any separating normal of two convex
 // bodies).
-void touching_box_box(const ShapeInstance& first, const ShapeInstance& second, double gjk_gap,
+void touching_box_box(const CollisionShape& first, const CollisionShape& second, double gjk_gap,
                       PairQuery& query, std::vector<ContactPoint>& out) {
   const auto& witness = query.fcl.distance_result.nearest_points;
   const Eigen::Vector3d witness_direction = witness[1] - witness[0];
@@ -148,7 +148,7 @@ void touching_box_box(const ShapeInstance& first, const ShapeInstance& second, d
   c.point_a = c.point_b - c.gap * c.normal;
 }
 
-void box_box(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+void box_box(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
              std::vector<ContactPoint>& out) {
   if (add_deepest_fcl_contact(first, second, second.pose, query, out)) return;
   const double gap = fcl_distance(first, second, query);
@@ -163,7 +163,7 @@ void box_box(const ShapeInstance& first, const ShapeInstance& second, PairQuery&
   add_contact(p1, p2, (p2 - p1).normalized(), gap, 0, out);
 }
 
-void sphere_halfspace(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+void sphere_halfspace(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
                       std::vector<ContactPoint>& out) {
   const double r = std::get<Sphere>(first.shape).radius;
   const WorldPlane plane = world_plane(second);
@@ -176,7 +176,7 @@ void sphere_halfspace(const ShapeInstance& first, const ShapeInstance& second, P
 }
 
 template <bool kPlanar>
-void box_halfspace(const ShapeInstance& first, const ShapeInstance& second, PairQuery& query,
+void box_halfspace(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
                    std::vector<ContactPoint>& out) {
   const Box& box = std::get<Box>(first.shape);
   const WorldPlane plane = world_plane(second);
@@ -249,11 +249,11 @@ NarrowPhase::NarrowPhase(bool planar) : planar_(planar) {
   scratch_.distance_request.gjk_solver_type = fcl::GST_LIBCCD;
 }
 
-void NarrowPhase::collide(const ShapeInstance& a, const ShapeInstance& b, double margin,
+void NarrowPhase::collide(const CollisionShape& a, const CollisionShape& b, double margin,
                           std::vector<ContactPoint>& out) {
   const bool swapped = a.shape.index() > b.shape.index();
-  const ShapeInstance& first = swapped ? b : a;
-  const ShapeInstance& second = swapped ? a : b;
+  const CollisionShape& first = swapped ? b : a;
+  const CollisionShape& second = swapped ? a : b;
   const PairFunction pair = kPairTable[planar_][first.shape.index()][second.shape.index()];
   if (pair == nullptr) return;
 

@@ -40,8 +40,9 @@ namespace csim {
 
 // One collision object as the narrow phase sees it. Halfspaces are normalised at registration
 // (unit normal). `geometry` is FCL's copy of the shape (null for halfspaces, which FCL is not asked
-// about).
-struct ShapeInstance {
+// about). Not the World's ShapeInstance (a body's shape in its frame): a distinct name, since both
+// are linked into the same programs (one definition rule).
+struct CollisionShape {
   int id = -1;
   Shape shape;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // shape frame in world
@@ -61,7 +62,7 @@ class NarrowPhase {
 
   // Appends the contacts between a and b (a.id < b.id) whose gap ≤ margin (m): keys set, normal from
   // a to b, planar projection applied, frame completed with the default direction.
-  void collide(const ShapeInstance& a, const ShapeInstance& b, double margin,
+  void collide(const CollisionShape& a, const CollisionShape& b, double margin,
                std::vector<ContactPoint>& out);
 
   // Scratch reused by the FCL-backed pair functions (no per-query setup beyond FCL's own).

@@ -532,8 +532,8 @@ TEST(CollisionWorld, ManyObjectsWithHalfspacesMatchBruteForce) {
     for (int a = 0; a < static_cast<int>(placed.size()); ++a) {
       for (int b = a + 1; b < static_cast<int>(placed.size()); ++b) {
         if (body[a] == body[b] || (placed[a].fixed && placed[b].fixed)) continue;
-        ShapeInstance sa{a, placed[a].shape, placed[a].pose, make_fcl_geometry(placed[a].shape)};
-        ShapeInstance sb{b, placed[b].shape, placed[b].pose, make_fcl_geometry(placed[b].shape)};
+        CollisionShape sa{a, placed[a].shape, placed[a].pose, make_fcl_geometry(placed[a].shape)};
+        CollisionShape sb{b, placed[b].shape, placed[b].pose, make_fcl_geometry(placed[b].shape)};
         brute_force.collide(sa, sb, margin, expected);
       }
     }
