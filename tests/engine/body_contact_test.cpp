@@ -1,0 +1,155 @@
+// The contact queries of Body (body.h), asked directly of each kind of body: a rigid body's point
+// Jacobian against a central difference of its position map, its rotation axes, and an elastic body's
+// contact surface, nodes and surface-point Jacobian against the motion of its nodes.
+#include "engine/bodies/fe_body.h"
+#include "engine/bodies/fixed_body.h"
+#include "engine/bodies/point_mass.h"
+#include "engine/bodies/rigid_body_2d.h"
+#include "engine/bodies/rigid_body_3d.h"
+#include "fem/mesh_generators.h"
+
+#include <gtest/gtest.h>
+
+namespace csim {
+namespace {
+
+// The dense 3 × n matrix of a PointJacobian (n = the body's velocity components).
+Eigen::MatrixXd dense(const PointJacobian& J, int n) {
+  Eigen::MatrixXd D = Eigen::MatrixXd::Zero(3, n);
+  for (int k = 0; k < J.count; ++k) D.col(J.index[k]) += J.column.col(k);
+  return D;
+}
+
+// ∂x/∂v by central differences of x(q ⊕ ε e_k) = point_world(integrate_position(q, e_k, ε), local):
+// the velocity map the Jacobian must be.
+Eigen::MatrixXd central_difference(const Body& body, const Eigen::VectorXd& q, const Eigen::Vector3d& local) {
+  const double eps = 1e-6;
+  const int n = body.velocity_size();
+  Eigen::MatrixXd D(3, n);
+  Eigen::VectorXd plus(q.size()), minus(q.size());
+  for (int k = 0; k < n; ++k) {
+    const Eigen::VectorXd e = Eigen::VectorXd::Unit(n, k);
+    body.integrate_position(q, e, eps, plus);
+    body.integrate_position(q, e, -eps, minus);
+    D.col(k) = (body.point_world(plus, local) - body.point_world(minus, local)) / (2 * eps);
+  }
+  return D;
+}
+
+TEST(BodyContact, RigidBody3dPointJacobianIsTheDerivativeOfItsPositionMap) {
+  const RigidBody3d body(2.0, Eigen::Vector3d(0.1, 0.2, 0.3));
+  Eigen::VectorXd q(7);
+  const Eigen::Quaterniond rotation = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -1).normalized()) *
+                                      Eigen::Quaterniond::Identity();
+  q << 0.3, -0.2, 1.1, rotation.w(), rotation.x(), rotation.y(), rotation.z();
+  const Eigen::Vector3d local(0.4, -0.25, 0.15);
+  const Eigen::MatrixXd J = dense(body.point_jacobian(q, local), 6);
+  EXPECT_LT((J - central_difference(body, q, local)).norm(), 1e-8);
+  // A contact point given in world coordinates is the same material point.
+  const Eigen::Vector3d x = body.pose(q) * local;
+  EXPECT_LT((dense(body.world_point_jacobian(q, x), 6) - J).norm(), 1e-14);
+  // Its rotation components are ω in the body frame: component 3 + i turns about e_i of the body.
+  const auto axes = body.rotation_axes();
+  ASSERT_EQ(axes.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(axes[i].first, 3 + i);
+    const Eigen::Vector3d expected = body.pose(q).linear() * axes[i].second.cross(local);
+    EXPECT_LT((J.col(axes[i].first) - expected).norm(), 1e-14);
+  }
+  EXPECT_FALSE(body.contact_surface(false).has_value());
+  EXPECT_EQ(body.node_count(), 0);
+  EXPECT_EQ(body.finite_elements(), nullptr);
+}
+
+TEST(BodyContact, RigidBody2dPointJacobianIsTheDerivativeOfItsPositionMap) {
+  const RigidBody2d body(1.5, 0.02);
+  const Eigen::Vector3d q(0.5, -0.3, 0.9);
+  const Eigen::Vector3d local(0.2, 0.1, 0.0);
+  const Eigen::MatrixXd J = dense(body.point_jacobian(q, local), 3);
+  EXPECT_LT((J - central_difference(body, q, local)).norm(), 1e-8);
+  EXPECT_LT((dense(body.world_point_jacobian(q, body.pose(q) * local), 3) - J).norm(), 1e-14);
+  const auto axes = body.rotation_axes();
+  ASSERT_EQ(axes.size(), 1u);
+  EXPECT_EQ(axes[0].first, 2);
+  EXPECT_EQ(axes[0].second, Eigen::Vector3d::UnitZ());
+  EXPECT_FALSE(body.contact_surface(true).has_value());
+}
+
+TEST(BodyContact, PointMassAndFixedBodyNeitherRotateNorHaveASurface) {
+  const PointMass point(3, 1.0);
+  const FixedBody ground(Eigen::Isometry3d::Identity());
+  for (const Body* body : {static_cast<const Body*>(&point), static_cast<const Body*>(&ground)}) {
+    EXPECT_TRUE(body->rotation_axes().empty());
+    EXPECT_FALSE(body->contact_surface(false).has_value());
+    EXPECT_EQ(body->node_count(), 0);
+    EXPECT_EQ(body->finite_elements(), nullptr);
+  }
+  const Eigen::Vector3d q(1.0, 2.0, 3.0);
+  const Eigen::Vector3d local(0.1, 0.2, 0.3);
+  EXPECT_LT((dense(point.point_jacobian(q, local), 3) - central_difference(point, q, local)).norm(), 1e-8);
+  EXPECT_EQ(ground.surface_point_jacobian(Eigen::VectorXd(), SurfacePoint::at_node(0)).count, 0);
+}
+
+// A 2 × 1 quad4 rectangle (6 nodes: 0 1 2 along y = 0, 3 4 5 along y = 1) with x held on the left side.
+FeBody rectangle_body() {
+  const Mesh mesh = rectangle_mesh(2.0, 1.0, 2, 1, ElementType::quad4);
+  std::vector<std::pair<int, int>> fixed;
+  for (int node : mesh.node_sets.at("left")) fixed.emplace_back(node, 0);
+  return FeBody(mesh, ElasticMaterial{1e6, 0.3, 1000.0}, 0.1, true, fixed);
+}
+
+TEST(BodyContact, ElasticBodyTouchesThroughItsBoundary) {
+  const FeBody body = rectangle_body();
+  EXPECT_EQ(body.finite_elements(), &body);
+  EXPECT_TRUE(body.rotation_axes().empty());
+  ASSERT_EQ(body.node_count(), 6);
+  EXPECT_EQ(body.node_components(), 2);
+  EXPECT_EQ(body.velocity_size(), 10);  // 12 dofs, x of the two left nodes held
+  const std::optional<ContactSurface> surface = body.contact_surface(false);
+  ASSERT_TRUE(surface.has_value());
+  EXPECT_EQ(surface->reference_nodes, body.mesh().nodes);
+  EXPECT_EQ(surface->geometry.segments.size(), 6u);  // the rectangle's boundary edges
+  EXPECT_TRUE(surface->geometry.triangles.empty());
+  EXPECT_EQ(surface->geometry.contact_nodes, (std::vector<int>{0, 1, 2, 3, 4, 5}));  // every node is on it
+  EXPECT_TRUE(surface->geometry.curve.empty());
+  EXPECT_FALSE(body.contact_surface(true)->geometry.curve.empty());  // smoothed: the curve too
+
+  // Nodes: the held components have no velocity index, the others are the free dofs.
+  for (int node = 0; node < 6; ++node) {
+    EXPECT_EQ(body.node_reference(node), body.mesh().nodes[node]);
+    for (int c = 0; c < 2; ++c) EXPECT_EQ(body.node_velocity_index(node, c), body.free_index(node, c));
+  }
+  const int left = body.mesh().node_sets.at("bottom_left").front();
+  EXPECT_EQ(body.node_velocity_index(left, 0), -1);
+  EXPECT_GE(body.node_velocity_index(left, 1), 0);
+}
+
+TEST(BodyContact, ElasticSurfacePointMovesWithItsJacobian) {
+  const FeBody body = rectangle_body();
+  const int n = body.velocity_size();
+  const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(n, -0.01, 0.02);
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(n, 0.3, -0.5);
+  std::vector<Eigen::Vector3d> at_q, at_q_plus_v;
+  body.surface_node_positions(q, at_q);
+  body.surface_node_positions(q + v, at_q_plus_v);
+  ASSERT_EQ(at_q.size(), 6u);
+  for (int node = 0; node < 6; ++node)
+    EXPECT_LT((at_q[node] - body.mesh().nodes[node] - body.node_displacement(q, node)).norm(), 1e-15);
+  // A point of the bottom edge between a held node and a free one, a quarter of the way along: its
+  // position is linear in q, so J v is exactly its motion from q to q + v.
+  SurfacePoint point;
+  point.count = 2;
+  point.nodes = {body.mesh().node_sets.at("bottom_left").front(), 1, 0, 0};
+  point.weights = {0.75, 0.25, 0.0, 0.0};
+  Eigen::Vector3d motion = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 2; ++k)
+    motion += point.weights[k] * (at_q_plus_v[point.nodes[k]] - at_q[point.nodes[k]]);
+  const Eigen::MatrixXd J = dense(body.surface_point_jacobian(q, point), n);
+  EXPECT_LT((J * v - motion).norm(), 1e-15);
+  // A node is a material point: its point Jacobian is its surface point's.
+  EXPECT_EQ(dense(body.point_jacobian(q, body.mesh().nodes[1]), n),
+            dense(body.surface_point_jacobian(q, SurfacePoint::at_node(1)), n));
+}
+
+}  // namespace
+}  // namespace csim
