@@ -66,7 +66,7 @@ TEST_P(TieRowsTest, GapsVanishOnRigidMotions) {
   const Eigen::Isometry3d motion =
       hub.body->pose(hub.positions(q)) * hub.body->pose(hub.positions(reference(world))).inverse();
   const BodyInstance& ring = world.bodies[world.body_index("ring")];
-  const auto& fe = static_cast<const FeBody&>(*ring.body);
+  const auto& fe = *ring.body->finite_elements();
   for (int node = 0; node < static_cast<int>(fe.mesh().nodes.size()); ++node) {
     const Eigen::Vector3d X = fe.mesh().nodes[node];
     const Eigen::Vector3d u = motion * X - X;

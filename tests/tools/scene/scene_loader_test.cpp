@@ -292,7 +292,7 @@ TEST(SceneLoaderMaterials, EveryEntryIsCheckedUsedOrNot) {
 TEST(SceneLoaderFormulation, MooneyRivlinDefaultsToTheElementsMixedPair) {
   const std::string ring = CSIM_SOURCE_DIR "/scenes/rolling-ring/scene.yaml";
   auto formulation_of = [](const Scene& scene) {
-    const auto& ring_body = static_cast<const FeBody&>(*scene.world.bodies[scene.world.body_index("ring")].body);
+    const auto& ring_body = *scene.world.bodies[scene.world.body_index("ring")].body->finite_elements();
     return ring_body.finite_strain_law()->formulation;
   };
   EXPECT_EQ(formulation_of(*load_scene(ring, {})), FiniteStrainFormulation::mean_dilatation);
