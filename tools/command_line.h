@@ -1,4 +1,4 @@
-// csim's command line (DESIGN.md §4), read with CLI11: one subcommand per job, each with only its own
+// csim's command line (docs/contract.md), read with CLI11: one subcommand per job, each with only its own
 // options and its own help (`csim run --help`, `csim help run`, `csim --help`, `csim help`).
 #pragma once
 

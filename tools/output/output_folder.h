@@ -1,4 +1,4 @@
-// An output folder that is replaced whole when a command ends, or left as it was (DESIGN.md §4 "Outputs
+// An output folder that is replaced whole when a command ends, or left as it was (docs/contract.md "Outputs
 // in DIR"). A command writes into a temporary folder beside the destination, `.NAME.tmp-PID` in the same
 // parent (so that one rename moves it, on one filesystem), and commit() swaps it in under an exclusive
 // flock on `.NAME.lock` beside it: the old folder is renamed to `.NAME.old-PID`, the temporary one to

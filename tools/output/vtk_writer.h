@@ -1,4 +1,4 @@
-// ParaView output of finite-element scenes (DESIGN.md §4): VTK XML UnstructuredGrid files (.vtu, ASCII,
+// ParaView output of finite-element scenes (docs/contract.md): VTK XML UnstructuredGrid files (.vtu, ASCII,
 // Float64) per output frame, and VTK Collection files (.pvd) that give ParaView each frame's real time.
 //
 //   DIR/paraview/BODY_NNNNNN.vtu      one per frame and elastic body: the reference mesh with point data

@@ -125,7 +125,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const double h = run.moreau_jean.step;
   const long steps = run.steps;
   const double rate = std::max(run.output_rate, h);
-  // ParaView frames of the elastic bodies, at the rows of probes.csv (DESIGN.md §4).
+  // ParaView frames of the elastic bodies, at the rows of probes.csv (docs/contract.md).
   std::unique_ptr<ParaviewSeries> paraview;
   if (!options.output_directory.empty() && has_elastic_bodies(scene.world))
     paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory);

@@ -1,5 +1,5 @@
 // Running a loaded scene end to end: the time loop, probes sampled every step, checks evaluated,
-// and the outputs of DESIGN.md §4 (summary.json, probes.csv) written to the output folder.
+// and the outputs of docs/contract.md (summary.json, probes.csv) written to the output folder.
 #pragma once
 
 #include "tools/run/checks.h"

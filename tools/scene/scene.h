@@ -1,5 +1,5 @@
 // A loaded scene: the World it describes plus how to run it (time window, integrator, contact solver,
-// probes, checks, output rate). Produced by load_scene(); see DESIGN.md §4 for the file contract.
+// probes, checks, output rate). Produced by load_scene(); see docs/contract.md for the file contract.
 #pragma once
 
 #include "tools/scene/scene_node.h"

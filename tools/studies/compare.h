@@ -1,4 +1,4 @@
-// The work-precision study behind `csim compare` (DESIGN.md §4): one scene run with each integrator over
+// The work-precision study behind `csim compare` (docs/contract.md): one scene run with each integrator over
 // a list of time steps (moreau-jean) or tolerances (ida, ida-events), each configuration repeated to
 // take the median wall time, and the error of every analytical or literature check against the
 // scene's own reference. Errors of one run (an integrator not built yet, a numerical failure) are
