@@ -13,7 +13,7 @@ void evaluate(const FrictionContactProblem& problem, const Eigen::VectorXd& rho,
               Eigen::VectorXd& F, Eigen::MatrixXd* J) {
   const int d = problem.dimension, t = d - 1;
   const Eigen::Index m = problem.size();
-  const Eigen::VectorXd u = problem.W * r + problem.q;
+  const Eigen::VectorXd u = problem.W * r + problem.b;
   F.resize(m);
   if (J) J->setZero(m, m);
   for (int c = 0; c < problem.contacts; ++c) {
@@ -76,7 +76,7 @@ void evaluate(const FrictionContactProblem& problem, const Eigen::VectorXd& rho,
 
 // The Newton step J s = −F. A sticking contact whose W has an empty tangent row and column (the
 // direction of a node held by a support, as a 3D ring's axial direction under plane strain) leaves J
-// with the same row and column empty: that component of F (ρ q, which no impulse changes) is out of
+// with the same row and column empty: that component of F (ρ b, which no impulse changes) is out of
 // Newton's reach, and no other component depends on that impulse. Its step is 0, what full pivoting
 // would choose, and the other rows are solved by partial pivoting, several times faster than full
 // pivoting at a hundred rows; full pivoting stays for any other rank deficiency.
@@ -119,9 +119,9 @@ bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd
     const Eigen::Index row = static_cast<Eigen::Index>(d) * problem.contacts + e;
     rho(problem.contacts + e) = rho_scale / std::max(problem.W(row, row), 1e-300);
   }
-  Eigen::VectorXd rho_q = problem.q;
-  for (int c = 0; c < problem.contacts; ++c) rho_q.segment(static_cast<Eigen::Index>(d) * c, d) *= rho(c);
-  for (int e = 0; e < problem.equalities; ++e) rho_q(static_cast<Eigen::Index>(d) * problem.contacts + e) *= rho(problem.contacts + e);
+  Eigen::VectorXd rho_b = problem.b;
+  for (int c = 0; c < problem.contacts; ++c) rho_b.segment(static_cast<Eigen::Index>(d) * c, d) *= rho(c);
+  for (int e = 0; e < problem.equalities; ++e) rho_b(static_cast<Eigen::Index>(d) * problem.contacts + e) *= rho(problem.contacts + e);
 
   Eigen::VectorXd F, F_trial, step, trial;
   Eigen::MatrixXd J;
@@ -129,7 +129,7 @@ bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd
   double merit = F.squaredNorm();
   int iteration = 0;
   for (; iteration < max_iterations; ++iteration) {
-    const double scale = std::max(rho_q.norm(), r.norm());
+    const double scale = std::max(rho_b.norm(), r.norm());
     if (std::sqrt(merit) <= tolerance * scale) break;
     step = newton_step(J, F);
     if (!step.allFinite()) break;

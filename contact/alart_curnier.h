@@ -1,7 +1,7 @@
 // A semismooth Newton method on the Alart–Curnier equations of the frictional contact problem, used
 // to finish what projected Gauss–Seidel leaves unfinished (pgs_solver.h calls it when it stalls).
 //
-// With u = W r + q and, per contact, a scaling ρ > 0 (rho_scale / the mean of W_cc's diagonal, so
+// With u = W r + b and, per contact, a scaling ρ > 0 (rho_scale / the mean of W_cc's diagonal, so
 // that ρ u has the units of r), Coulomb's law for isotropic friction is F(r) = 0 with
 //   F_n = r_n − max(0, r_n − ρ u_n),
 //   F_t = r_t − Proj_{disk of radius μ max(0, r_n − ρ u_n)}(r_t − ρ u_t),
@@ -35,7 +35,7 @@ struct NewtonStatistics {
 };
 
 // Improves r in place by at most max_iterations Newton steps, stopping when ‖F‖ ≤ tolerance·scale,
-// scale = max(‖ρ q‖, ‖r‖), or when the line search finds no decrease; ‖F‖ never increases. Returns
+// scale = max(‖ρ b‖, ‖r‖), or when the line search finds no decrease; ‖F‖ never increases. Returns
 // false, r untouched, for orthotropic friction or an r of the wrong size.
 bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd& r, int max_iterations,
                           double tolerance, NewtonStatistics* statistics = nullptr, double rho_scale = 1.0);

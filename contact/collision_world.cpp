@@ -306,7 +306,6 @@ void CollisionWorld::set_node_positions(int object, const std::vector<Eigen::Vec
   surface.model->computeLocalAABB();
 }
 
-int CollisionWorld::body_of(int object) const { return impl_->objects.at(object).body; }
 
 int CollisionWorld::object_count() const { return static_cast<int>(impl_->objects.size()); }
 

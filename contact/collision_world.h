@@ -62,7 +62,6 @@ class CollisionWorld {
   // All contact points with gap ≤ margin (the margin of the last update), sorted by key.
   void find_contacts(std::vector<ContactPoint>& out) const;
 
-  int body_of(int object) const;
   int object_count() const;
 
  private:

@@ -100,8 +100,8 @@ std::string inconsistency(const FrictionContactProblem& problem) {
   if (problem.W.rows() != n || problem.W.cols() != n)
     return "W is " + std::to_string(problem.W.rows()) + "x" + std::to_string(problem.W.cols()) +
            ", expected " + std::to_string(n) + "x" + std::to_string(n);
-  if (problem.q.size() != n)
-    return "q has " + std::to_string(problem.q.size()) + " rows, expected " + std::to_string(n);
+  if (problem.b.size() != n)
+    return "b has " + std::to_string(problem.b.size()) + " rows, expected " + std::to_string(n);
   if (static_cast<int>(problem.mu.size()) != problem.contacts)
     return "mu has " + std::to_string(problem.mu.size()) + " entries, expected " +
            std::to_string(problem.contacts);
@@ -122,7 +122,7 @@ void write_problem(std::ostream& out, const FrictionContactProblem& problem) {
   for (const Eigen::Vector2d& mu : problem.mu)
     text += format_number(mu(0)) + " " + format_number(mu(1)) + "\n";
   text += "q\n";
-  for (Eigen::Index i = 0; i < n; ++i) text += (i ? " " : "") + format_number(problem.q(i));
+  for (Eigen::Index i = 0; i < n; ++i) text += (i ? " " : "") + format_number(problem.b(i));
   text += "\nW\n";
   for (Eigen::Index i = 0; i < n; ++i) {
     for (Eigen::Index j = 0; j < n; ++j) text += (j ? " " : "") + format_number(problem.W(i, j));
@@ -165,8 +165,8 @@ FrictionContactProblem read_problem(std::istream& in) {
     mu(1) = reader.number("mu");
   }
   reader.expect("q");
-  problem.q.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) problem.q(i) = reader.number("q");
+  problem.b.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) problem.b(i) = reader.number("q");
   reader.expect("W");
   problem.W.resize(n, n);
   for (Eigen::Index i = 0; i < n; ++i)

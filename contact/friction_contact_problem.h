@@ -1,10 +1,17 @@
 // The one-step frictional contact problem of a nonsmooth time-stepper, as a plain value.
 //
-//   u = W r + q
+//   u = W r + b
 //
-// r  : impulses (N·s), u : local relative velocities (m/s) after the step, W : Delassus operator (s/kg
-// in impulse-to-velocity units), q : local free velocity (m/s, with the Newton impact term e·u_n⁻ already
-// folded into its normal rows).
+// W is the Delassus operator H A⁻¹ Hᵀ (A: the stepper's iteration matrix, H: the contact rows) and b
+// the local free term (H times the free solution, plus the stepper's terms on the normal rows). The
+// units are the stepper's:
+//   Moreau–Jean (velocity level): r impulses (N·s), u local relative velocities after the step (m/s),
+//     b the local free velocity (m/s, with the Newton impact term e·u_n⁻ folded into its normal rows),
+//     W (1/kg: m/s per N·s);
+//   quasi-static (position level): r forces (N), u the gap and slip at the end of the step (m), b their
+//     free value (m), W (m/N).
+// (Rows of angular or constraint coordinates scale the same way with their own units.) The text format
+// of write_problem keeps the keyword `q` for b, so that problems dumped earlier still load.
 //
 // Row layout: contacts first, `dimension` rows each, ordered [n, t1] (dimension 2) or [n, t1, t2]
 // (dimension 3); then `equalities` bilateral rows (linear kinematic constraints, u = 0, r free).
@@ -30,7 +37,7 @@ struct FrictionContactProblem {
   int contacts = 0;         // number of contacts
   int equalities = 0;       // number of bilateral rows after the contact rows
   Eigen::MatrixXd W;        // Delassus, (dimension·contacts + equalities)², symmetric positive semi-definite
-  Eigen::VectorXd q;        // free local velocity, same size
+  Eigen::VectorXd b;        // free term: local free velocity (m/s) or free gap and slip (m), same size
   std::vector<Eigen::Vector2d> mu;  // per contact (μ1, μ2), dimensionless, ≥ 0; dimension 2 uses μ1 only
 
   int size() const { return dimension * contacts + equalities; }

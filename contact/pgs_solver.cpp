@@ -52,22 +52,22 @@ ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::V
 }
 
 // Free velocity of the contact whose rows start at `first`, with every other impulse frozen at r
-// (m/s): q_c + Σ_{d≠c} W_cd r_d. The own block is skipped rather than subtracted, so that with a
-// single contact this is q_c exactly and the local solve is the global one to the last bit.
+// (m/s): b_c + Σ_{d≠c} W_cd r_d. The own block is skipped rather than subtracted, so that with a
+// single contact this is b_c exactly and the local solve is the global one to the last bit.
 template <int D>
 Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
                                Eigen::Index first) {
   const Eigen::Index n = r.size();
   const Eigen::Index after = n - first - D;
-  Vector<D> q_c = problem.q.template segment<D>(first);
+  Vector<D> b_c = problem.b.template segment<D>(first);
   if (first > 0)
-    q_c.noalias() += problem.W.template block<Eigen::Dynamic, D>(0, first, first, D).transpose() *
+    b_c.noalias() += problem.W.template block<Eigen::Dynamic, D>(0, first, first, D).transpose() *
                      r.head(first);
   if (after > 0)
-    q_c.noalias() +=
+    b_c.noalias() +=
         problem.W.template block<Eigen::Dynamic, D>(first + D, first, after, D).transpose() *
         r.tail(after);
-  return q_c;
+  return b_c;
 }
 
 // Elliptic radius of r_t over r_n, on the rough axes only; 1 (on the boundary) for a frictionless
@@ -113,8 +113,8 @@ double norm_of_product(const Eigen::MatrixXd& W, const Eigen::VectorXd& r) {
 }
 
 // Denominator of the relative residuals: the velocity scale of the problem.
-double velocity_scale(double norm_q, double norm_Wr) {
-  return std::max({norm_q, norm_Wr, 1e-300});
+double velocity_scale(double norm_b, double norm_Wr) {
+  return std::max({norm_b, norm_Wr, 1e-300});
 }
 
 struct SweepResult {
@@ -132,16 +132,16 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
   SweepResult result;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
-    const Vector<D> q_c = frozen_free_velocity<D>(problem, r, first);
+    const Vector<D> b_c = frozen_free_velocity<D>(problem, r, first);
     const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
     const Eigen::Vector2d& mu = problem.mu[c];
     Vector<D> r_local;
-    solve_local<D>(W_cc, q_c, mu, r_local);
+    solve_local<D>(W_cc, b_c, mu, r_local);
     const Vector<D> r_old = r.template segment<D>(first);
     if (!r_local.allFinite()) {
       ++rejected;
       result.contacts_fixed = false;
-      result.Wr_squared += (q_c - problem.q.template segment<D>(first) + W_cc * r_old).squaredNorm();
+      result.Wr_squared += (b_c - problem.b.template segment<D>(first) + W_cc * r_old).squaredNorm();
       continue;
     }
     Vector<D> r_new = r_local;
@@ -151,7 +151,7 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
     }
     if (r_local != r_old) result.contacts_fixed = false;
     result.increment_squared += W_cc.diagonal().cwiseProduct(r_new - r_old).squaredNorm();
-    result.Wr_squared += (q_c - problem.q.template segment<D>(first) + W_cc * r_new).squaredNorm();
+    result.Wr_squared += (b_c - problem.b.template segment<D>(first) + W_cc * r_new).squaredNorm();
     r.template segment<D>(first) = r_new;
   }
 
@@ -163,7 +163,7 @@ double equality_residual_squared(const FrictionContactProblem& problem, const Ei
   double sum = 0.0;
   const Eigen::Index first = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   for (Eigen::Index j = first; j < problem.size(); ++j) {
-    const double u_j = problem.W.col(j).dot(r) + problem.q(j);
+    const double u_j = problem.W.col(j).dot(r) + problem.b(j);
     sum += u_j * u_j;
   }
   return sum;
@@ -175,10 +175,10 @@ double contact_residual_squared(const FrictionContactProblem& problem, const Eig
   double sum = 0.0;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
-    const Vector<D> q_c = frozen_free_velocity<D>(problem, r, first);
+    const Vector<D> b_c = frozen_free_velocity<D>(problem, r, first);
     const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
     Vector<D> r_local;
-    solve_local<D>(W_cc, q_c, problem.mu[c], r_local);
+    solve_local<D>(W_cc, b_c, problem.mu[c], r_local);
     if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
     sum += (W_cc * (r.template segment<D>(first) - r_local)).squaredNorm();
   }
@@ -193,7 +193,7 @@ double relative_residual(const FrictionContactProblem& problem, const Eigen::Vec
     error_squared += problem.dimension == 2 ? contact_residual_squared<2>(problem, r)
                                             : contact_residual_squared<3>(problem, r);
   const double residual = std::sqrt(error_squared) /
-                          velocity_scale(problem.q.norm(), norm_of_product(problem.W, r));
+                          velocity_scale(problem.b.norm(), norm_of_product(problem.W, r));
   return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
 }
 
@@ -258,7 +258,7 @@ bool solve_statuses(const FrictionContactProblem& problem, const std::vector<Pol
       for (Eigen::Index i = 0; i < k; ++i) A(i, j) += problem.W(equations[i], u.first + l) * u.column(l);
     }
   }
-  for (Eigen::Index i = 0; i < k; ++i) b(i) = -problem.q(equations[i]);
+  for (Eigen::Index i = 0; i < k; ++i) b(i) = -problem.b(equations[i]);
   // Partial pivoting (blocked, about ten times faster than full pivoting at a hundred rows) unless
   // the system is singular, as for a rigid body on more points than it has freedoms.
   Eigen::VectorXd z;
@@ -284,7 +284,7 @@ bool solve_statuses(const FrictionContactProblem& problem, const std::vector<Pol
 template <int D>
 bool correct_statuses(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
                       std::vector<PolishStatus<D>>& statuses) {
-  const Eigen::VectorXd u = problem.W * r + problem.q;
+  const Eigen::VectorXd u = problem.W * r + problem.b;
   bool changed = false;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index row = static_cast<Eigen::Index>(D) * c;
@@ -393,7 +393,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
                               Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
   PgsStatistics statistics;
 
-  const double norm_q = problem.q.norm();
+  const double norm_b = problem.b.norm();
   bool residual_is_current = false;
   for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
     const SweepResult swept =
@@ -413,7 +413,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     }
     // Cheap test: a sweep that barely moved r. Only then is the full residual (about one more sweep of
     // work) worth computing; it decides.
-    const double scale = velocity_scale(norm_q, std::sqrt(swept.Wr_squared));
+    const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
     if (std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
       statistics.residual = relative_residual(problem, r, swept.contacts_fixed);
       residual_is_current = true;
@@ -457,14 +457,14 @@ PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const Pg
 constexpr double kCondensationRoundOff = 1e-11;
 
 // The bilateral rows condensed out (see the header): for given contact impulses r_c the equality rows
-// u_e = W_ec r_c + W_ee r_e + q_e = 0 give r_e = −W_ee⁺ (q_e + W_ec r_c), so the contacts see the Schur
-// complement W_cc − W_ce W_ee⁺ W_ec and the free velocity q_c − W_ce W_ee⁺ q_e. (W_ee⁺: the LDLT's
+// u_e = W_ec r_c + W_ee r_e + b_e = 0 give r_e = −W_ee⁺ (b_e + W_ec r_c), so the contacts see the Schur
+// complement W_cc − W_ce W_ee⁺ W_ec and the free velocity b_c − W_ce W_ee⁺ b_e. (W_ee⁺: the LDLT's
 // solve, which skips zero pivots, so redundant but consistent rows are allowed.)
 struct Condensed {
   FrictionContactProblem contacts;  // the contact rows only
   Eigen::LDLT<Eigen::MatrixXd> W_ee;
   Eigen::MatrixXd X;                // W_ee⁺ W_ec
-  Eigen::VectorXd x_q;              // W_ee⁺ q_e
+  Eigen::VectorXd x_b;              // W_ee⁺ b_e
 };
 
 Condensed condense(const FrictionContactProblem& problem) {
@@ -473,7 +473,7 @@ Condensed condense(const FrictionContactProblem& problem) {
   Condensed condensed;
   condensed.W_ee.compute(problem.W.bottomRightCorner(m_e, m_e));
   condensed.X = condensed.W_ee.solve(problem.W.bottomLeftCorner(m_e, m_c));
-  condensed.x_q = condensed.W_ee.solve(problem.q.tail(m_e));
+  condensed.x_b = condensed.W_ee.solve(problem.b.tail(m_e));
   FrictionContactProblem& contacts = condensed.contacts;
   contacts.dimension = problem.dimension;
   contacts.contacts = problem.contacts;
@@ -492,7 +492,7 @@ Condensed condense(const FrictionContactProblem& problem) {
     for (Eigen::Index i = 0; i < m_c; ++i)
       if (std::abs(contacts.W(i, j)) <= kCondensationRoundOff * full_scale(i) * full_scale(j))
         contacts.W(i, j) = 0.0;
-  contacts.q = problem.q.head(m_c) - problem.W.topRightCorner(m_c, m_e) * condensed.x_q;
+  contacts.b = problem.b.head(m_c) - problem.W.topRightCorner(m_c, m_e) * condensed.x_b;
   return condensed;
 }
 
@@ -506,9 +506,9 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
   const Condensed condensed = condense(problem);
   Eigen::VectorXd r_c = r.head(m_c);
   PgsStatistics statistics = solve_contact_rows(condensed.contacts, parameters, r_c, status);
-  Eigen::VectorXd r_e = -(condensed.x_q + condensed.X * r_c);
+  Eigen::VectorXd r_e = -(condensed.x_b + condensed.X * r_c);
   const Eigen::VectorXd u_e = problem.W.bottomLeftCorner(m_e, m_c) * r_c +
-                              problem.W.bottomRightCorner(m_e, m_e) * r_e + problem.q.tail(m_e);
+                              problem.W.bottomRightCorner(m_e, m_e) * r_e + problem.b.tail(m_e);
   r_e -= condensed.W_ee.solve(u_e);
   // r_c is finite (the sweeps reject non-finite local results, the polish keeps only a smaller finite
   // residual); r_e is not when W_ee is singular and its rows inconsistent.

@@ -15,11 +15,11 @@
 //
 // Convergence (Siconos-style: cheap test first, full residual to confirm):
 //   cheap   : ‖Δr‖ of a sweep, scaled to velocity units by the Delassus diagonal, relative to
-//             max(‖q‖, ‖W r‖);
+//             max(‖b‖, ‖W r‖);
 //   full    : the fixed-point residual of the whole law, e = Σ_c ‖W_cc (r_c − local_c(r))‖² + ‖u_eq‖²,
 //             where local_c(r) is the exact local solution of contact c with all other impulses at r;
 //             it includes the friction part, not only the normal one. residual = sqrt(e) relative to
-//             max(‖q‖, ‖W r‖, 1e-300).
+//             max(‖b‖, ‖W r‖, 1e-300).
 //   converged when the full residual ≤ tolerance. Non-finite local results are rejected (the previous
 //   impulse is kept) and counted.
 // Polish: after 20 sweeps without convergence, then every 200, and at the end, the iterate is

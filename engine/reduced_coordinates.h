@@ -115,7 +115,6 @@ class ReducedCoordinates final : public BodyFrames {
     Eigen::Vector3d arm = Eigen::Vector3d::Zero();  // a = X_a − x_B,ref (m)
     int hub = 0;                            // in hubs_
   };
-  const Body& hub_body(const Hub& hub) const { return *world_->bodies[hub.body].body; }
   Eigen::Isometry3d hub_pose(const Hub& hub, const Vector& q) const;
   // Every hub's pose at q, in hubs_' order: computed once per call, not once per node it carries.
   std::vector<Eigen::Isometry3d> hub_poses(const Vector& q) const;

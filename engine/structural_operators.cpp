@@ -44,25 +44,25 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       spring_matrix.setFromTriplets(springs.begin(), springs.end());
       sparse_stiffness_ += spring_matrix;
     }
-    const SparseMatrix W = sparse_mass_ + (h * theta) * sparse_damping_ + scale * sparse_stiffness_;
+    const SparseMatrix A = sparse_mass_ + (h * theta) * sparse_damping_ + scale * sparse_stiffness_;
     // The symbolic analysis depends only on the pattern, which K's refresh keeps.
     if (nonlinear_) {
-      factor_regularized(W);
+      factor_regularized(A);
     } else {
-      if (!factored_) sparse_factor_.analyzePattern(W);
-      sparse_factor_.factorize(W);
+      if (!factored_) sparse_factor_.analyzePattern(A);
+      sparse_factor_.factorize(A);
     }
   } else {
     if (dynamics_.has_springs()) {
       dynamics_.spring_stiffness(q, dense_stiffness_);
       if (body_stiffness_.nonZeros() > 0) dense_stiffness_ += body_stiffness_;
     }
-    const Matrix W = dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_;
-    dense_factor_.compute(W);
+    const Matrix A = dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_;
+    dense_factor_.compute(A);
     if (nonlinear_ && !(dense_factor_.vectorD().array() > 0.0).all()) {
-      const Matrix identity = Matrix::Identity(W.rows(), W.cols());
-      regularize(W.diagonal().cwiseAbs().maxCoeff(), [&](double epsilon) {
-        dense_factor_.compute(W + epsilon * identity);
+      const Matrix identity = Matrix::Identity(A.rows(), A.cols());
+      regularize(A.diagonal().cwiseAbs().maxCoeff(), [&](double epsilon) {
+        dense_factor_.compute(A + epsilon * identity);
         return (dense_factor_.vectorD().array() > 0.0).all();
       });
     }
@@ -74,14 +74,14 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
   factorization_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// W (or W + ε I, see the header) into tangent_factor_.
-void StructuralOperators::factor_regularized(const SparseMatrix& W) {
+// A (or A + ε I, see the header) into tangent_factor_.
+void StructuralOperators::factor_regularized(const SparseMatrix& A) {
   auto positive_definite = [&](const SparseMatrix& A) { return tangent_factor_.factor_positive_definite(A); };
-  if (positive_definite(W)) return;
-  SparseMatrix identity(W.rows(), W.cols());
+  if (positive_definite(A)) return;
+  SparseMatrix identity(A.rows(), A.cols());
   identity.setIdentity();
-  regularize(W.diagonal().cwiseAbs().maxCoeff(),
-             [&](double epsilon) { return positive_definite(W + epsilon * identity); });
+  regularize(A.diagonal().cwiseAbs().maxCoeff(),
+             [&](double epsilon) { return positive_definite(A + epsilon * identity); });
 }
 
 // The proximal term of the header (engine/steppers/proximal.h), counted; FemError when it fails.

@@ -1,16 +1,16 @@
 // The linear operators of the structure, for the time-steppers: the mass M (kg, kg·m²), the tangent
 // stiffness K (N/m) of the springs and of the elastic bodies, their viscous damping C (N·s/m: Rayleigh
 // damping of elastic bodies), and the factored iteration matrix
-//   W = M + hθ C + h²θ² K
+//   A = M + hθ C + h²θ² K
 // of the θ-method. Small systems (up to kDenseLimit unknowns, all lumped scenes) are dense, because a
 // lumped step must cost about a microsecond; larger ones (finite elements) are sparse and factored
 // with CHOLMOD's simplicial LDLᵀ (Debian's SuiteSparse, through Eigen's wrapper), once while K and h
 // stay the same (linear elastic bodies, springs on translating points), else at every step. With a
 // finite-strain (hyperelastic) body, K is its tangent at the q of the last update: Moreau–Jean's Newton
 // iterations refresh it at every iterate. That tangent can be indefinite (a compressed body held only
-// by contacts, whose own stiffness is not in K: its sway and buckling modes), and so can W when the
-// masses are small: W then gets a proximal term ε I (engine/steppers/proximal.h: from 1e-6 · max diag W
-// grown tenfold until W is positive definite; Eigen's SimplicialLDLT, whose pivots D are checked).
+// by contacts, whose own stiffness is not in K: its sway and buckling modes), and so can A when the
+// masses are small: A then gets a proximal term ε I (engine/steppers/proximal.h: from 1e-6 · max diag A
+// grown tenfold until A is positive definite; Eigen's SimplicialLDLT, whose pivots D are checked).
 // Newton's residual is exact, so the term changes the iterations' path, not the converged step.
 #pragma once
 
@@ -28,19 +28,19 @@ class StructuralOperators {
 
   explicit StructuralOperators(const Dynamics& dynamics);
 
-  // Refreshes K at q and refactors W when needed (always the first time).
+  // Refreshes K at q and refactors A when needed (always the first time).
   void update(const Vector& q, double h, double theta);
   bool nonlinear() const { return nonlinear_; }  // a body's K depends on q (a finite-strain body)
   bool has_stiffness() const { return has_stiffness_; }
   bool has_damping() const { return has_damping_; }
   bool sparse() const { return sparse_; }
   double factorization_seconds() const { return factorization_seconds_; }  // s, total
-  long factorizations() const { return factorizations_; }  // how many times W was factored
+  long factorizations() const { return factorizations_; }  // how many times A was factored
   long regularizations() const { return regularizations_; }  // factorizations that needed ε I
 
-  void solve_in_place(Vector& x) const;   // x ← W⁻¹ x
-  // A sparse finite-strain World refactors W at every Newton iterate, so W⁻¹ Hᵀ's columns are not
-  // reused: its Delassus operator H W⁻¹ Hᵀ then comes from the forward substitution alone
+  void solve_in_place(Vector& x) const;   // x ← A⁻¹ x
+  // A sparse finite-strain World refactors A at every Newton iterate, so A⁻¹ Hᵀ's columns are not
+  // reused: its Delassus operator H A⁻¹ Hᵀ then comes from the forward substitution alone
   // (sparse_ldlt.h). H: rows × unknowns, dense storage.
   bool direct_delassus() const { return sparse_ && nonlinear_; }
   void delassus(const Matrix& H, Matrix& D) { tangent_factor_.delassus(H, D); }
@@ -58,14 +58,14 @@ class StructuralOperators {
   Matrix dense_mass_, dense_stiffness_, dense_damping_;
   Eigen::LDLT<Matrix> dense_factor_;
   SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_, sparse_damping_;
-  // CHOLMOD's simplicial LDLᵀ with its AMD ordering: one solve with W of sdnv104-quad4 takes 4.4 to
+  // CHOLMOD's simplicial LDLᵀ with its AMD ordering: one solve with A of sdnv104-quad4 takes 4.4 to
   // 4.8 ms at 51 842 unknowns against 7.2 to 7.5 for Eigen's SimplicialLDLT (same fill: its loops are
   // tighter), 0.9 against 1.3 ms at 13 122. Its supernodal LLᵀ solves one right-hand side more slowly
   // (6.1 ms, with the reference BLAS), and METIS orders 2D meshes only 4 % better than its AMD.
   Eigen::CholmodSimplicialLDLT<SparseMatrix> sparse_factor_;
-  SparseLdlt tangent_factor_;  // nonlinear worlds: its pivots say if W > 0
+  SparseLdlt tangent_factor_;  // nonlinear worlds: its pivots say if A > 0
 
-  void factor_regularized(const SparseMatrix& W);
+  void factor_regularized(const SparseMatrix& A);
   template <class PositiveDefiniteWith>
   void regularize(double largest, PositiveDefiniteWith&& positive_definite_with);
 };

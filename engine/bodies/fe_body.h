@@ -51,7 +51,6 @@ class FeBody final : public Body {
   void add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets& stiffness) const override;
   void add_internal_force_and_tangent(const ConstVectorRef& q, VectorRef f, int offset,
                                       Triplets& stiffness) const override;
-  const std::optional<FiniteStrainLaw>& finite_strain() const { return finite_strain_; }
 
   Eigen::Isometry3d pose(const ConstVectorRef&) const override { return Eigen::Isometry3d::Identity(); }
   Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;

@@ -14,7 +14,6 @@ class RigidBody2d final : public Body {
   int position_size() const override { return 3; }
   int velocity_size() const override { return 3; }
   double mass() const override { return mass_; }
-  double inertia() const { return inertia_; }
   void add_mass(int offset, Triplets& mass) const override;
   Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
   PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;

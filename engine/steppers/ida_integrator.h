@@ -78,7 +78,6 @@ class IdaIntegrator final : public Stepper {
 
   void initialize(State& state) override;
   void step(State& state) override;
-  double time_step() const override { return parameters_.sample_step; }
 
   // For the C callbacks of SUNDIALS.
   int residual(double t, const double* y, const double* y_rate, double* r);

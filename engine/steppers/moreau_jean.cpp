@@ -36,7 +36,7 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
 // The equality rows C v = target at t (s): the World's linear constraints, then the active prescriptions.
 void MoreauJean::build_equalities(double t) {
   dynamics_.equality_rows(t, equalities_);
-  constraint_columns_.clear();  // W_it⁻¹ Cᵀ: recomputed for the new rows
+  constraint_columns_.clear();  // A⁻¹ Cᵀ: recomputed for the new rows
 }
 
 // The ties' targets at the iterate v_j: with q_j = q_k + h v_θ(v_j), C (v_{k+1} − v_j) = −g(q_j) / (hθ)
@@ -100,7 +100,7 @@ void MoreauJean::compute_free_velocity(const State& state) {
   check_free_velocity(v_free_, state.t + h);
 }
 
-// Newton's free velocity at the iterate v_j: v_free = v_j − W_j⁻¹ R(v_j), with W_j the iteration
+// Newton's free velocity at the iterate v_j: v_free = v_j − A_j⁻¹ R(v_j), with A_j the iteration
 // matrix at q_j (refactored here) and
 //   R(v_j) = M (v_j − v_k) − h [f_loads + θ f(q_j) + (1−θ) f(q_k) − C v_θ],  v_θ = (1−θ)v_k + θv_j.
 // f(q_k) is in f_start_ (computed once a step).
@@ -194,7 +194,7 @@ int MoreauJean::activate_missed_contacts(double h) {
   return static_cast<int>(missed.size());
 }
 
-// W_it⁻¹ hᵀ for every row of the problem, reused while the factorization and the row are the same.
+// A⁻¹ hᵀ for every row of the problem, reused while the factorization and the row are the same.
 void MoreauJean::gather_columns() {
   const int n = world_.velocity_size;
   const int d = contact_dimension_;
@@ -267,7 +267,7 @@ void MoreauJean::assemble(const State& state) {
     problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(state.t + h);
   }
   problem_.W.resize(m, m);
-  problem_.q.resize(m);
+  problem_.b.resize(m);
   if (operators_.direct_delassus()) {  // no columns: update() takes one solve with Hᵀ r
     problem_rows_.setZero(m, world_.velocity_size);
     for (int a = 0; a < d * nc; ++a) rows_[a].scatter(1.0, problem_rows_.row(a));
@@ -281,18 +281,18 @@ void MoreauJean::assemble(const State& state) {
         problem_.W(a, b) = a < d * nc ? rows_[a].dot(*columns_[b]) : equality_dot(a - d * nc, *columns_[b]);
   }
   for (int a = 0; a < m; ++a)
-    problem_.q(a) = a < d * nc ? rows_[a].dot(v_free_) : equality_dot(a - d * nc, v_free_);
+    problem_.b(a) = a < d * nc ? rows_[a].dot(v_free_) : equality_dot(a - d * nc, v_free_);
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
     const double approach = rows_[d * i].dot(state.v);
     if (e > 0.0) {
-      problem_.q(d * i) += e * approach;
+      problem_.b(d * i) += e * approach;
     } else if (parameters_.close_gaps) {
       // An inelastic contact still open by g: its condition is g(q_{k+1}) ≥ 0, that is
       // u_n(v_{k+1}) ≥ −(g + h(1−θ) u_n(v_k)) / (hθ), so that it closes the gap within the step and
       // stops on the surface, not wherever the activation rule caught it (header, step 3).
       const double opening = active_[i].point.gap + h * (1.0 - theta) * approach;
-      if (opening > 0.0) problem_.q(d * i) += opening / (h * theta);
+      if (opening > 0.0) problem_.b(d * i) += opening / (h * theta);
     }
   }
   // Equality targets: C v_{k+1} such that C (q_{k+1} − q_ref) = value exactly (a prescription's
@@ -318,9 +318,9 @@ void MoreauJean::assemble(const State& state) {
       const double rate = (value - world_.prescribed[equalities_.prescriptions[e - nw]].value(state.t)) / h;
       target = (rate - (1.0 - theta) * rate_k) / theta;
     }
-    problem_.q(d * nc + e) -= target;
+    problem_.b(d * nc + e) -= target;
   }
-  for (int i = 0; i < ties_.size(); ++i) problem_.q(d * nc + ne + i) -= tie_targets_(i);
+  for (int i = 0; i < ties_.size(); ++i) problem_.b(d * nc + ne + i) -= tie_targets_(i);
 }
 
 void MoreauJean::solve(State& state, bool warm_from_state) {
@@ -340,7 +340,7 @@ void MoreauJean::update(State& state) {
   const int rows = static_cast<int>(r_.size());
   const int contact_rows = static_cast<int>(rows_.size());
   if (rows > 0 && operators_.sparse()) {
-    // One solve W_it⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
+    // One solve A⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
     work_.setZero(world_.velocity_size);
     for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(r_(a), work_);
     const int ne = static_cast<int>(equalities_.rows.rows());

@@ -1,13 +1,13 @@
 // The Moreau–Jean θ-method for nonsmooth contact dynamics (M. Jean, CMAME 1999; Acary & Brogliato,
 // Numerical Methods for Nonsmooth Dynamical Systems, 2008, ch. 10).
 //
-// One step from t_k to t_{k+1} = t_k + h, in the order of DESIGN.md §3:
-//   1. free velocity   W_it (v_free − v_k) = h [θ f(t_{k+1}) + (1−θ) f(t_k) + f_int(q_k) − θ h K v_k]
-//                      with the iteration matrix W_it = M + h²θ²K (factored once when K is constant);
+// One step from t_k to t_{k+1} = t_k + h, in the order of docs/architecture.md §2:
+//   1. free velocity   A (v_free − v_k) = h [θ f(t_{k+1}) + (1−θ) f(t_k) + f_int(q_k) − θ h K v_k]
+//                      with the iteration matrix A = M + h²θ²K (factored once when K is constant);
 //   2. detect          FCL broad + narrow phase; a contact is active when its predicted gap
 //                      g + γ h u_n ≤ 0 (γ = ½), u_n from the θ-weighted free velocity
 //                      (1−θ)v_k + θ v_free; warm start from the last impulse with the same key;
-//   3. assemble        u = H v, Delassus W = H W_it⁻¹ Hᵀ, q = H v_free + e·u_n(v_k) on normal rows
+//   3. assemble        u = H v, Delassus W = H A⁻¹ Hᵀ, b = H v_free + e·u_n(v_k) on normal rows
 //                      (Newton impact law); an inelastic contact (e = 0) whose gap g is still open
 //                      adds (g + h(1−θ)u_n(v_k))⁺ / (hθ), so that its condition is g(q_{k+1}) ≥ 0 and
 //                      it stops on the surface (Stewart & Trinkle, IJNME 1996, on open gaps only;
@@ -17,11 +17,11 @@
 //                      impulse / h, is state.reactions), whose target makes them hold exactly in
 //                      position at t_{k+1}, and those of the ties (tie_rows.h), linearized at each
 //                      iterate, which hold at Newton's convergence. H is sparse (a few entries a
-//                      row), and the columns W_it⁻¹ hᵀ are cached by contact key while W_it and the row
+//                      row), and the columns A⁻¹ hᵀ are cached by contact key while A and the row
 //                      do not change (a node sliding on a plane keeps its column), so that a step costs
-//                      O(unknowns + contacts²) once W_it is factored;
-//   4. solve           projected Gauss–Seidel on {W, q, μ};
-//   5. update          v_{k+1} = v_free + W_it⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
+//                      O(unknowns + contacts²) once A is factored;
+//   4. solve           projected Gauss–Seidel on {W, b, μ};
+//   5. update          v_{k+1} = v_free + A⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
 //   6. post            energy balance, counters, non-finite check.
 //
 // Finite-strain bodies (nonlinear internal force f(q), tangent K_T(q)): the step is the implicit
@@ -29,8 +29,8 @@
 //   q_{k+1} = q_k + h v_θ,
 // solved by Newton's method on v_{k+1} with the contact problem inside every iteration (Acary &
 // Brogliato 2008, §10.4; Siconos' MoreauJeanOSI): at the iterate v_j, q_j = q_k + h((1−θ)v_k + θv_j),
-//   W_j = M + hθC + h²θ² K_T(q_j),   v_free = v_j − W_j⁻¹ R(v_j)   (R: the equation above without Hᵀ r),
-// then steps 3–5 with W_j give v_{j+1}. The contacts are detected once, at q_k (the predicted-gap
+//   A_j = M + hθC + h²θ² K_T(q_j),   v_free = v_j − A_j⁻¹ R(v_j)   (R: the equation above without Hᵀ r),
+// then steps 3–5 with A_j give v_{j+1}. The contacts are detected once, at q_k (the predicted-gap
 // rule of step 2 with the first free velocity), and their rows kept for the step, as in the linear
 // scheme. Stops at h |v_{j+1} − v_j|∞ ≤ newton_tolerance · L (L: the largest body's bounding radius).
 // The prediction can miss what the converged step does, so at convergence:
@@ -40,7 +40,7 @@
 //   - a step that moved a point farther than the detection's margin is taken again, detected over its
 //     own motion (at most twice; then the run stops and says so).
 // Along the way a step may be lengthened or shortened by the secant model of the last two
-// (secant_relaxation.h: W_j + ε I, the proximal term of structural_operators.h, holds a nearly free
+// (secant_relaxation.h: A_j + ε I, the proximal term of structural_operators.h, holds a nearly free
 // spin too stiffly, and Newton creeps), and a step after which an element inverts is halved.
 // The first iteration from v_0 = v_k is the linear scheme above (f(q_k + h v_k) − f(q_k) = −hK v_k for
 // a linear body), so a linear World keeps its single solve. The energy balance then closes to the
@@ -85,7 +85,6 @@ class MoreauJean final : public Stepper {
 
   void initialize(State& state) override;
   void step(State& state) override;
-  double time_step() const override { return parameters_.step; }
 
  private:
   void build_equalities(double t);
@@ -131,7 +130,7 @@ class MoreauJean final : public Stepper {
   std::vector<SparseRow> candidate_rows_;  // rows of every candidate contact (dimension each)
   std::vector<int> active_rows_;      // candidate index of each active contact
   std::vector<SparseRow> rows_;       // rows of the active contacts
-  // W_it⁻¹ hᵀ for each row of the problem: cached per (contact key, row) while the factorization and
+  // A⁻¹ hᵀ for each row of the problem: cached per (contact key, row) while the factorization and
   // the row stay the same; the constraints' once per factorization.
   struct CachedColumn {
     SparseRow row;
@@ -142,10 +141,10 @@ class MoreauJean final : public Stepper {
   std::vector<Vector> constraint_columns_;
   std::vector<Vector> direct_columns_;  // small dense systems: recomputed each step, no cache
   long cache_factorization_ = -1;
-  std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and W_it⁻¹ Hᵀ
+  std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and A⁻¹ Hᵀ
   FrictionContactProblem problem_;
   EqualityRows equalities_;           // the World's constraints, then the active prescriptions (dynamics.h)
-  // The ties' rows after the constraints', linearized at each iterate, their W_it⁻¹ tᵀ recomputed
+  // The ties' rows after the constraints', linearized at each iterate, their A⁻¹ tᵀ recomputed
   // with them; tie_targets_: the velocities C v_{k+1} that close their gaps at t_{k+1}.
   TieRows ties_;
   std::vector<Vector> tie_columns_;

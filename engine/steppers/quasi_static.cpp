@@ -249,12 +249,12 @@ double QuasiStatic::set_compliance(const Vector& r) {
 void QuasiStatic::assemble_problem() {
   const int m = problem_.size();
   problem_.W.resize(m, m);
-  problem_.q.resize(m);
+  problem_.b.resize(m);
   if (m == 0) return;
   factor_.delassus(H_, problem_.W);
   free_increment_ = factor_.solve(f_aug_);
-  problem_.q.noalias() = H_ * free_increment_;
-  problem_.q += offset_;
+  problem_.b.noalias() = H_ * free_increment_;
+  problem_.b += offset_;
   problem_.W.diagonal() += compliance_;
 }
 

@@ -111,7 +111,6 @@ class QuasiStatic final : public Stepper {
 
   void initialize(State& state) override;
   void step(State& state) override;
-  double time_step() const override { return parameters_.step; }
 
  private:
   void advance(State& state, double t_next, int halvings);

@@ -14,7 +14,7 @@
 //     hold (a proximal term on a spin that a slipping patch leaves free). Measured: quasi-static quad8
 //     18 × 3, Mooney–Rivlin δ 0.05, r_i 0.2 crept at ρ = 0.965 and failed at t = 1.22 after 100
 //     iterations at every halving; with the extrapolation the step takes 31. Moreau–Jean, 34 × 5
-//     Mooney–Rivlin δ 0.1, ρ_mass 1e-4: ρ = 0.91 at t = 1.62 (W = M + h²K_T + ε I), 100 iterations.
+//     Mooney–Rivlin δ 0.1, ρ_mass 1e-4: ρ = 0.91 at t = 1.62 (A = M + h²K_T + ε I), 100 iterations.
 // Capped at kMostExtrapolation; not taken again right after a relaxed step, whose ρ measures the
 // relaxation as much as the model. The relaxed iterate is only a starting point: the next iteration's
 // residual and contact solve are exact, so the converged state is Newton's.

@@ -21,7 +21,6 @@ class Stepper {
   virtual ~Stepper() = default;
   virtual void initialize(State& state) = 0;  // fills the initial energies, counters
   virtual void step(State& state) = 0;
-  virtual double time_step() const = 0;       // s
 };
 
 }  // namespace csim

@@ -16,7 +16,7 @@ FrictionContactProblem single_contact_3d(const Eigen::Vector3d& q, double mu) {
   problem.contacts = 1;
   problem.mu = {Eigen::Vector2d(mu, mu)};
   problem.W = Eigen::Matrix3d::Identity();
-  problem.q = q;
+  problem.b = q;
   return problem;
 }
 
@@ -39,7 +39,7 @@ TEST(AlartCurnier, SingleContactSticksAndOpens) {
   Eigen::VectorXd r = Eigen::VectorXd::Zero(3);
   ASSERT_TRUE(alart_curnier_newton(problem, r, 20, 1e-14));
   EXPECT_TRUE(r.isApprox(Eigen::Vector3d(1, -0.1, 0.2), 1e-13));  // stick: u = 0
-  problem.q = Eigen::Vector3d(0.5, 1, 1);                           // separating
+  problem.b = Eigen::Vector3d(0.5, 1, 1);                           // separating
   r = Eigen::Vector3d(1, 0.2, 0.2);
   ASSERT_TRUE(alart_curnier_newton(problem, r, 20, 1e-14));
   EXPECT_LE(r.norm(), 1e-13);
@@ -110,9 +110,9 @@ TEST(AlartCurnier, ADirectionNoImpulseReachesLeavesTheOthersExact) {
   Eigen::VectorXd exact(5);
   exact << 1.0, 0.1, 0.8, -0.1, 0.15;
   const Eigen::VectorXd q_kept = -A * exact;
-  problem.q = Eigen::VectorXd::Zero(6);
-  for (int i = 0; i < 5; ++i) problem.q(kept[i]) = q_kept(i);
-  problem.q(2) = 1e-6;
+  problem.b = Eigen::VectorXd::Zero(6);
+  for (int i = 0; i < 5; ++i) problem.b(kept[i]) = q_kept(i);
+  problem.b(2) = 1e-6;
 
   Eigen::VectorXd r = Eigen::VectorXd::Zero(6);
   r(2) = 0.01;

@@ -23,12 +23,12 @@ void expect_identical(const FrictionContactProblem& a, const FrictionContactProb
   EXPECT_EQ(a.equalities, b.equalities);
   ASSERT_EQ(a.W.rows(), b.W.rows());
   ASSERT_EQ(a.W.cols(), b.W.cols());
-  ASSERT_EQ(a.q.size(), b.q.size());
+  ASSERT_EQ(a.b.size(), b.b.size());
   ASSERT_EQ(a.mu.size(), b.mu.size());
   for (Eigen::Index i = 0; i < a.W.size(); ++i)
     EXPECT_TRUE(same_bits(a.W(i), b.W(i))) << "W entry " << i << ": " << a.W(i) << " vs " << b.W(i);
-  for (Eigen::Index i = 0; i < a.q.size(); ++i)
-    EXPECT_TRUE(same_bits(a.q(i), b.q(i))) << "q entry " << i << ": " << a.q(i) << " vs " << b.q(i);
+  for (Eigen::Index i = 0; i < a.b.size(); ++i)
+    EXPECT_TRUE(same_bits(a.b(i), b.b(i))) << "b entry " << i << ": " << a.b(i) << " vs " << b.b(i);
   for (std::size_t c = 0; c < a.mu.size(); ++c)
     for (int k = 0; k < 2; ++k) EXPECT_TRUE(same_bits(a.mu[c](k), b.mu[c](k))) << "mu " << c;
 }
@@ -44,8 +44,8 @@ FrictionContactProblem random_problem(int dimension, int contacts, int equalitie
   Eigen::MatrixXd A(n, n);
   for (Eigen::Index i = 0; i < A.size(); ++i) A(i) = entry(generator);
   problem.W = A * A.transpose();
-  problem.q.resize(n);
-  for (int i = 0; i < n; ++i) problem.q(i) = entry(generator) / 3.0;
+  problem.b.resize(n);
+  for (int i = 0; i < n; ++i) problem.b(i) = entry(generator) / 3.0;
   for (int c = 0; c < contacts; ++c)
     problem.mu.emplace_back(std::abs(entry(generator)), std::abs(entry(generator)));
   return problem;
@@ -71,19 +71,19 @@ TEST(FrictionContactProblemIo, RoundTripKeepsAwkwardValues) {
   problem.W(1, 0) = std::numeric_limits<double>::denorm_min();
   problem.W(1, 1) = std::numeric_limits<double>::max();
   problem.W(2, 2) = 1.0 / 3.0;
-  problem.q(0) = std::numeric_limits<double>::quiet_NaN();
-  problem.q(1) = -std::numeric_limits<double>::infinity();
-  problem.q(2) = std::nextafter(1.0, 2.0);
+  problem.b(0) = std::numeric_limits<double>::quiet_NaN();
+  problem.b(1) = -std::numeric_limits<double>::infinity();
+  problem.b(2) = std::nextafter(1.0, 2.0);
   problem.mu[0] = Eigen::Vector2d(0.3, 0.0);
   const FrictionContactProblem copy = round_trip(problem);
   expect_identical(problem, copy);
-  EXPECT_TRUE(std::isnan(copy.q(0)));
+  EXPECT_TRUE(std::isnan(copy.b(0)));
 }
 
 TEST(FrictionContactProblemIo, EmptyProblemRoundTrips) {
   FrictionContactProblem problem;
   problem.W.resize(0, 0);
-  problem.q.resize(0);
+  problem.b.resize(0);
   expect_identical(problem, round_trip(problem));
 }
 
@@ -92,7 +92,7 @@ TEST(FrictionContactProblemIo, FormatIsReadable) {
   problem.dimension = 2;
   problem.contacts = 1;
   problem.W = Eigen::Matrix2d::Identity();
-  problem.q = Eigen::Vector2d(-0.1, 0.3);
+  problem.b = Eigen::Vector2d(-0.1, 0.3);
   problem.mu = {Eigen::Vector2d(0.5, 0.0)};
   std::ostringstream out;
   write_problem(out, problem);
@@ -149,7 +149,7 @@ TEST(FrictionContactProblemIo, MalformedInputThrowsWithAMessage) {
 
 TEST(FrictionContactProblemIo, WritingAnInconsistentProblemThrows) {
   FrictionContactProblem problem = random_problem(3, 2, 0, 5);
-  problem.q.resize(5);
+  problem.b.resize(5);
   std::ostringstream out;
   EXPECT_THROW(write_problem(out, problem), std::runtime_error);
 }

@@ -41,7 +41,7 @@ struct BoxOnTwoCorners {
     problem.dimension = 2;
     problem.contacts = 2;
     problem.W = H() * M_inverse * H().transpose();
-    problem.q = H() * v_free;
+    problem.b = H() * v_free;
     problem.mu = {Eigen::Vector2d(mu, mu), Eigen::Vector2d(mu, mu)};
     return problem;
   }
@@ -50,13 +50,13 @@ struct BoxOnTwoCorners {
 };
 
 Eigen::VectorXd velocity(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
-  return problem.W * r + problem.q;
+  return problem.W * r + problem.b;
 }
 
 TEST(PgsSolver, EmptyProblemConvergesImmediately) {
   FrictionContactProblem problem;
   problem.W.resize(0, 0);
-  problem.q.resize(0);
+  problem.b.resize(0);
   Eigen::VectorXd r(3);
   std::vector<ContactStatus> status(4);
   const PgsStatistics statistics = PgsSolver().solve(problem, r, &status);
@@ -74,7 +74,7 @@ TEST(PgsSolver, SingleContactConvergesToTheLocalSolution) {
   problem.contacts = 1;
   problem.W.resize(3, 3);
   problem.W << 1.0, 0.1, -0.05, 0.1, 0.9, 0.2, -0.05, 0.2, 0.7;
-  problem.q = Eigen::Vector3d(-1.0, 0.6, -0.4);
+  problem.b = Eigen::Vector3d(-1.0, 0.6, -0.4);
   problem.mu = {Eigen::Vector2d(0.3, 0.2)};
   Eigen::VectorXd r;  // wrong size: zeroed
   std::vector<ContactStatus> status;
@@ -85,7 +85,7 @@ TEST(PgsSolver, SingleContactConvergesToTheLocalSolution) {
 
   Eigen::Vector3d r_local;
   const ContactStatus local_status =
-      solve_local_3d(problem.W, Eigen::Vector3d(problem.q), problem.mu[0], r_local);
+      solve_local_3d(problem.W, Eigen::Vector3d(problem.b), problem.mu[0], r_local);
   EXPECT_EQ(Eigen::Vector3d(r), r_local);
   ASSERT_EQ(status.size(), 1u);
   EXPECT_EQ(status[0], local_status);
@@ -97,7 +97,7 @@ TEST(PgsSolver, SingleContactConvergesToTheLocalSolution) {
   plane.contacts = 1;
   plane.W.resize(2, 2);
   plane.W << 2.0, 0.5, 0.5, 1.0;
-  plane.q = -plane.W * Eigen::Vector2d(1.0, 0.1);  // stick at r = (1, 0.1), inside μ = 0.5
+  plane.b = -plane.W * Eigen::Vector2d(1.0, 0.1);  // stick at r = (1, 0.1), inside μ = 0.5
   plane.mu = {Eigen::Vector2d(0.5, 0.0)};
   Eigen::VectorXd r2 = Eigen::VectorXd::Zero(2);
   const PgsStatistics plane_statistics = PgsSolver().solve(plane, r2, &status);
@@ -180,7 +180,7 @@ TEST(PgsSolver, BilateralConstraintWithUnidirectionalFriction) {
   problem.contacts = 1;
   problem.equalities = 1;
   problem.W = H * H.transpose() / m;
-  problem.q = H * v_free;
+  problem.b = H * v_free;
   problem.mu = {Eigen::Vector2d(mu1, 0.0)};
   Eigen::VectorXd r;
   std::vector<ContactStatus> status;
@@ -227,7 +227,7 @@ TEST(PgsSolver, ALightNodeTiedToAHeavyBodySlidesWithItInOneSweep) {
   problem.contacts = 1;
   problem.equalities = 3;
   problem.W = H * M_inverse.asDiagonal() * H.transpose();
-  problem.q = H * v_free;
+  problem.b = H * v_free;
   problem.mu = {Eigen::Vector2d(mu, mu)};
 
   PgsParameters parameters;
@@ -257,7 +257,7 @@ TEST(PgsSolver, EqualitiesOnlyAreSolvedInOneSweep) {
   problem.equalities = 2;
   problem.W.resize(2, 2);
   problem.W << 2.0, 0.5, 0.5, 1.0;
-  problem.q = Eigen::Vector2d(1.0, -2.0);
+  problem.b = Eigen::Vector2d(1.0, -2.0);
   Eigen::VectorXd r;
   const PgsStatistics statistics = PgsSolver().solve(problem, r);
   EXPECT_TRUE(statistics.converged);
@@ -271,10 +271,10 @@ TEST(PgsSolver, ResidualVanishesAtSolutionAndNotElsewhere) {
   problem.contacts = 1;
   problem.W.resize(3, 3);
   problem.W << 1.0, 0.1, -0.05, 0.1, 0.9, 0.2, -0.05, 0.2, 0.7;
-  problem.q = Eigen::Vector3d(-1.0, 0.6, -0.4);
+  problem.b = Eigen::Vector3d(-1.0, 0.6, -0.4);
   problem.mu = {Eigen::Vector2d(0.3, 0.3)};
   Eigen::Vector3d r_exact;
-  solve_local_3d(problem.W, Eigen::Vector3d(problem.q), problem.mu[0], r_exact);
+  solve_local_3d(problem.W, Eigen::Vector3d(problem.b), problem.mu[0], r_exact);
   EXPECT_LE(PgsSolver::residual(problem, r_exact), 1e-14);
   // r = 0 while the contact approaches: the whole normal velocity is unresolved.
   EXPECT_GT(PgsSolver::residual(problem, Eigen::VectorXd::Zero(3)), 0.5);
@@ -316,7 +316,7 @@ TEST(PgsSolver, SmallSweepIncrementAloneIsNotConvergence) {
   problem.dimension = 3;
   problem.contacts = 1;
   problem.W = Eigen::Vector3d(1.0, 1.0, 1.0).asDiagonal();
-  problem.q = Eigen::Vector3d(-1.0, 0.5, 0.0);
+  problem.b = Eigen::Vector3d(-1.0, 0.5, 0.0);
   problem.mu = {Eigen::Vector2d(0.3, 0.3)};
   PgsParameters parameters;
   parameters.omega = 1e-3;
@@ -361,7 +361,7 @@ TEST(PgsSolver, OverRelaxationReachesTheSameSolution) {
 TEST(PgsSolver, LiftedBoxIsOpen) {
   BoxOnTwoCorners box;
   FrictionContactProblem problem = box.problem(0.0);
-  problem.q = -problem.q;  // moving up
+  problem.b = -problem.b;  // moving up
   Eigen::VectorXd r = Eigen::VectorXd::Constant(4, 1.0);  // stale warm start
   std::vector<ContactStatus> status;
   const PgsStatistics statistics = PgsSolver().solve(problem, r, &status);
@@ -373,7 +373,7 @@ TEST(PgsSolver, LiftedBoxIsOpen) {
 TEST(PgsSolver, RejectsNonFiniteLocalSolutions) {
   const BoxOnTwoCorners box;
   FrictionContactProblem problem = box.problem(0.0);
-  problem.q(1) = std::numeric_limits<double>::quiet_NaN();
+  problem.b(1) = std::numeric_limits<double>::quiet_NaN();
   PgsParameters parameters;
   parameters.max_iterations = 5;
   Eigen::VectorXd r;
@@ -388,7 +388,7 @@ TEST(PgsSolver, InconsistentProblemThrows) {
   FrictionContactProblem problem;
   problem.contacts = 1;
   problem.W = Eigen::MatrixXd::Identity(2, 2);
-  problem.q = Eigen::VectorXd::Zero(3);
+  problem.b = Eigen::VectorXd::Zero(3);
   problem.mu = {Eigen::Vector2d(0.1, 0.1)};
   Eigen::VectorXd r;
   EXPECT_THROW(PgsSolver().solve(problem, r), std::invalid_argument);
@@ -419,7 +419,7 @@ TEST(PgsSolver, ActiveSetPolishRescuesAnIllConditionedDelassus) {
   Eigen::MatrixXd W = 1e2 * (across * across.transpose() + along * along.transpose() + turn * turn.transpose());
   for (int i = 0; i < 2 * n; ++i) W(i, i) += 1e-5 * (1.0 + 0.1 * (i % 3));
   problem.W = W;
-  problem.q = -1e4 * across + 1e3 * along + 1e-3 * turn;  // pressed, pushed well below the threshold
+  problem.b = -1e4 * across + 1e3 * along + 1e-3 * turn;  // pressed, pushed well below the threshold
   PgsParameters plain;
   plain.polish = false;
   plain.max_iterations = 2000;
@@ -452,8 +452,8 @@ TEST(PgsSolver, ActiveSetIterationFindsStickOnOneCornerAndSlipOnTheOther) {
       -0.09000001958016213, 0.13001686140186938, 0.09000055846082827, 0.1300095817980747,
       -0.1699987920981988, 0.09000055846082827, 0.37001057478270577, 0.09000010701182316,
       -0.09000057356748128, 0.1300095817980747, 0.09000010701182316, 0.13002023697636653;
-  problem.q.resize(4);
-  problem.q << -0.009890681765085136, -0.0014727323607641564, -0.009883155910741305, -0.0014736707597924324;
+  problem.b.resize(4);
+  problem.b << -0.009890681765085136, -0.0014727323607641564, -0.009883155910741305, -0.0014736707597924324;
   PgsParameters parameters;
   parameters.max_iterations = 100;
   parameters.tolerance = 1e-12;
@@ -465,7 +465,7 @@ TEST(PgsSolver, ActiveSetIterationFindsStickOnOneCornerAndSlipOnTheOther) {
   EXPECT_EQ(status[0], ContactStatus::stick);
   EXPECT_EQ(status[1], ContactStatus::slip);
   EXPECT_NEAR(r(3), 0.3 * r(2), 1e-14);  // on the cone, along +t
-  const Eigen::VectorXd u = problem.W * r + problem.q;
+  const Eigen::VectorXd u = problem.W * r + problem.b;
   EXPECT_NEAR(u(1), 0.0, 1e-15);  // corner 1 sticks
   EXPECT_LT(u(3), 0.0);           // corner 2 slides against its friction
   PgsParameters plain = parameters;
@@ -488,7 +488,7 @@ TEST(PgsSolver, PolishFindsTheLateralSlipOfANodeHeldAcrossTheGround) {
   const FrictionContactProblem problem = read_problem(file);
   std::vector<int> held_across;  // contacts with a zero t2 column of W and a lateral free velocity
   for (int c = 0; c < problem.contacts; ++c)
-    if (problem.W.col(3 * c + 2).norm() == 0.0 && problem.q(3 * c + 2) != 0.0) held_across.push_back(c);
+    if (problem.W.col(3 * c + 2).norm() == 0.0 && problem.b(3 * c + 2) != 0.0) held_across.push_back(c);
   ASSERT_GE(held_across.size(), 2u);
 
   PgsParameters plain;
@@ -505,13 +505,13 @@ TEST(PgsSolver, PolishFindsTheLateralSlipOfANodeHeldAcrossTheGround) {
   ASSERT_TRUE(statistics.converged) << statistics.residual;
   EXPECT_LE(statistics.iterations, 200);
   // Coulomb's slip law on the held contacts: r_t = −μ r_n u_t/|u_t|, with a lateral share of the cone.
-  const Eigen::VectorXd u = problem.W * r + problem.q;
+  const Eigen::VectorXd u = problem.W * r + problem.b;
   int sliding_sideways = 0;
   for (const int c : held_across) {
     const double r_n = r(3 * c), mu = problem.mu[c](0);
     if (!(r_n > 1e-9 * r.maxCoeff())) continue;  // open (a round-off impulse)
     const Eigen::Vector2d u_t = u.segment<2>(3 * c + 1), r_t = r.segment<2>(3 * c + 1);
-    EXPECT_EQ(u_t(1), problem.q(3 * c + 2));
+    EXPECT_EQ(u_t(1), problem.b(3 * c + 2));
     EXPECT_LE((r_t + mu * r_n * u_t.normalized()).norm(), 1e-6 * mu * r_n) << "contact " << c;
     if (std::abs(r_t(1)) > 0.5 * mu * r_n) ++sliding_sideways;
   }
