@@ -1,0 +1,97 @@
+// ContactDetector on its own: a rigid cube resting on (then lifted above) a fixed halfspace, with the
+// gaps, normals, points and rows of H that a hand computation gives.
+#include "engine/contact_detector.h"
+#include "tools/run/run.h"
+#include "tools/scene/scene.h"
+
+#include <gtest/gtest.h>
+
+namespace csim {
+namespace {
+
+// scenes/incline-3d flattened (angle 0): a 1 m cube (size 1) of the scene's mass whose centre is at
+// z = 0.5, on the halfspace z ≤ 0; the contact law is between [block, slope].
+std::unique_ptr<Scene> flat_cube() {
+  return load_scene(CSIM_SOURCE_DIR "/scenes/incline-3d/scene.yaml", {"parameters.angle=0", "parameters.size=1"});
+}
+
+TEST(ContactDetector, CubeLiftedAboveAHalfspaceHasFourCornerContactsWithTheLiftAsGap) {
+  const auto scene = flat_cube();
+  const World& world = scene->world;
+  ContactDetector detector(world);
+  ASSERT_FALSE(detector.empty());
+  EXPECT_EQ(detector.dimension(), 3);
+  State state = initial_state(world);
+  const int block = world.body_index("block");
+  const int z = world.bodies[block].position_offset + 2;
+  ASSERT_NEAR(state.q(z), 0.5, 1e-15);
+  const double lift = 0.01;  // m
+  state.q(z) += lift;
+
+  std::vector<ActiveContact> contacts;
+  std::vector<SparseRow> rows;
+  detector.detect(state.q, 2 * lift, contacts, rows);
+  ASSERT_EQ(contacts.size(), 4u);  // the four bottom corners
+  ASSERT_EQ(rows.size(), 3 * contacts.size());
+  for (const ActiveContact& c : contacts) {
+    EXPECT_NEAR(c.point.gap, lift, 1e-12);
+    EXPECT_NEAR(std::abs(c.point.normal.z()), 1.0, 1e-12);  // along z, from the point's body A to B
+    EXPECT_NEAR(c.point.normal.dot(c.point.t1), 0.0, 1e-12);
+    EXPECT_NEAR(c.point.normal.dot(c.point.t2), 0.0, 1e-12);
+    // The cube's side of the point is one of its bottom corners (x, y = ±0.5, z = lift).
+    const Eigen::Vector3d corner = c.body_a == block ? c.point.point_a : c.point.point_b;
+    EXPECT_NEAR(std::abs(corner.x()), 0.5, 1e-12);
+    EXPECT_NEAR(std::abs(corner.y()), 0.5, 1e-12);
+    EXPECT_NEAR(corner.z(), lift, 1e-12);
+  }
+  // Margin below the lift: nothing.
+  detector.detect(state.q, 0.5 * lift, contacts, rows);
+  EXPECT_TRUE(contacts.empty());
+}
+
+TEST(ContactDetector, RowsOfHGiveTheRelativeVelocityAtTheCorners) {
+  const auto scene = flat_cube();
+  const World& world = scene->world;
+  ContactDetector detector(world);
+  State state = initial_state(world);
+  std::vector<ActiveContact> contacts;
+  std::vector<SparseRow> rows;
+  detector.detect(state.q, 1e-6, contacts, rows);
+  ASSERT_EQ(contacts.size(), 4u);
+  for (const ActiveContact& c : contacts) EXPECT_NEAR(c.point.gap, 0.0, 1e-12);  // resting
+
+  const int block = world.body_index("block");
+  const int offset = world.bodies[block].velocity_offset;
+  // Falling at 1 m/s: every corner approaches, u_n = −1 m/s, no slip.
+  Vector v = Vector::Zero(world.velocity_size);
+  v(offset + 2) = -1.0;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    EXPECT_NEAR(rows[3 * i].dot(v), -1.0, 1e-12);
+    EXPECT_NEAR(rows[3 * i + 1].dot(v), 0.0, 1e-12);
+    EXPECT_NEAR(rows[3 * i + 2].dot(v), 0.0, 1e-12);
+  }
+  // Spinning about z at 2 rad/s (the angular velocity's z component, whatever the body's convention
+  // of frame, is the same for this upright cube): a corner at r = (±0.5, ±0.5) slides at ω × r, of
+  // speed 2 · √0.5 m/s, tangential only.
+  v.setZero();
+  v(offset + 5) = 2.0;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    EXPECT_NEAR(rows[3 * i].dot(v), 0.0, 1e-12);
+    EXPECT_NEAR(std::hypot(rows[3 * i + 1].dot(v), rows[3 * i + 2].dot(v)), 2.0 * std::sqrt(0.5), 1e-12);
+  }
+}
+
+TEST(ContactDetector, TravelBoundCoversTheFastestPoint) {
+  const auto scene = flat_cube();
+  const World& world = scene->world;
+  ContactDetector detector(world);
+  const int offset = world.bodies[world.body_index("block")].velocity_offset;
+  Vector v = Vector::Zero(world.velocity_size);
+  v(offset) = 3.0;  // m/s
+  EXPECT_GE(detector.travel_bound(v, 0.1), 0.3 - 1e-15);
+  v(offset + 5) = 2.0;  // rad/s: a corner at √0.5 m moves 2 √0.5 m/s more
+  EXPECT_GE(detector.travel_bound(v, 0.1), 0.1 * (3.0 + 2.0 * std::sqrt(0.5)) - 1e-12);
+}
+
+}  // namespace
+}  // namespace csim
