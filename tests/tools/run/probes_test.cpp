@@ -1,0 +1,117 @@
+// ProbeEvaluator on its own: each kind of probe on a small World and a State set by hand, against the
+// values of probes.h's definitions computed by hand.
+#include "tools/run/probes.h"
+#include "engine/bodies/point_mass.h"
+
+#include <gtest/gtest.h>
+
+namespace csim {
+namespace {
+
+BodyInstance point_mass(const std::string& name, double mass, const Eigen::Vector2d& position) {
+  BodyInstance b;
+  b.name = name;
+  b.body = std::make_unique<PointMass>(2, mass);
+  b.reference_position = position;
+  b.initial_position = position;
+  b.initial_velocity = Eigen::Vector2d::Zero();
+  return b;
+}
+
+// Two point masses in the plane: "ball" (2 kg, reference (1, 2) m) resting on "floor" (a second
+// mass at the origin), with one contact law between [ball, floor].
+World ball_on_floor() {
+  World world;
+  world.dimension = 2;
+  world.bodies.push_back(point_mass("ball", 2.0, {1.0, 2.0}));
+  world.bodies.push_back(point_mass("floor", 5.0, {0.0, 0.0}));
+  ContactLaw law;
+  law.body_a = 0;
+  law.body_b = 1;
+  world.contact_laws.push_back(law);
+  world.finalize_layout();
+  return world;
+}
+
+ProbeDefinition probe(ProbeDefinition::Kind kind) {
+  ProbeDefinition p;
+  p.kind = kind;
+  return p;
+}
+
+TEST(ProbeEvaluator, EachKindAgainstHandValues) {
+  const World world = ball_on_floor();
+  RunSettings run;
+  run.moreau_jean.step = 0.01;  // s: contact forces are impulses / h
+  using Kind = ProbeDefinition::Kind;
+  ProbeDefinition p = probe(Kind::displacement);  // x displacement of the ball, scaled by 2
+  p.body = 0;
+  p.scale = 2.0;
+  run.probes.push_back(p);
+  p = probe(Kind::position);  // y position of the ball
+  p.body = 0;
+  p.direction = Eigen::Vector3d::UnitY();
+  run.probes.push_back(p);
+  p = probe(Kind::velocity);  // v_y of the ball
+  p.velocity_index = 1;
+  run.probes.push_back(p);
+  for (const char* term : {"kinetic", "mechanical", "work"}) {
+    p = probe(Kind::energy);
+    p.energy_term = term;
+    run.probes.push_back(p);
+  }
+  for (const char* component : {"normal", "tangential", "y"}) {
+    p = probe(Kind::contact_force);
+    p.contact_law = 0;
+    p.force_component = component;
+    run.probes.push_back(p);
+  }
+  p = probe(Kind::contact_count);
+  p.contact_law = 0;
+  p.force_component = "closed";
+  run.probes.push_back(p);
+
+  State state;
+  state.t = 0.5;
+  state.q = Eigen::Vector4d(1.5, 2.5, 0.0, 0.0);
+  state.v = Eigen::Vector4d(0.0, -3.0, 0.0, 0.0);
+  state.energy.kinetic = 4.0;  // J
+  state.energy.elastic = 1.0;
+  state.energy.work_of_loads = 7.0;
+  // One contact: the point's body A is the floor, B the ball (the law's first body), n from A to B
+  // = +y, t1 = e_z × n = −x; impulse (r_n, r_t1) = (0.02, 0.005) N·s over h = 0.01 s: a force of
+  // 2 N along +y and 0.5 N along t1 on the ball.
+  ActiveContact c;
+  c.law = 0;
+  c.body_a = 1;
+  c.body_b = 0;
+  c.point.normal = Eigen::Vector3d::UnitY();
+  complete_frame(c.point, true);
+  ASSERT_NEAR(c.point.t1.x(), -1.0, 1e-15);
+  c.impulse = Eigen::Vector3d(0.02, 0.005, 0.0);
+  state.contacts.push_back(c);
+
+  const ProbeEvaluator probes(world, run);
+  std::vector<double> values;
+  probes.evaluate(state, values);
+  ASSERT_EQ(values.size(), run.probes.size());
+  EXPECT_DOUBLE_EQ(values[0], 2.0 * 0.5);  // displacement 0.5 m, scale 2
+  EXPECT_DOUBLE_EQ(values[1], 2.5);        // position y
+  EXPECT_DOUBLE_EQ(values[2], -3.0);       // velocity
+  EXPECT_DOUBLE_EQ(values[3], 4.0);        // kinetic
+  EXPECT_DOUBLE_EQ(values[4], 5.0);        // mechanical = kinetic + elastic
+  EXPECT_DOUBLE_EQ(values[5], 7.0);        // work of loads
+  EXPECT_NEAR(values[6], 2.0, 1e-12);      // normal force (compressive positive)
+  EXPECT_NEAR(values[7], 0.5, 1e-12);      // tangential: along e_z × n, n into the ball
+  EXPECT_NEAR(values[8], 2.0, 1e-12);      // y component of the resultant on the ball
+  EXPECT_EQ(values[9], 1.0);               // one closed point
+
+  // An open contact (no normal impulse) is not counted and carries no force.
+  state.contacts[0].impulse.setZero();
+  probes.evaluate(state, values);
+  EXPECT_EQ(values[9], 0.0);
+  EXPECT_EQ(values[6], 0.0);
+}
+
+}  // namespace
+}  // namespace csim
