@@ -58,10 +58,8 @@ class StructuralOperators {
   Matrix dense_mass_, dense_stiffness_, dense_damping_;
   Eigen::LDLT<Matrix> dense_factor_;
   SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_, sparse_damping_;
-  // CHOLMOD's simplicial LDLᵀ with its AMD ordering: one solve with A of sdnv104-quad4 takes 4.4 to
-  // 4.8 ms at 51 842 unknowns against 7.2 to 7.5 for Eigen's SimplicialLDLT (same fill: its loops are
-  // tighter), 0.9 against 1.3 ms at 13 122. Its supernodal LLᵀ solves one right-hand side more slowly
-  // (6.1 ms, with the reference BLAS), and METIS orders 2D meshes only 4 % better than its AMD.
+  // CHOLMOD's simplicial LDLᵀ with its AMD ordering: the fastest single right-hand-side solve of the
+  // factorizations compared (timings: docs/solver-measurements.md).
   Eigen::CholmodSimplicialLDLT<SparseMatrix> sparse_factor_;
   SparseLdlt tangent_factor_;  // nonlinear worlds: its pivots say if A > 0
 

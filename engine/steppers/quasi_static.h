@@ -39,24 +39,21 @@
 // ρ H_Aᵀ (H_A Δz + c_A) = ρ H_Aᵀ u_A, zero while those rows stay held (u_n = 0, u_t = 0), so the step is
 // Newton's own. A row that the solve lets go (a contact that opens, or slips) is dropped and the
 // problem solved again (at most 4 times; the rare step still inexact costs an iteration, not the
-// converged state, since a fixed point holds its rows). Without that, the smoothed ring (many rows
-// that come and go) diverged at the first step where a held row slipped. ρ = 1e-4, 1e-3, … ×
+// converged state, since a fixed point holds its rows). ρ = 1e-4, 1e-3, … ×
 // max diag(K_z) until A is positive definite; a contact solve that fails on held rows is solved again
 // with ρ from 100 times more (up to max diag, kept for the step's later iterates): the held rows' sticking
 // contacts can be coupled to the nearly free spin so that μ|W_nt| ≈ W_nn, which Gauss–Seidel does not
 // finish, and a stiffer hold shrinks W along those rows without changing the step while they stay held. With a hub, the held rows need a sticking contact, and the
 // frame's geometric stiffness then takes the contact forces too (the exact Hessian): Newton converges
-// quadratically while rolling. Measured on the thin Mooney–Rivlin ring (r_i 1.7, δ 0.1, 68 × 10):
-// 3605 iterations, 10 a step while rolling, with the proximal terms below; 1520, at most 4 a step,
-// with the held rows (11 s against 21 s), the same spin to 2e-7.
+// quadratically while rolling (measurements: docs/quasi-static-history.md).
 // Otherwise (no contact sticks: the whole patch slips in the spin-up), the proximal terms: ε =
 // 1e-4 · max diag(K_z) on the hub's unknowns, and, when K_z is still not positive definite, ε on every
 // unknown from 1e-6 · max diag(K_z), grown tenfold until it is (counted in the summary as regularized
 // iterations; the held rows' as contact_held). Proximal terms are springs from the last iterate: they
 // vanish at convergence (Δz = 0), so the converged state is unbiased, but they slow Newton to a linear
-// rate along the modes they hold. The hub's term starts each step at 1e-4: 1e-6 left the contact solves
-// ill-conditioned (PGS stalled at a residual of 1e-2 on the elastic ring), 1e-2 slowed Newton past 30
-// iterations at the start of the friction ramp. A contact solve that fails with it raises it ×100 (up
+// rate along the modes they hold. The hub's term starts each step at 1e-4, between a value that leaves
+// the contact solves ill-conditioned and one that slows Newton (docs/quasi-static-history.md). A
+// contact solve that fails with it raises it ×100 (up
 // to max diag) for the rest of the step: with a nearly free spin the problem can have no solution
 // (quasi_static.cpp, iterate). Without the held rows, the frame's geometric stiffness
 // takes the loads and internal forces only: with the contact forces, the rigid rotation of a pressed

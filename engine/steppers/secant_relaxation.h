@@ -7,14 +7,11 @@
 // model's stiffness there is the true one over c, ρ = 1 − ω_{j−1} c, so that the step that reaches the
 // fixed point of the scalar model is ω_j = ω_{j−1}/(1 − ρ). Two cases use it:
 //   oscillation, ρ < −½ (each step reversing most of the last): the model is too soft along the mode.
-//     Measured: the quasi-static elastic ring r_i = 0.2, δ = 0.1 diverged with ρ = −1.44 (the contact's
-//     geometric stiffness, on the proximal path, is not in K_z);
+//     (the contact's geometric stiffness, on the proximal path, is not in K_z);
 //   slow monotone convergence, ½ < ρ < 1 with aligned steps and ρ steady over two iterations (Aitken's
 //     extrapolation of a linear rate): the model is too stiff along a mode that the contacts barely
-//     hold (a proximal term on a spin that a slipping patch leaves free). Measured: quasi-static quad8
-//     18 × 3, Mooney–Rivlin δ 0.05, r_i 0.2 crept at ρ = 0.965 and failed at t = 1.22 after 100
-//     iterations at every halving; with the extrapolation the step takes 31. Moreau–Jean, 34 × 5
-//     Mooney–Rivlin δ 0.1, ρ_mass 1e-4: ρ = 0.91 at t = 1.62 (A = M + h²K_T + ε I), 100 iterations.
+//     hold (a proximal term on a spin that a slipping patch leaves free). The cases that showed both
+//     behaviours are in docs/solver-measurements.md.
 // Capped at kMostExtrapolation; not taken again right after a relaxed step, whose ρ measures the
 // relaxation as much as the model. The relaxed iterate is only a starting point: the next iteration's
 // residual and contact solve are exact, so the converged state is Newton's.
