@@ -9,7 +9,10 @@
 //
 // Each element is an energy Π_e(u_e) (J); its internal force f = ∂Π_e/∂u_e (N, the force the
 // element exerts ON its nodes is −f; equilibrium is f = f_external) and tangent K_T = ∂f/∂u_e
-// (N/m, symmetric) are its exact derivatives. With B the map u_e → F (B_{iJ, bk} = δik ∂N_b/∂X_J)
+// (N/m, symmetric) are its exact derivatives. Sign convention: fem/ returns this resisting force,
+// the residual's sign (K u for a linear body); engine/ (Body::add_internal_force, Dynamics) adds the
+// force ON the body, f_int = −∂Π/∂u = −K u, which FeBody obtains by subtracting fem's f. Both sides
+// use the same positive K_T = ∂(fem's f)/∂u = −∂f_int/∂q. With B the map u_e → F (B_{iJ, bk} = δik ∂N_b/∂X_J)
 // and dV = t det(∂X/∂ξ) w_g (plane) or det(∂X/∂ξ) w_g (solid), m³:
 //   standard         Π_e = ∫ W(F) dV, full Gauss (2×2, 3×3, 2×2×2):
 //                    f = ∫ Bᵀ P dV,   K_T = ∫ Bᵀ A B dV.
