@@ -3,12 +3,18 @@
 #include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 
+#include <Eigen/CholmodSupport>
+
 #include <chrono>
 
 namespace csim {
 
+struct StructuralOperators::CholmodFactor {
+  Eigen::CholmodSimplicialLDLT<SparseMatrix> factor;
+};
+
 StructuralOperators::StructuralOperators(const Dynamics& dynamics)
-    : world_(dynamics.world()), dynamics_(dynamics) {
+    : world_(dynamics.world()), dynamics_(dynamics), sparse_factor_(std::make_unique<CholmodFactor>()) {
   const int n = world_.velocity_size;
   sparse_ = n > kDenseLimit;
   has_stiffness_ = dynamics.has_stiffness();
@@ -24,6 +30,8 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
     dense_damping_ = Matrix(sparse_damping_);
   }
 }
+
+StructuralOperators::~StructuralOperators() = default;
 
 void StructuralOperators::update(const Vector& q, double h, double theta) {
   if (factored_ && constant_ && h == factored_h_ && theta == factored_theta_) return;
@@ -49,8 +57,8 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     if (nonlinear_) {
       factor_regularized(A);
     } else {
-      if (!factored_) sparse_factor_.analyzePattern(A);
-      sparse_factor_.factorize(A);
+      if (!factored_) sparse_factor_->factor.analyzePattern(A);
+      sparse_factor_->factor.factorize(A);
     }
   } else {
     if (dynamics_.has_springs()) {
@@ -94,7 +102,7 @@ void StructuralOperators::regularize(double largest, PositiveDefiniteWith&& posi
 
 void StructuralOperators::solve_in_place(Vector& x) const {
   if (sparse_ && nonlinear_) x = tangent_factor_.solve(x);
-  else if (sparse_) x = sparse_factor_.solve(x);
+  else if (sparse_) x = sparse_factor_->factor.solve(x);
   else dense_factor_.solveInPlace(x);
 }
 

@@ -17,8 +17,9 @@
 #include "engine/dynamics.h"
 #include "engine/sparse_ldlt.h"
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
+
+#include <memory>
 
 namespace csim {
 
@@ -27,6 +28,7 @@ class StructuralOperators {
   static constexpr int kDenseLimit = 64;
 
   explicit StructuralOperators(const Dynamics& dynamics);
+  ~StructuralOperators();  // where CholmodFactor is complete
 
   // Refreshes K at q and refactors A when needed (always the first time).
   void update(const Vector& q, double h, double theta);
@@ -59,8 +61,10 @@ class StructuralOperators {
   Eigen::LDLT<Matrix> dense_factor_;
   SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_, sparse_damping_;
   // CHOLMOD's simplicial LDLᵀ with its AMD ordering: the fastest single right-hand-side solve of the
-  // factorizations compared (timings: docs/solver-measurements.md).
-  Eigen::CholmodSimplicialLDLT<SparseMatrix> sparse_factor_;
+  // factorizations compared (timings: docs/solver-measurements.md). Defined in the .cpp, so that
+  // CHOLMOD's headers stay out of every includer.
+  struct CholmodFactor;
+  std::unique_ptr<CholmodFactor> sparse_factor_;
   SparseLdlt tangent_factor_;  // nonlinear worlds: its pivots say if A > 0
 
   void factor_regularized(const SparseMatrix& A);
