@@ -1,6 +1,7 @@
 #include "engine/steppers/ida_integrator.h"
 
 #include "engine/steppers/event_contact_model.h"
+#include "engine/steppers/integrator.h"
 #include "engine/steppers/regularized_contact_model.h"
 
 #include <ida/ida.h>
@@ -62,7 +63,7 @@ struct IdaIntegrator::Sundials {
 };
 
 std::string IdaIntegrator::unsupported(const World& world, const IdaParameters& parameters) {
-  const std::string name = parameters.events ? "ida-events" : "ida";
+  const std::string name = integrator_name(parameters.events ? Integrator::ida_events : Integrator::ida);
   if (!world.prescribed.empty())
     return name + " does not take prescribed motions (a body's 'prescribed' components); use moreau-jean or quasi-static";
   if (!world.ties.empty())
@@ -113,7 +114,7 @@ IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters
   } else {
     mass_factor_.compute(dynamics_.mass());
     if (mass_factor_.info() != Eigen::Success || !(mass_factor_.vectorD().array() > 0.0).all())
-      throw RunError(0.0, std::string(parameters.events ? "ida-events" : "ida") +
+      throw RunError(0.0, integrator_name(parameters.events ? Integrator::ida_events : Integrator::ida) +
                               ": the mass matrix is not positive definite (a body without mass?); use quasi-static");
     nr_ = nv_;
   }
@@ -146,6 +147,30 @@ IdaIntegrator::IdaIntegrator(const World& world, const IdaParameters& parameters
 }
 
 IdaIntegrator::~IdaIntegrator() = default;
+
+void IdaIntegrator::summarize_statistics(const State& state, SummaryEntries& out) const {
+  const IdaStatistics& ida = state.ida;
+  out.begin_group("ida")
+      .add("rtol", parameters_.rtol).add("atol", parameters_.atol)
+      .add("linear_solver", ida.linear_solver)
+      .add("jacobian", ida.linear_solver == "klu" ? "assembled from the tangents (ours, sparse)"
+                                                  : "IDA difference quotients (dense)")
+      .add("symbolic_analyses", ida.symbolic_analyses)
+      .add("steps", ida.steps).add("residual_evaluations", ida.residual_evaluations)
+      .add("jacobian_evaluations", ida.jacobian_evaluations)
+      .add("error_test_failures", ida.error_test_failures)
+      .add("nonlinear_convergence_failures", ida.nonlinear_convergence_failures)
+      .add("last_step", ida.last_step)
+      .add("epsilon", parameters_.epsilon);
+  out.begin_group("penalty_stiffness");  // N/m, per contact law (the defaults resolved)
+  for (std::size_t l = 0; l < ida.penalty_stiffness.size(); ++l)
+    out.add(world_.contact_laws[l].name, ida.penalty_stiffness[l]);
+  out.end_group();
+  out.begin_group("penalty_damping");  // N·s/m, per contact law
+  for (std::size_t l = 0; l < ida.penalty_damping.size(); ++l)
+    out.add(world_.contact_laws[l].name, ida.penalty_damping[l]);
+  out.end_group().end_group();
+}
 
 void IdaIntegrator::unpack(const double* y) {
   const Eigen::Map<const Vector> y_vector(y, size_);

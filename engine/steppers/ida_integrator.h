@@ -45,6 +45,7 @@
 #pragma once
 
 #include "engine/dynamics.h"
+#include "engine/steppers/ida_parameters.h"
 #include "engine/steppers/smooth_contact_model.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
@@ -53,19 +54,6 @@
 #include <string>
 
 namespace csim {
-
-struct IdaParameters {
-  double sample_step = 1e-3;       // s, interval between probe samples
-  double rtol = 1e-6;              // relative tolerance
-  double atol = 1e-8;              // absolute tolerance (units of the unknowns: m, m/s, J)
-  double penalty_stiffness = 0.0;  // N/m; 0 = the default above
-  double penalty_damping = -1.0;   // N·s/m; < 0 = from each law's restitution
-  double epsilon = 1e-6;           // m/s
-  std::string linear_solver = "auto";
-  bool events = false;             // ida-events: exact Coulomb with located stick/slip events
-  double max_step = 0.0;           // s, bound on IDA's steps; 0 = none for ida, the sample step for ida-events
-  long max_steps = 1000000;        // internal steps over the run
-};
 
 class IdaIntegrator final : public Stepper {
  public:
@@ -78,6 +66,7 @@ class IdaIntegrator final : public Stepper {
 
   void initialize(State& state) override;
   void step(State& state) override;
+  void summarize_statistics(const State& state, SummaryEntries& out) const override;
 
   // For the C callbacks of SUNDIALS.
   int residual(double t, const double* y, const double* y_rate, double* r);

@@ -66,6 +66,14 @@ double MoreauJean::equality_dot(int e, const Vector& v) const {
 
 MoreauJean::~MoreauJean() = default;
 
+void MoreauJean::summarize_settings(SummaryEntries& out) const {
+  out.add("theta", parameters_.theta).add("close_gaps", parameters_.close_gaps);
+}
+
+void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) const {
+  if (state.counters.newton_iterations > 0) add_newton_group(state.counters, parameters_.newton_tolerance, out);
+}
+
 void MoreauJean::initialize(State& state) {
   if (!world_.prescribed.empty()) state.reactions.setZero(world_.velocity_size);
   state.energy.kinetic = state.energy.initial_kinetic = dynamics_.kinetic_energy(state.v);

@@ -58,6 +58,7 @@
 #include "engine/dynamics.h"
 #include "engine/structural_operators.h"
 #include "engine/tie_rows.h"
+#include "engine/steppers/moreau_jean_parameters.h"
 #include "engine/steppers/phase_clock.h"
 #include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
@@ -68,16 +69,6 @@
 
 namespace csim {
 
-struct MoreauJeanParameters {
-  double step = 1e-3;             // h, s
-  double theta = 0.5;             // θ ∈ [½, 1]
-  PgsParameters solver;
-  double failure_residual = 1e-6; // a solve left above this relative residual stops the run
-  double newton_tolerance = 1e-10;  // finite-strain bodies: on h |Δv|∞ / L
-  int newton_max_iterations = 30;
-  bool close_gaps = true;         // inelastic contacts close their open gap within the step (step 3)
-};
-
 class MoreauJean final : public Stepper {
  public:
   MoreauJean(const World& world, const MoreauJeanParameters& parameters);
@@ -85,6 +76,8 @@ class MoreauJean final : public Stepper {
 
   void initialize(State& state) override;
   void step(State& state) override;
+  void summarize_settings(SummaryEntries& out) const override;
+  void summarize_statistics(const State& state, SummaryEntries& out) const override;
 
  private:
   void build_equalities(double t);

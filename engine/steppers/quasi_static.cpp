@@ -69,6 +69,10 @@ QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parame
   contact_distance_ = parameters.contact_distance > 0.0 ? parameters.contact_distance : 0.1 * length_;
 }
 
+void QuasiStatic::summarize_statistics(const State& state, SummaryEntries& out) const {
+  add_newton_group(state.counters, parameters_.newton_tolerance, out);
+}
+
 void QuasiStatic::initialize(State& state) {
   state.energy.elastic = state.energy.initial_elastic = dynamics_.elastic_energy(state.q);
   state.reactions.setZero(world_.velocity_size);

@@ -80,22 +80,13 @@
 #include "engine/sparse_ldlt.h"
 #include "engine/reduced_coordinates.h"
 #include "engine/steppers/phase_clock.h"
+#include "engine/steppers/quasi_static_parameters.h"
 #include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
 
 #include <string>
 
 namespace csim {
-
-struct QuasiStaticParameters {
-  double step = 0.1;              // s of pseudo-time per load step
-  double contact_distance = 0.0;  // m; 0 = 10 % of the largest body's bounding radius
-  PgsParameters solver;
-  double failure_residual = 1e-6;
-  double newton_tolerance = 1e-10;  // on |Δz|∞ / L
-  int newton_max_iterations = 30;
-  int max_cutbacks = 4;             // halvings of a load step whose Newton fails, at most (h / 16)
-};
 
 class QuasiStatic final : public Stepper {
  public:
@@ -108,6 +99,8 @@ class QuasiStatic final : public Stepper {
 
   void initialize(State& state) override;
   void step(State& state) override;
+  void summarize_statistics(const State& state, SummaryEntries& out) const override;
+  bool tracks_energy_balance() const override { return false; }  // the elastic energy only
 
  private:
   void advance(State& state, double t_next, int halvings);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "engine/state.h"
+#include "engine/steppers/summary_entries.h"
 
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,13 @@ class Stepper {
   virtual ~Stepper() = default;
   virtual void initialize(State& state) = 0;  // fills the initial energies, counters
   virtual void step(State& state) = 0;
+  // The stepper's part of the run summary: its own settings (written after the integrator's name) and
+  // its statistics at the end of a run from `state` (written after the contact solver's).
+  virtual void summarize_settings(SummaryEntries&) const {}
+  virtual void summarize_statistics(const State&, SummaryEntries&) const {}
+  // Whether State::energy closes a balance of work (the quasi-static stepper stores only the elastic
+  // energy: no work of prescribed motions, no friction dissipation).
+  virtual bool tracks_energy_balance() const { return true; }
 };
 
 }  // namespace csim

@@ -1,0 +1,23 @@
+// The parameters of the Moreau–Jean stepper (moreau_jean.h), apart from the stepper so that the scene
+// settings can hold them without the stepper's dependencies.
+#pragma once
+
+#include "contact/pgs_solver.h"
+
+namespace csim {
+
+// What only Moreau–Jean reads (the scene keys integrator.theta, integrator.close_gaps).
+struct MoreauJeanOptions {
+  double theta = 0.5;             // θ ∈ [½, 1]
+  bool close_gaps = true;         // inelastic contacts close their open gap within the step (step 3)
+};
+
+struct MoreauJeanParameters : MoreauJeanOptions {
+  double step = 1e-3;             // h, s
+  PgsParameters solver;
+  double failure_residual = 1e-6; // a solve left above this relative residual stops the run
+  double newton_tolerance = 1e-10;  // finite-strain bodies: on h |Δv|∞ / L
+  int newton_max_iterations = 30;
+};
+
+}  // namespace csim
