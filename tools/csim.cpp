@@ -103,7 +103,7 @@ std::string verdict(const csim::CheckCounts& n) {
 void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
   const csim::SolverCounters& c = report.state.counters;
   const csim::IdaStatistics& ida = report.state.ida;
-  if (scene.run.integrator == "ida" || scene.run.integrator == "ida-events") {
+  if (csim::is_ida(scene.run.integrator)) {
     std::printf("%s: IDA (rtol %g, atol %g, %s) to t = %g s in %.3f s: %ld steps, %ld residual evaluations, "
                 "%ld Jacobians, %ld error-test and %ld convergence failures\n",
                 scene.name.c_str(), scene.run.ida.rtol, scene.run.ida.atol, ida.linear_solver.c_str(),
@@ -113,7 +113,7 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
       std::printf("  KLU: %ld symbolic analyses of the Jacobian's pattern\n", ida.symbolic_analyses);
   } else {
     std::printf("%s: %ld steps of %g s in %.3f s (%.3g steps/s)\n", scene.name.c_str(), c.steps,
-                scene.run.moreau_jean.step, report.wall_time, report.wall_time > 0 ? c.steps / report.wall_time : 0.0);
+                scene.run.step, report.wall_time, report.wall_time > 0 ? c.steps / report.wall_time : 0.0);
   }
   if (c.solves > 0)
     std::printf("  contact solver: %ld solves, %.2f sweeps on average, %d at most, max residual %.1e\n",
@@ -121,7 +121,7 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
   if (c.not_converged > 0)
     std::printf("  warning: the contact solver stayed above its tolerance in %ld of %ld solves (first at t = %g s)\n",
                 c.not_converged, c.solves, c.first_not_converged_time);
-  if (scene.run.integrator == "quasi-static" || c.newton_iterations > 0)
+  if (scene.run.integrator == csim::Integrator::quasi_static || c.newton_iterations > 0)
     std::printf("  Newton: %ld iterations, %.2f a step on average, %d at most, %ld regularized, %ld held by contacts\n",
                 c.newton_iterations, c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0, c.max_newton_iterations,
                 c.newton_regularized, c.newton_held);
@@ -129,13 +129,13 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
   if (t.free_velocity + t.detection + t.assembly + t.solve + t.update > 0.0)
     std::printf("  phases (summary.json timers): %s %.3g s, detection %.3g s, assembly %.3g s, contact solve %.3g s, "
                 "update %.3g s\n",
-                scene.run.integrator == "quasi-static" ? "forces, tangent and its factorization" : "free velocity",
+                scene.run.integrator == csim::Integrator::quasi_static ? "forces, tangent and its factorization" : "free velocity",
                 t.free_velocity, t.detection, t.assembly, t.solve, t.update);
   if (c.cutbacks > 0)
     std::printf("  note: %ld load steps were taken again as two halves after Newton failed (integrator.max_cutbacks)\n",
                 c.cutbacks);
   const csim::EnergyBalance& e = report.state.energy;
-  if (scene.run.integrator == "quasi-static") {  // no inertia: the balance of work is not tracked
+  if (!report.energy_balance_tracked) {  // no inertia: the balance of work is not tracked
     std::printf("  energy: elastic %.6g J (the quasi-static stepper keeps no balance of work)\n", e.elastic);
     return;
   }
@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
     if (arguments.command == "stress") return run_stability_command(arguments, file);
     const auto scene = csim::load_scene(file, arguments.overrides);
     if (arguments.command == "validate") {
-      csim::make_stepper(*scene);  // what the stepper refuses at its construction, as run would
+      csim::make_stepper(scene->world, scene->run);  // what the stepper refuses at its construction, as run would
       csim::check_outputs(*scene);  // what the output writers would refuse, as run does before its first step
       std::printf("%s: valid (%zu bodies, %zu probes, %zu checks)\n", file.c_str(), scene->world.bodies.size(),
                   scene->run.probes.size(), scene->run.checks.size());

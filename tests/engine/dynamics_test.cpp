@@ -137,7 +137,7 @@ TEST(Dynamics, MoreauJeanThetaOneStepsTheSmoothStagesEquationOfMotion) {
   // directions taken at q_k (O(h ω) on the turning plate), to Newton's tolerance on the neo-Hookean block.
   const auto scene = load_scene(kScene, {"time.step=1e-4"});
   const Dynamics dynamics(scene->world);
-  auto stepper = make_stepper(*scene);
+  auto stepper = make_stepper(scene->world, scene->run);
   State state = initial_state(scene->world);
   stepper->initialize(state);
   for (int k = 0; k < 99; ++k) stepper->step(state);  // deformed, damped, loaded
@@ -156,7 +156,7 @@ TEST(Dynamics, QuasiStaticEquilibriumIsTheSmoothStagesAtRest) {
   // No inertia, no damping: f(t, q, 0) = 0 at every converged load step.
   const auto scene = load_scene(kScene, {"integrator.type=quasi-static"});
   const Dynamics dynamics(scene->world);
-  auto stepper = make_stepper(*scene);
+  auto stepper = make_stepper(scene->world, scene->run);
   State state = initial_state(scene->world);
   state.v.setZero();
   stepper->initialize(state);
@@ -170,7 +170,7 @@ TEST(Dynamics, QuasiStaticEquilibriumIsTheSmoothStagesAtRest) {
 TEST(Dynamics, IdaResidualIsMassTimesAccelerationLessTheSmoothStage) {
   const auto scene = load_scene(kScene, {"integrator.type=ida"});
   const Dynamics dynamics(scene->world);
-  IdaIntegrator ida(scene->world, scene->run.ida);
+  IdaIntegrator ida(scene->world, ida_parameters(scene->run));
   State state = initial_state(scene->world);
   ida.initialize(state);
   ida.step(state);
@@ -193,8 +193,8 @@ TEST(Dynamics, IdaAndMoreauJeanFollowTheSameTrajectory) {
   // h = 2e-5, whose error is O(h²) ≈ 1e-8 of the motion here.
   const auto mj_scene = load_scene(kScene, {"integrator.theta=0.5", "time.step=2e-5"});
   const auto ida_scene = load_scene(kScene, {"integrator.type=ida", "integrator.rtol=1e-10", "integrator.atol=1e-12"});
-  auto mj = make_stepper(*mj_scene);
-  auto ida = make_stepper(*ida_scene);
+  auto mj = make_stepper(mj_scene->world, mj_scene->run);
+  auto ida = make_stepper(ida_scene->world, ida_scene->run);
   State a = initial_state(mj_scene->world), b = initial_state(ida_scene->world);
   mj->initialize(a);
   ida->initialize(b);

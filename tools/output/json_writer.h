@@ -2,6 +2,8 @@
 // indentation so that the file reads well in a diff. Non-finite numbers are written as null.
 #pragma once
 
+#include "engine/steppers/summary_entries.h"
+
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -28,6 +30,21 @@ class JsonWriter {
   JsonWriter& value(const std::string& key, bool flag) { prefix(key); out_ << (flag ? "true" : "false"); return *this; }
   JsonWriter& value(const std::string& key, const std::string& text) { prefix(key); quote(text); return *this; }
   JsonWriter& value(const std::string& key, const char* text) { return value(key, std::string(text)); }
+
+  // A stepper's summary entries (summary_entries.h), at the current level.
+  JsonWriter& entries(const SummaryEntries& entries) {
+    for (const SummaryEntry& e : entries.entries()) {
+      switch (e.kind) {
+        case SummaryEntry::Kind::real: value(e.key, e.real); break;
+        case SummaryEntry::Kind::integer: value(e.key, e.integer); break;
+        case SummaryEntry::Kind::flag: value(e.key, e.flag); break;
+        case SummaryEntry::Kind::text: value(e.key, e.text); break;
+        case SummaryEntry::Kind::begin_group: begin_object(e.key); break;
+        case SummaryEntry::Kind::end_group: end_object(); break;
+      }
+    }
+    return *this;
+  }
 
   std::string str() const { return out_.str() + "\n"; }
 

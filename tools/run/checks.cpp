@@ -1,5 +1,7 @@
 #include "tools/run/checks.h"
 
+#include "tools/scene/scene.h"
+
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -104,7 +106,7 @@ void CheckEvaluator::add_sample(double t, const std::vector<double>& values, boo
     const CheckDefinition& check = run_.checks[c];
     if (check.mode != CheckDefinition::Mode::at || at_values_[c]) continue;
     // The sample at or just past the requested time (within rounding of the step count).
-    if (t < check.time - 1e-9 * run_.moreau_jean.step) continue;
+    if (t < check.time - 1e-9 * run_.step) continue;
     const Window& w = windows_[check.probe];
     at_values_[c] = quadratic_at(w.t + (3 - w.count), w.value + (3 - w.count), w.count, check.time);
   }

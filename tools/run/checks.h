@@ -8,13 +8,14 @@
 // instead of period/window.
 #pragma once
 
-#include "tools/scene/scene.h"
-
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace csim {
+
+struct ExpressionScope;  // expression.h
+struct RunSettings;      // scene.h
 
 struct Extremum {
   double time = 0.0;   // s

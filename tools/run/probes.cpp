@@ -1,5 +1,7 @@
 #include "tools/run/probes.h"
 
+#include "tools/scene/scene.h"
+
 namespace csim {
 
 ProbeEvaluator::ProbeEvaluator(const World& world, const RunSettings& run) : world_(world), run_(run) {
@@ -64,7 +66,7 @@ double ProbeEvaluator::unscaled(const ProbeDefinition& p, const State& state) co
 
 double ProbeEvaluator::contact_force(const ProbeDefinition& p, const State& state) const {
   const ContactLaw& law = world_.contact_laws[p.contact_law];
-  const double h = run_.moreau_jean.step;
+  const double h = run_.step;
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  // on the law's first body
   double normal = 0.0, tangential_2d = 0.0;
   for (const ActiveContact& c : state.contacts) {

@@ -13,12 +13,17 @@
 // a spin in units of v/R).
 #pragma once
 
-#include "tools/scene/scene.h"
 #include "engine/state.h"
+
+#include <Eigen/Core>
 
 #include <vector>
 
 namespace csim {
+
+struct ProbeDefinition;  // scene.h
+struct RunSettings;
+struct World;            // world.h
 
 class ProbeEvaluator {
  public:

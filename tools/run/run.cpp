@@ -58,7 +58,7 @@ class Progress {
 // Rows of probes.csv, and so ParaView frames, a run writes at most: the first, then at most one per step
 // and one per output interval, and the last.
 std::size_t output_rows(const RunSettings& run) {
-  const double h = run.moreau_jean.step;
+  const double h = run.step;
   const long steps = std::lround(std::ceil(run.end_time / h - 1e-9));
   const double intervals = std::ceil(run.end_time / std::max(run.output_rate, h));
   return static_cast<std::size_t>(std::min<double>(steps, intervals + 1.0)) + 1;
@@ -87,12 +87,15 @@ State initial_state(const World& world) {
   return state;
 }
 
-std::unique_ptr<Stepper> make_stepper(const Scene& scene) {
-  const RunSettings& run = scene.run;
+std::unique_ptr<Stepper> make_stepper(const World& world, const RunSettings& run) {
   try {
-    if (run.integrator == "ida" || run.integrator == "ida-events") return std::make_unique<IdaIntegrator>(scene.world, run.ida);
-    if (run.integrator == "quasi-static") return std::make_unique<QuasiStatic>(scene.world, run.quasi_static);
-    return std::make_unique<MoreauJean>(scene.world, run.moreau_jean);
+    switch (run.integrator) {
+      case Integrator::ida:
+      case Integrator::ida_events: return std::make_unique<IdaIntegrator>(world, ida_parameters(run));
+      case Integrator::quasi_static: return std::make_unique<QuasiStatic>(world, quasi_static_parameters(run));
+      case Integrator::moreau_jean: break;
+    }
+    return std::make_unique<MoreauJean>(world, moreau_jean_parameters(run));
   } catch (const RunError& e) {  // before the first step: what the stepper cannot run, not a numerical failure
     throw std::invalid_argument(e.what());
   }
@@ -108,7 +111,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     std::filesystem::remove(dir / "summary.json");
     remove_paraview_outputs(options.output_directory);
   }
-  const std::unique_ptr<Stepper> stepper_owner = make_stepper(scene);
+  const std::unique_ptr<Stepper> stepper_owner = make_stepper(scene.world, run);
   Stepper& stepper = *stepper_owner;
   ProbeEvaluator probes(scene.world, run);
   CheckEvaluator checks(run, scene.document.scope);
@@ -122,7 +125,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   for (const ProbeDefinition& p : run.probes) csv << ',' << p.name;
   csv << '\n';
 
-  const double h = run.moreau_jean.step;
+  const double h = run.step;
   const long steps = run.steps;
   const double rate = std::max(run.output_rate, h);
   // ParaView frames of the elastic bodies, at the rows of probes.csv (docs/contract.md).
@@ -163,6 +166,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   }
   report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.checks = checks.finish(state.t);
+  stepper.summarize_settings(report.stepper_settings);
+  stepper.summarize_statistics(state, report.stepper_statistics);
+  report.energy_balance_tracked = stepper.tracks_energy_balance();
 
   if (!options.output_directory.empty()) {
     std::filesystem::create_directories(options.output_directory);
@@ -181,18 +187,17 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
   JsonWriter json;
   json.begin_object();
   json.value("scene", scene.name).value("file", scene.document.file);
-  json.value("integrator", run.integrator);
-  if (run.integrator == "moreau-jean")
-    json.value("theta", run.moreau_jean.theta).value("close_gaps", run.moreau_jean.close_gaps);
+  json.value("integrator", integrator_name(run.integrator));
+  json.entries(report.stepper_settings);
   json.value("dimension", scene.world.dimension);
-  json.value("time_step", run.moreau_jean.step).value("requested_time_step", run.requested_step);
+  json.value("time_step", run.step).value("requested_time_step", run.requested_step);
   json.value("end_time", run.end_time);
   json.value("steps", c.steps).value("wall_time", report.wall_time);
   json.value("steps_per_second", report.wall_time > 0 ? c.steps / report.wall_time : 0.0);
   json.begin_object("contact_solver")
       .value("method", "projected Gauss-Seidel")
-      .value("tolerance", run.moreau_jean.solver.tolerance)
-      .value("max_iterations", run.moreau_jean.solver.max_iterations)
+      .value("tolerance", run.contact_solver.tolerance)
+      .value("max_iterations", run.contact_solver.max_iterations)
       .value("solves", c.solves)
       .value("total_iterations", c.total_iterations)
       .value("mean_iterations", c.solves > 0 ? double(c.total_iterations) / c.solves : 0.0)
@@ -202,43 +207,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
       .value("max_residual", c.max_residual)
       .value("rejected_local_solutions", c.rejected_local_solutions)
       .end_object();
-  if (run.integrator == "ida" || run.integrator == "ida-events") {
-    const IdaStatistics& ida = s.ida;
-    json.begin_object("ida")
-        .value("rtol", run.ida.rtol).value("atol", run.ida.atol)
-        .value("linear_solver", ida.linear_solver)
-        .value("jacobian", ida.linear_solver == "klu" ? "assembled from the tangents (ours, sparse)"
-                                                       : "IDA difference quotients (dense)")
-        .value("symbolic_analyses", ida.symbolic_analyses)
-        .value("steps", ida.steps).value("residual_evaluations", ida.residual_evaluations)
-        .value("jacobian_evaluations", ida.jacobian_evaluations)
-        .value("error_test_failures", ida.error_test_failures)
-        .value("nonlinear_convergence_failures", ida.nonlinear_convergence_failures)
-        .value("last_step", ida.last_step)
-        .value("epsilon", run.ida.epsilon);
-    json.begin_object("penalty_stiffness");  // N/m, per contact law (the defaults resolved)
-    for (std::size_t l = 0; l < ida.penalty_stiffness.size(); ++l)
-      json.value(scene.world.contact_laws[l].name, ida.penalty_stiffness[l]);
-    json.end_object();
-    json.begin_object("penalty_damping");  // N·s/m, per contact law
-    for (std::size_t l = 0; l < ida.penalty_damping.size(); ++l)
-      json.value(scene.world.contact_laws[l].name, ida.penalty_damping[l]);
-    json.end_object().end_object();
-  }
-  if (run.integrator == "quasi-static" || c.newton_iterations > 0)
-    json.begin_object("newton")
-        .value("tolerance", run.quasi_static.newton_tolerance)
-        .value("iterations", c.newton_iterations)
-        .value("mean_per_step", c.steps > 0 ? double(c.newton_iterations) / c.steps : 0.0)
-        .value("max_per_step", c.max_newton_iterations)
-        .value("regularized_iterations", c.newton_regularized)
-        .value("contact_held_iterations", c.newton_held)
-        .value("relaxed_iterations", c.newton_relaxed)
-        .value("backtracks", c.newton_backtracks)
-        .value("redetections", c.newton_redetections)
-        .value("activated_contacts", c.newton_activated_contacts)
-        .value("cutbacks", c.cutbacks)
-        .end_object();
+  json.entries(report.stepper_statistics);
   json.begin_object("contacts")
       .value("max_active", c.max_contact_points)
       .value("mean_active", c.steps > 0 ? double(c.contact_points) / c.steps : 0.0)
@@ -246,9 +215,9 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
   const EnergyBalance& e = s.energy;
   const double scale = std::max({std::abs(e.initial_kinetic) + std::abs(e.initial_elastic),
                                  std::abs(e.work_of_loads), std::abs(e.kinetic) + std::abs(e.elastic), 1e-300});
-  // The quasi-static stepper stores only the elastic energy (no work of prescribed motions, no friction
-  // dissipation): a balance written from it would read the elastic energy as a residual.
-  const bool balance = run.integrator != "quasi-static";
+  // A stepper that stores only the elastic energy (quasi-static: no work of prescribed motions, no
+  // friction dissipation) writes no balance: it would read the elastic energy as a residual.
+  const bool balance = report.energy_balance_tracked;
   json.begin_object("energy")
       .value("kinetic", e.kinetic).value("elastic", e.elastic)
       .value("initial_kinetic", e.initial_kinetic).value("initial_elastic", e.initial_elastic)

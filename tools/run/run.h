@@ -8,7 +8,6 @@
 #include "engine/steppers/stepper.h"
 
 #include <memory>
-
 #include <string>
 #include <vector>
 
@@ -25,6 +24,9 @@ struct RunReport {
   std::vector<double> sample_times;               // s, the rows of probes.csv
   std::vector<std::vector<double>> samples;       // probe values at those times
   double wall_time = 0.0;        // s
+  // The stepper's part of the summary (summary_entries.h), taken at the end of the run.
+  SummaryEntries stepper_settings, stepper_statistics;
+  bool energy_balance_tracked = true;  // Stepper::tracks_energy_balance
   CheckCounts counts() const { return count_checks(checks); }
   bool passed() const { return counts().pass(); }  // checks.h: CheckCounts::pass
 };
@@ -32,9 +34,9 @@ struct RunReport {
 // The state at t = 0: every body at its initial position and velocity.
 State initial_state(const World& world);
 
-// The scene's stepper, built (its checks of what it can run done) but not started. Throws
-// std::invalid_argument for what it cannot run.
-std::unique_ptr<Stepper> make_stepper(const Scene& scene);
+// The stepper of the settings' integrator for a World, built (its checks of what it can run done) but
+// not started. Throws std::invalid_argument for what it cannot run.
+std::unique_ptr<Stepper> make_stepper(const World& world, const RunSettings& run);
 
 // What the output writers would refuse, checked before the first step by run and by validate alike:
 // ParaView file names of the elastic bodies that collide or are too long (vtk_writer.h). Throws

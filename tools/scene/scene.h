@@ -3,9 +3,11 @@
 #pragma once
 
 #include "tools/scene/scene_node.h"
-#include "engine/steppers/ida_integrator.h"
-#include "engine/steppers/moreau_jean.h"
-#include "engine/steppers/quasi_static.h"
+#include "contact/pgs_solver.h"
+#include "engine/steppers/ida_parameters.h"
+#include "engine/steppers/integrator.h"
+#include "engine/steppers/moreau_jean_parameters.h"
+#include "engine/steppers/quasi_static_parameters.h"
 #include "engine/world.h"
 
 #include <memory>
@@ -52,18 +54,37 @@ struct CheckDefinition {
   std::string unjudgeable;   // non-empty: it applies but cannot be judged for these parameters (why)
 };
 
+// Newton's method of the steppers that iterate (quasi-static; Moreau–Jean with finite-strain bodies).
+struct NewtonSettings {
+  double tolerance = 1e-10;  // dimensionless: on the increment over the largest body's bounding radius
+  int max_iterations = 30;
+};
+
+// How to run a scene. Every setting is held once; make_stepper (tools/run/run.h) composes the chosen
+// stepper's parameters from them. The options of an integrator other than the chosen one keep their
+// defaults (the loader refuses them when given: scene_loader.cpp).
 struct RunSettings {
-  std::string integrator = "moreau-jean";
-  double end_time = 1.0;     // s
-  long steps = 0;            // end_time / moreau_jean.step, exactly (the step is adjusted to divide the window)
-  double requested_step = 0.0;  // s, time.step as written; moreau_jean.step is the one used
-  MoreauJeanParameters moreau_jean;
-  IdaParameters ida;         // used when integrator == "ida"; its sample_step is time.step
-  QuasiStaticParameters quasi_static;  // used when integrator == "quasi-static"
+  Integrator integrator = Integrator::moreau_jean;
+  double end_time = 1.0;        // s
+  double step = 1e-3;           // s, the step used: time.step, shortened to divide the window
+                                // (IDA: the interval between probe samples)
+  double requested_step = 0.0;  // s, time.step as written
+  long steps = 0;               // end_time / step, exactly
+  PgsParameters contact_solver;
+  double failure_residual = 1e-6;  // contact_solver.failure_residual: a solve left above it stops the run
+  NewtonSettings newton;
+  MoreauJeanOptions moreau_jean;   // integrator.theta, close_gaps
+  IdaOptions ida;                  // integrator.rtol, atol, penalty_*, epsilon, linear_solver, max_step(s)
+  QuasiStaticOptions quasi_static; // integrator.contact_distance, max_cutbacks
   double output_rate = 0.0;  // s between rows of probes.csv; 0 = every step
   std::vector<ProbeDefinition> probes;
   std::vector<CheckDefinition> checks;
 };
+
+// The parameters of each stepper, composed from the settings.
+MoreauJeanParameters moreau_jean_parameters(const RunSettings& run);
+IdaParameters ida_parameters(const RunSettings& run);
+QuasiStaticParameters quasi_static_parameters(const RunSettings& run);
 
 struct Scene {
   SceneDocument document;

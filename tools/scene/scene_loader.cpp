@@ -1,7 +1,10 @@
 // load_scene: parameters come first (every value may refer to them), then references (checks call
 // them), then bodies (everything else names bodies), then what acts on them, then how to run.
 #include "tools/scene/scene.h"
+#include "tools/scene/integrator_keys.h"
 #include "tools/scene/scene_parts.h"
+#include "engine/steppers/ida_integrator.h"
+#include "engine/steppers/quasi_static.h"
 
 #include <cmath>
 #include <filesystem>
@@ -11,78 +14,110 @@ namespace csim {
 
 namespace {
 
-void read_time_and_integrator(const SceneNode& root, RunSettings& run) {
+void read_time(const SceneNode& root, RunSettings& run) {
   const SceneNode time = root.child("time");
   time.allow_only({"end", "step"});
   run.end_time = time.positive("end");
-  MoreauJeanParameters& mj = run.moreau_jean;
-  mj.step = time.positive("step");
-  if (mj.step > run.end_time) time.fail_at("step", "the step is longer than the time window");
+  run.step = time.positive("step");
+  if (run.step > run.end_time) time.fail_at("step", "the step is longer than the time window");
   // The step count is an integer that a double holds exactly (t = k h stays meaningful).
-  const double count = std::ceil(run.end_time / mj.step - 1e-9);
+  const double count = std::ceil(run.end_time / run.step - 1e-9);
   if (!(count <= 9007199254740992.0)) {
     std::ostringstream what;
-    what << "time.end / time.step = " << run.end_time / mj.step << " steps, more than 2^53: use a longer step";
+    what << "time.end / time.step = " << run.end_time / run.step << " steps, more than 2^53: use a longer step";
     time.fail_at("step", what.str());
   }
   run.steps = static_cast<long>(count);
   // The last step lands on time.end: a step that does not divide the window is shortened uniformly
   // (to time.end / steps, reported in summary.json beside the requested one), not overshot.
-  run.requested_step = mj.step;
-  if (std::abs(static_cast<double>(run.steps) * mj.step - run.end_time) > 1e-9 * mj.step)
-    mj.step = run.end_time / static_cast<double>(run.steps);
+  run.requested_step = run.step;
+  if (std::abs(static_cast<double>(run.steps) * run.step - run.end_time) > 1e-9 * run.step)
+    run.step = run.end_time / static_cast<double>(run.steps);
+}
 
-  // Every integrator's settings are read (with their defaults) whatever the type, so that
-  // `--set integrator.type=ida --set integrator.rtol=1e-8` works on any scene.
+// Refuses the integrator keys that the chosen integrator ignores (the rule: integrator_keys.h),
+// and drops from the tree those of the file's own integrator when --set chose another, so that the
+// effective configuration (dump-config) holds only keys that take effect.
+void refuse_ignored_keys(const SceneNode& integrator, Integrator chosen, const GivenIntegratorKeys& given) {
+  const std::string chosen_name = integrator_name(chosen);
+  const auto refuse = [&](const std::string& key, bool by_set) {
+    std::string readers;
+    for (Integrator other : kIntegrators)
+      if (integrator_reads(other, key)) readers += (readers.empty() ? "" : ", ") + integrator_name(other);
+    integrator.fail_at(key, "ignored by the " + chosen_name + " integrator (integrator.type), which does not read it (" +
+                                readers + " do" + (readers.find(',') == std::string::npos ? "es" : "") + "); " +
+                                (by_set ? "drop --set integrator." + key : "remove it from the scene") +
+                                ", or choose an integrator that reads it with integrator.type");
+  };
+  for (const std::string& key : given.set)
+    if (is_integrator_key(key) && !integrator_reads(chosen, key)) refuse(key, true);
+  if (!integrator.is_map()) return;
+  std::vector<std::string> dropped;
+  for (const auto& [key, node] : integrator.entries()) {
+    if (!is_integrator_key(key) || integrator_reads(chosen, key)) continue;
+    const bool of_declared = given.declared && integrator_reads(*given.declared, key);
+    if (given.written.count(key) && !of_declared) refuse(key, false);
+    dropped.push_back(key);  // the file's own integrator's, --set chose another
+  }
+  YAML::Node map = integrator.yaml();
+  for (const std::string& key : dropped) map.remove(key);
+}
+
+void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegratorKeys& given) {
   const SceneNode integrator = root.section("integrator");
   integrator.allow_only({"type", "theta", "rtol", "atol", "penalty_stiffness", "penalty_damping", "epsilon",
                          "linear_solver", "max_step", "max_steps", "contact_distance", "newton_tolerance",
                          "newton_max_iterations", "max_cutbacks", "close_gaps"});
-  run.integrator = integrator.string("type", "moreau-jean");
-  if (run.integrator != "moreau-jean" && run.integrator != "ida" && run.integrator != "ida-events" &&
-      run.integrator != "quasi-static")
-    integrator.fail_at("type", "unknown integrator '" + run.integrator +
-                                   "' (available: moreau-jean, quasi-static, ida, ida-events)");
-  mj.theta = integrator.number("theta", 0.5);
-  if (mj.theta < 0.5 || mj.theta > 1.0) integrator.fail_at("theta", "theta must lie in [0.5, 1]");
-  mj.close_gaps = integrator.boolean("close_gaps", true);
-  IdaParameters& ida = run.ida;
-  ida.sample_step = mj.step;
-  ida.events = run.integrator == "ida-events";
-  ida.rtol = integrator.number("rtol", 1e-6);
-  if (!(ida.rtol > 0.0)) integrator.fail_at("rtol", "must be > 0");
-  ida.atol = integrator.number("atol", 1e-8);
-  if (!(ida.atol > 0.0)) integrator.fail_at("atol", "must be > 0");
-  ida.penalty_stiffness = integrator.non_negative("penalty_stiffness", 0.0);
-  ida.penalty_damping = integrator.number("penalty_damping", -1.0);
-  ida.epsilon = integrator.number("epsilon", 1e-6);
-  if (!(ida.epsilon > 0.0)) integrator.fail_at("epsilon", "the regularization velocity must be > 0");
-  ida.linear_solver = integrator.string("linear_solver", "auto");
-  if (ida.linear_solver != "auto" && ida.linear_solver != "dense" && ida.linear_solver != "klu")
-    integrator.fail_at("linear_solver", "expected auto, dense or klu");
-  run.quasi_static.contact_distance = integrator.non_negative("contact_distance", 0.0);
-  run.quasi_static.newton_tolerance = integrator.number("newton_tolerance", 1e-10);
-  if (!(run.quasi_static.newton_tolerance > 0.0)) integrator.fail_at("newton_tolerance", "must be > 0");
-  run.quasi_static.newton_max_iterations = static_cast<int>(integrator.whole_number("newton_max_iterations", 30, 1));
-  run.quasi_static.max_cutbacks = static_cast<int>(integrator.whole_number("max_cutbacks", 4, 0, 30));
-  mj.newton_tolerance = run.quasi_static.newton_tolerance;  // Moreau–Jean's Newton (finite-strain bodies)
-  mj.newton_max_iterations = run.quasi_static.newton_max_iterations;
-  ida.max_step = integrator.non_negative("max_step", 0.0);
-  ida.max_steps = integrator.whole_number("max_steps", 1000000, 1, std::numeric_limits<long>::max());
+  const std::string type = integrator.string("type", integrator_name(Integrator::moreau_jean));
+  const std::optional<Integrator> chosen = integrator_from_name(type);
+  if (!chosen) integrator.fail_at("type", "unknown integrator '" + type + "' (available: " + integrator_names() + ")");
+  run.integrator = *chosen;
+  refuse_ignored_keys(integrator, run.integrator, given);
+
+  // Only the chosen integrator's keys are read (and their defaults written into the tree).
+  const auto reads = [&](const char* key) { return integrator_reads(run.integrator, key); };
+  if (reads("theta")) {
+    run.moreau_jean.theta = integrator.number("theta", 0.5);
+    if (run.moreau_jean.theta < 0.5 || run.moreau_jean.theta > 1.0)
+      integrator.fail_at("theta", "theta must lie in [0.5, 1]");
+    run.moreau_jean.close_gaps = integrator.boolean("close_gaps", true);
+  }
+  if (reads("rtol")) {
+    IdaOptions& ida = run.ida;
+    ida.rtol = integrator.number("rtol", 1e-6);
+    if (!(ida.rtol > 0.0)) integrator.fail_at("rtol", "must be > 0");
+    ida.atol = integrator.number("atol", 1e-8);
+    if (!(ida.atol > 0.0)) integrator.fail_at("atol", "must be > 0");
+    ida.penalty_stiffness = integrator.non_negative("penalty_stiffness", 0.0);
+    ida.penalty_damping = integrator.number("penalty_damping", -1.0);
+    ida.epsilon = integrator.number("epsilon", 1e-6);
+    if (!(ida.epsilon > 0.0)) integrator.fail_at("epsilon", "the regularization velocity must be > 0");
+    ida.linear_solver = integrator.string("linear_solver", "auto");
+    if (ida.linear_solver != "auto" && ida.linear_solver != "dense" && ida.linear_solver != "klu")
+      integrator.fail_at("linear_solver", "expected auto, dense or klu");
+    ida.max_step = integrator.non_negative("max_step", 0.0);
+    ida.max_steps = integrator.whole_number("max_steps", 1000000, 1, std::numeric_limits<long>::max());
+  }
+  if (reads("contact_distance")) {
+    run.quasi_static.contact_distance = integrator.non_negative("contact_distance", 0.0);
+    run.quasi_static.max_cutbacks = static_cast<int>(integrator.whole_number("max_cutbacks", 4, 0, 30));
+  }
+  if (reads("newton_tolerance")) {
+    run.newton.tolerance = integrator.number("newton_tolerance", 1e-10);
+    if (!(run.newton.tolerance > 0.0)) integrator.fail_at("newton_tolerance", "must be > 0");
+    run.newton.max_iterations = static_cast<int>(integrator.whole_number("newton_max_iterations", 30, 1));
+  }
 
   const SceneNode solver = root.section("contact_solver");
   solver.allow_only({"tolerance", "max_iterations", "omega", "failure_residual"});
-  mj.solver.tolerance = solver.number("tolerance", 1e-12);
-  if (!(mj.solver.tolerance > 0.0)) solver.fail_at("tolerance", "must be > 0");
-  mj.solver.max_iterations = static_cast<int>(solver.whole_number("max_iterations", 1000, 1));
-  mj.solver.omega = solver.number("omega", 1.0);
-  if (!(mj.solver.omega > 0.0 && mj.solver.omega < 2.0)) solver.fail_at("omega", "must lie in (0, 2)");
-  mj.failure_residual = solver.number("failure_residual", 1e-6);
-  if (!(mj.failure_residual >= mj.solver.tolerance))
+  run.contact_solver.tolerance = solver.number("tolerance", 1e-12);
+  if (!(run.contact_solver.tolerance > 0.0)) solver.fail_at("tolerance", "must be > 0");
+  run.contact_solver.max_iterations = static_cast<int>(solver.whole_number("max_iterations", 1000, 1));
+  run.contact_solver.omega = solver.number("omega", 1.0);
+  if (!(run.contact_solver.omega > 0.0 && run.contact_solver.omega < 2.0)) solver.fail_at("omega", "must lie in (0, 2)");
+  run.failure_residual = solver.number("failure_residual", 1e-6);
+  if (!(run.failure_residual >= run.contact_solver.tolerance))
     solver.fail_at("failure_residual", "must be >= contact_solver.tolerance");
-  run.quasi_static.step = mj.step;
-  run.quasi_static.solver = mj.solver;
-  run.quasi_static.failure_residual = mj.failure_residual;
 }
 
 void read_output(const SceneNode& root, RunSettings& run) {
@@ -95,16 +130,17 @@ void read_output(const SceneNode& root, RunSettings& run) {
 // first step, so that validate and run give the same answer (the steppers' own unsupported()).
 void refuse_unsupported(const SceneNode& root, const Scene& scene) {
   const SceneNode integrator = root.section("integrator");
-  const std::string& type = scene.run.integrator;
+  const Integrator type = scene.run.integrator;
   std::string refusal;
-  if (type == "ida" || type == "ida-events") {
-    if (scene.declared_integrator == "quasi-static")
-      refusal = type + " integrates the inertia of a dynamic problem, and this scene is quasi-static (its file "
-                       "sets integrator.type: quasi-static, its masses are placeholders); use quasi-static, or "
-                       "moreau-jean with integrator.theta=1 for a damped transient";
+  if (is_ida(type)) {
+    if (scene.declared_integrator == integrator_name(Integrator::quasi_static))
+      refusal = integrator_name(type) +
+                " integrates the inertia of a dynamic problem, and this scene is quasi-static (its file "
+                "sets integrator.type: quasi-static, its masses are placeholders); use quasi-static, or "
+                "moreau-jean with integrator.theta=1 for a damped transient";
     else
-      refusal = IdaIntegrator::unsupported(scene.world, scene.run.ida);
-  } else if (type == "quasi-static") {
+      refusal = IdaIntegrator::unsupported(scene.world, ida_parameters(scene.run));
+  } else if (type == Integrator::quasi_static) {
     refusal = QuasiStatic::unsupported(scene.world);
   }
   if (!refusal.empty()) integrator.fail_at("type", refusal);
@@ -122,7 +158,7 @@ std::string scene_name(const std::string& file) {
 namespace {
 
 // Builds the scene from its (overridden) document; reading fills the defaults into the tree.
-void build_scene(Scene* scene) {
+void build_scene(Scene* scene, const GivenIntegratorKeys& given) {
   const SceneNode root(scene->document.root, "", &scene->document, 1);
   root.allow_only({"description", "dimension", "parameters", "references", "gravity", "materials", "bodies", "springs",
                    "loads", "constraints", "contacts", "time", "integrator", "contact_solver", "probes",
@@ -145,13 +181,14 @@ void build_scene(Scene* scene) {
   scene_parts::read_constraints(root, world);
   scene_parts::read_contacts(root, world);
 
-  read_time_and_integrator(root, scene->run);
+  read_time(root, scene->run);
+  read_integrator(root, scene->run, given);
   // Penalty friction keeps a per-contact history that only the quasi-static stepper carries.
   for (const ContactLaw& law : world.contact_laws)
-    if (law.elastic_slip > 0.0 && scene->run.integrator != "quasi-static")
+    if (law.elastic_slip > 0.0 && scene->run.integrator != Integrator::quasi_static)
       root.child("contacts").child(law.name).fail_at(
           "elastic_slip", "penalty friction is implemented by the quasi-static stepper only (integrator.type is '" +
-                              scene->run.integrator + "')");
+                              integrator_name(scene->run.integrator) + "')");
   refuse_unsupported(root, *scene);
   read_output(root, scene->run);
   scene_parts::read_probes(root, world, scene->run);
@@ -181,10 +218,28 @@ std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std
   auto scene = std::make_unique<Scene>();
   scene->document = load_scene_document(file);
   scene->name = scene_name(file);
-  if (const YAML::Node& root = scene->document.root; root.IsMap() && root["integrator"].IsDefined()) {
-    const YAML::Node integrator = root["integrator"];
-    if (integrator.IsMap() && integrator["type"].IsDefined() && integrator["type"].IsScalar())
-      scene->declared_integrator = integrator["type"].Scalar();
+  GivenIntegratorKeys given;
+  given.declared = Integrator::moreau_jean;
+  YAML::Node root = scene->document.root;
+  if (root.IsMap() && root["integrator"].IsDefined() && root["integrator"].IsMap()) {
+    for (const auto& entry : root["integrator"]) {
+      const std::string key = entry.first.as<std::string>();
+      if (key != "type") given.written.insert(key);
+      else if (entry.second.IsScalar()) {
+        scene->declared_integrator = entry.second.Scalar();
+        given.declared = integrator_from_name(scene->declared_integrator);
+      }
+    }
+  }
+  // integrator.type first, also where the file leaves it to its default: the other integrator keys,
+  // and the defaults a first reading fills in, are the chosen integrator's.
+  const std::string type_prefix = "integrator.type=";
+  for (const std::string& assignment : overrides) {
+    const std::string path = assignment.substr(0, assignment.find('='));
+    if (path.rfind("integrator.", 0) == 0 && path != "integrator.type") given.set.insert(path.substr(11));
+    if (assignment.rfind(type_prefix, 0) == 0 && root.IsMap() &&
+        (!root["integrator"].IsDefined() || root["integrator"].IsMap()))
+      root["integrator"]["type"] = assignment.substr(type_prefix.size());
   }
   std::vector<std::string> on_defaults;
   for (const std::string& assignment : overrides) {
@@ -198,11 +253,11 @@ std::unique_ptr<Scene> load_scene(const std::string& file, const std::vector<std
     first.document.root = YAML::Clone(scene->document.root);
     first.name = scene->name;
     first.declared_integrator = scene->declared_integrator;
-    build_scene(&first);
+    build_scene(&first, given);
     scene->document.root = first.document.root;
     for (const std::string& assignment : on_defaults) apply_override(scene->document, assignment);
   }
-  build_scene(scene.get());
+  build_scene(scene.get(), given);
   return scene;
 }
 

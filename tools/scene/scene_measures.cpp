@@ -94,7 +94,7 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     // The quasi-static stepper has no kinetic energy and does not account the work of prescribed
     // motions or friction's dissipation: these terms would read 0 and the balance the elastic energy.
     const bool stored = p.energy_term == "kinetic" || p.energy_term == "elastic" || p.energy_term == "mechanical";
-    if (run.integrator == "quasi-static" && !stored)
+    if (run.integrator == Integrator::quasi_static && !stored)
       spec.fail("integrator.type quasi-static accounts only the stored energy (elastic, kinetic = 0, mechanical), not '" +
                 p.energy_term + "'; use moreau-jean or ida for this probe");
   } else if (kind == "contact_count") {

@@ -24,7 +24,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // moreau-jean is refined by its time step; the IDA integrators by their tolerances, their time.step
 // being only the sampling interval of the probes.
-bool refined_by_step(const std::string& integrator) { return integrator == "moreau-jean"; }
+bool refined_by_step(const std::string& integrator) {
+  return integrator_from_name(integrator) == Integrator::moreau_jean;
+}
 
 // The shortest text that reads back as the same double, so that an override sets exactly the value asked.
 std::string exact_text(double x) {
@@ -134,7 +136,7 @@ RunReport run_configuration(const CompareOptions& options, std::vector<ComparedC
     row.ok = true;
     // moreau-jean: time steps and PGS sweeps over the run; ida, ida-events: IDA's internal steps and
     // residual evaluations (its work unit: each Newton iteration costs one).
-    const bool ida = row.integrator != "moreau-jean";
+    const bool ida = !refined_by_step(row.integrator);
     row.steps = ida ? report.state.ida.steps : report.state.counters.steps;
     row.solver_iterations = ida ? report.state.ida.residual_evaluations : report.state.counters.total_iterations;
     measure_errors(report.checks, checks, row);
@@ -157,7 +159,8 @@ RunReport run_configuration(const CompareOptions& options, std::vector<ComparedC
 }  // namespace
 
 const std::vector<std::string>& comparable_integrators() {
-  static const std::vector<std::string> names{"moreau-jean", "ida", "ida-events"};
+  static const std::vector<std::string> names{integrator_name(Integrator::moreau_jean), integrator_name(Integrator::ida),
+                                              integrator_name(Integrator::ida_events)};
   return names;
 }
 
@@ -209,7 +212,7 @@ bool reference_run(const CompareOptions& options, const std::string& kind, Traje
     overrides.insert(overrides.end(), {"integrator.type=ida-events", "integrator.rtol=1e-10", "integrator.atol=1e-12"});
     description = "a converged ida-events run (rtol 1e-10, atol 1e-12)";
   } else {
-    const double finest = options.steps.empty() ? load_scene(options.scene_file, options.overrides)->run.moreau_jean.step
+    const double finest = options.steps.empty() ? load_scene(options.scene_file, options.overrides)->run.step
                                                 : *std::min_element(options.steps.begin(), options.steps.end());
     std::ostringstream step;
     step << "time.step=" << std::setprecision(17) << finest / 100.0;

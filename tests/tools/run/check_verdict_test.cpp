@@ -158,12 +158,12 @@ TEST(CheckVerdictScenes, AnOnlyIfWithoutAnAnswerExcludesItsCheck) {
 TEST_F(CheckVerdict, TheLastStepLandsOnTheEndTime) {
   const auto scene = load(kStill, {"time.step=0.03"});
   EXPECT_EQ(scene->run.steps, 4);
-  EXPECT_DOUBLE_EQ(scene->run.moreau_jean.step, 0.025);
+  EXPECT_DOUBLE_EQ(scene->run.step, 0.025);
   EXPECT_DOUBLE_EQ(scene->run.requested_step, 0.03);
   const RunReport report = run_scene(*scene, {});
   EXPECT_NEAR(report.state.t, 0.1, 1e-15);
   EXPECT_NEAR(report.sample_times.back(), 0.1, 1e-15);
-  EXPECT_EQ(load(kStill)->run.moreau_jean.step, 0.01);  // a step that divides the window is kept as written
+  EXPECT_EQ(load(kStill)->run.step, 0.01);  // a step that divides the window is kept as written
   try {
     load(kStill, {"time.step=1e-300"});
     ADD_FAILURE() << "1e-300 accepted";

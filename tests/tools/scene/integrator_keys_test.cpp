@@ -1,0 +1,139 @@
+// The integrator keys the chosen integrator ignores (integrator_keys.h): refused when given for it,
+// dropped when they belong to the file's own integrator and --set chose another.
+#include "tools/scene/integrator_keys.h"
+#include "tools/scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace csim {
+namespace {
+
+std::string scene_with(const std::string& integrator_line) {
+  return R"(dimension: 2
+gravity: [0, -9.81]
+bodies:
+  block:
+    type: rigid
+    mass: 1
+    position: [0, 0.5]
+    shapes:
+      cube: {type: box, size: [1, 1]}
+  ground:
+    type: fixed
+    shapes:
+      top: {type: halfspace, normal: [0, 1]}
+contacts:
+  block_on_ground: {between: [block, ground], mu: 0.3}
+time: {end: 0.1, step: 0.01}
+)" + integrator_line + "\n";
+}
+
+class IntegratorKeysTest : public ::testing::Test {
+ protected:
+  std::string write(const std::string& text) {
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("csim_integrator_keys_" + std::to_string(counter_++) + "_" +
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml");
+    std::ofstream(path) << text;
+    files_.push_back(path);
+    return path.string();
+  }
+  void TearDown() override {
+    for (const auto& f : files_) std::filesystem::remove(f);
+  }
+  std::string error_of(const std::string& integrator_line, const std::vector<std::string>& overrides = {}) {
+    try {
+      load_scene(write(scene_with(integrator_line)), overrides);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+ private:
+  int counter_ = 0;
+  std::vector<std::filesystem::path> files_;
+};
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(IntegratorKeyTable, WhoReadsWhat) {
+  EXPECT_TRUE(integrator_reads(Integrator::moreau_jean, "theta"));
+  EXPECT_FALSE(integrator_reads(Integrator::ida, "theta"));
+  EXPECT_TRUE(integrator_reads(Integrator::ida_events, "rtol"));
+  EXPECT_FALSE(integrator_reads(Integrator::quasi_static, "rtol"));
+  EXPECT_TRUE(integrator_reads(Integrator::quasi_static, "max_cutbacks"));
+  EXPECT_FALSE(integrator_reads(Integrator::moreau_jean, "max_cutbacks"));
+  EXPECT_TRUE(integrator_reads(Integrator::moreau_jean, "newton_tolerance"));  // finite-strain bodies
+  EXPECT_FALSE(integrator_reads(Integrator::ida, "newton_tolerance"));
+  for (Integrator integrator : kIntegrators) EXPECT_TRUE(integrator_reads(integrator, "type"));
+  EXPECT_FALSE(is_integrator_key("type"));
+  EXPECT_FALSE(is_integrator_key("thetta"));
+}
+
+TEST_F(IntegratorKeysTest, AKeyWrittenForTheDeclaredIntegratorThatIgnoresItIsRefused) {
+  const std::string theta = error_of("integrator: {type: ida, theta: 0.5}");
+  EXPECT_TRUE(contains(theta, "integrator.theta")) << theta;
+  EXPECT_TRUE(contains(theta, "ida integrator")) << theta;
+  EXPECT_TRUE(contains(theta, "moreau-jean does")) << theta;
+  EXPECT_TRUE(contains(theta, "remove it from the scene")) << theta;
+  const std::string rtol = error_of("integrator: {type: quasi-static, rtol: 1e-8}");
+  EXPECT_TRUE(contains(rtol, "integrator.rtol")) << rtol;
+  EXPECT_TRUE(contains(rtol, "quasi-static")) << rtol;
+  // No type written: the file's integrator is the default, moreau-jean.
+  const std::string cutbacks = error_of("integrator: {max_cutbacks: 2}");
+  EXPECT_TRUE(contains(cutbacks, "integrator.max_cutbacks")) << cutbacks;
+  EXPECT_TRUE(contains(cutbacks, "moreau-jean integrator")) << cutbacks;
+}
+
+TEST_F(IntegratorKeysTest, AKeySetForAnIntegratorThatIgnoresItIsRefused) {
+  const std::string message = error_of("", {"integrator.max_cutbacks=3"});
+  EXPECT_TRUE(contains(message, "integrator.max_cutbacks")) << message;
+  EXPECT_TRUE(contains(message, "drop --set integrator.max_cutbacks")) << message;
+  const std::string switched = error_of("integrator: {type: moreau-jean}", {"integrator.type=ida", "integrator.theta=1"});
+  EXPECT_TRUE(contains(switched, "integrator.theta")) << switched;
+  EXPECT_TRUE(contains(switched, "ida integrator")) << switched;
+}
+
+TEST_F(IntegratorKeysTest, TheFilesOwnKeysAreDroppedWhenSetChoosesAnotherIntegrator) {
+  const auto scene = load_scene(write(scene_with("integrator: {type: moreau-jean, theta: 0.6, close_gaps: false}")),
+                                {"integrator.type=ida", "integrator.rtol=1e-8"});
+  EXPECT_EQ(scene->run.integrator, Integrator::ida);
+  EXPECT_EQ(scene->run.ida.rtol, 1e-8);
+  const std::string dump = dump_config(*scene);
+  EXPECT_FALSE(contains(dump, "theta")) << dump;
+  EXPECT_FALSE(contains(dump, "close_gaps")) << dump;
+  EXPECT_TRUE(contains(dump, "rtol")) << dump;
+  // The effective configuration loads again as it is.
+  const auto again = load_scene(write(dump), {});
+  EXPECT_EQ(again->run.integrator, Integrator::ida);
+  EXPECT_EQ(again->run.ida.rtol, 1e-8);
+}
+
+TEST_F(IntegratorKeysTest, SetTypeWhereTheFileHasNoneReachesTheOtherIntegratorsKeys) {
+  const auto scene = load_scene(write(scene_with("")), {"integrator.type=ida-events", "integrator.atol=1e-10"});
+  EXPECT_EQ(scene->run.integrator, Integrator::ida_events);
+  EXPECT_EQ(scene->run.ida.atol, 1e-10);
+}
+
+TEST_F(IntegratorKeysTest, AFileKeyNoIntegratorOfTheFileReadsIsRefusedEvenWhenSwitched) {
+  // rtol is not moreau-jean's: the file is wrong on its own, whatever --set chooses.
+  const std::string message = error_of("integrator: {type: moreau-jean, rtol: 1e-8}", {"integrator.type=quasi-static"});
+  EXPECT_TRUE(contains(message, "integrator.rtol")) << message;
+}
+
+TEST_F(IntegratorKeysTest, DumpOfEachIntegratorHoldsOnlyItsKeysAndReloads) {
+  for (Integrator integrator : {Integrator::moreau_jean, Integrator::ida, Integrator::ida_events}) {
+    const auto scene = load_scene(write(scene_with("")), {"integrator.type=" + integrator_name(integrator)});
+    const std::string dump = dump_config(*scene);
+    EXPECT_EQ(contains(dump, "theta"), integrator == Integrator::moreau_jean) << dump;
+    EXPECT_EQ(contains(dump, "rtol"), is_ida(integrator)) << dump;
+    EXPECT_EQ(load_scene(write(dump), {})->run.integrator, integrator);
+  }
+}
+
+}  // namespace
+}  // namespace csim
