@@ -44,10 +44,13 @@ void refuse_ignored_keys(const SceneNode& integrator, Integrator chosen, const G
     std::string readers;
     for (Integrator other : kIntegrators)
       if (integrator_reads(other, key)) readers += (readers.empty() ? "" : ", ") + integrator_name(other);
-    integrator.fail_at(key, "ignored by the " + chosen_name + " integrator (integrator.type), which does not read it (" +
+    const std::string message = "ignored by the " + chosen_name + " integrator (integrator.type), which does not read it (" +
                                 readers + " do" + (readers.find(',') == std::string::npos ? "es" : "") + "); " +
                                 (by_set ? "drop --set integrator." + key : "remove it from the scene") +
-                                ", or choose an integrator that reads it with integrator.type");
+                                ", or choose an integrator that reads it with integrator.type";
+    if (by_set)  // no line of the file to point at, as for the other --set errors
+      throw SceneError(integrator.document().file, 0, "integrator." + key, message);
+    integrator.fail_at(key, message);
   };
   for (const std::string& key : given.set)
     if (is_integrator_key(key) && !integrator_reads(chosen, key)) refuse(key, true);
