@@ -2,6 +2,9 @@
 // values of probes.h's definitions computed by hand.
 #include "tools/run/probes.h"
 #include "engine/bodies/point_mass.h"
+#include "engine/state.h"
+#include "engine/world.h"
+#include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
 
@@ -42,7 +45,7 @@ ProbeDefinition probe(ProbeDefinition::Kind kind) {
 TEST(ProbeEvaluator, EachKindAgainstHandValues) {
   const World world = ball_on_floor();
   RunSettings run;
-  run.moreau_jean.step = 0.01;  // s: contact forces are impulses / h
+  run.step = 0.01;  // s: contact forces are impulses / h
   using Kind = ProbeDefinition::Kind;
   ProbeDefinition p = probe(Kind::displacement);  // x displacement of the ball, scaled by 2
   p.body = 0;
