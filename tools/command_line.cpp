@@ -130,6 +130,19 @@ std::optional<int> parse_command_line(int argc, char** argv, Arguments& argument
       std::find(kCommands.begin(), kCommands.end(), argv[1]) == kCommands.end())
     return bad_argument("", "unknown command '" + std::string(argv[1]) +
                                 "' (commands: run, validate, dump-config, compare, stress, help)");
+  // CLI11 drops the empty items of a delimited list: `--steps 1e-2,,1e-3` would quietly run two steps.
+  for (int i = 2; i < argc; ++i) {
+    const std::string word = argv[i];
+    for (const char* option : {"--integrators", "--steps", "--tolerances", "--only"}) {
+      const std::string name = option;
+      std::string list;
+      if (word == name && i + 1 < argc) list = argv[i + 1];
+      else if (word.rfind(name + "=", 0) == 0) list = word.substr(name.size() + 1);
+      else continue;
+      if (list.empty() || list.front() == ',' || list.back() == ',' || list.find(",,") != std::string::npos)
+        return bad_argument(" " + std::string(argv[1]), name + ": an empty item in the list '" + list + "'");
+    }
+  }
   CLI::App app("", "csim");
   std::string help_topic;
   define(app, arguments, help_topic);
