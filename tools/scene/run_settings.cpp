@@ -3,14 +3,24 @@
 
 namespace csim {
 
-MoreauJeanParameters moreau_jean_parameters(const RunSettings& run) {
-  MoreauJeanParameters parameters;
-  static_cast<MoreauJeanOptions&>(parameters) = run.moreau_jean;
+namespace {
+
+// The step, contact-solver and Newton settings that Moreau–Jean and the quasi-static stepper both take.
+template <class SteppingParameters>
+void set_shared_settings(const RunSettings& run, SteppingParameters& parameters) {
   parameters.step = run.step;
   parameters.solver = run.contact_solver;
   parameters.failure_residual = run.failure_residual;
   parameters.newton_tolerance = run.newton.tolerance;
   parameters.newton_max_iterations = run.newton.max_iterations;
+}
+
+}  // namespace
+
+MoreauJeanParameters moreau_jean_parameters(const RunSettings& run) {
+  MoreauJeanParameters parameters;
+  static_cast<MoreauJeanOptions&>(parameters) = run.moreau_jean;
+  set_shared_settings(run, parameters);
   return parameters;
 }
 
@@ -25,11 +35,7 @@ IdaParameters ida_parameters(const RunSettings& run) {
 QuasiStaticParameters quasi_static_parameters(const RunSettings& run) {
   QuasiStaticParameters parameters;
   static_cast<QuasiStaticOptions&>(parameters) = run.quasi_static;
-  parameters.step = run.step;
-  parameters.solver = run.contact_solver;
-  parameters.failure_residual = run.failure_residual;
-  parameters.newton_tolerance = run.newton.tolerance;
-  parameters.newton_max_iterations = run.newton.max_iterations;
+  set_shared_settings(run, parameters);
   return parameters;
 }
 
