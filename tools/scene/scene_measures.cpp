@@ -1,7 +1,6 @@
 // probes (named time series) and checks (a probe against a reference, with a tolerance).
 #include "tools/scene/scene_parts.h"
 
-#include <cmath>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -10,27 +9,14 @@ namespace csim::scene_parts {
 
 namespace {
 
-// A value that may not exist for these parameters, although the scene is well formed: an expression
-// whose reference function has no answer for them (a rest time when the mass never stops) or whose
-// result is not finite (1/speed at speed 0). Gives nullopt and the reason then; a malformed expression
-// or an unknown name stays bad input.
+// A value that may not exist for these parameters (SceneNode::as_number_if_defined), with the reason.
 std::optional<double> value_for_these_parameters(const SceneNode& node, std::string& why) {
+  const std::optional<double> value = node.as_number_if_defined(why);
+  if (value) return value;
   const std::string text = node.as_string();
-  if (text.empty() || text[0] != '=') return node.as_number();
-  double value = 0.0;
-  try {
-    value = evaluate_expression(std::string_view(text).substr(1), node.document().scope);
-  } catch (const ExpressionFunctionFailed& e) {
-    why = "'" + text + "' has no value for these parameters: " + e.what();
-    return std::nullopt;
-  } catch (const ExpressionError& e) {
-    node.fail(std::string("in expression '") + text + "': " + e.what());
-  }
-  if (!std::isfinite(value)) {
-    why = "'" + text + "' is not finite for these parameters";
-    return std::nullopt;
-  }
-  return value;
+  why = why.empty() ? "'" + text + "' is not finite for these parameters"
+                    : "'" + text + "' has no value for these parameters: " + why;
+  return std::nullopt;
 }
 
 bool is_expression(const SceneNode& node) {

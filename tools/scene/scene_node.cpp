@@ -100,23 +100,38 @@ void SceneNode::allow_only(std::initializer_list<const char*> keys) const {
   }
 }
 
-double SceneNode::as_number() const {
+std::optional<double> SceneNode::as_number_if_defined(std::string& why) const {
   if (!node_.IsScalar()) fail("expected a number");
   const std::string text = node_.Scalar();
   double value = 0.0;
   if (!text.empty() && text[0] == '=') {
     try {
       value = evaluate_expression(std::string_view(text).substr(1), document_->scope);
+    } catch (const ExpressionFunctionFailed& e) {
+      why = e.what();
+      return std::nullopt;
     } catch (const ExpressionError& e) {
       fail(std::string("in expression '") + text + "': " + e.what());
     }
-  } else {
-    std::istringstream in(text);
-    in >> value;
-    if (in.fail() || !in.eof()) fail("expected a number or an '=expression' (got '" + text + "')");
+    if (!std::isfinite(value)) {
+      why.clear();
+      return std::nullopt;
+    }
+    return value;
   }
+  std::istringstream in(text);
+  in >> value;
+  if (in.fail() || !in.eof()) fail("expected a number or an '=expression' (got '" + text + "')");
   if (!std::isfinite(value)) fail("value is not finite ('" + text + "')");
   return value;
+}
+
+double SceneNode::as_number() const {
+  std::string why;
+  const std::optional<double> value = as_number_if_defined(why);
+  if (value) return *value;
+  const std::string text = node_.Scalar();
+  fail(why.empty() ? "value is not finite ('" + text + "')" : "in expression '" + text + "': " + why);
 }
 
 std::string SceneNode::as_string() const {

@@ -67,6 +67,11 @@ class SceneNode {
 
   // This node as a value.
   double as_number() const;
+  // The same, but an '=expression' may have no value for these parameters although the scene is well
+  // formed: a scope function that fails (a rest time when the mass never stops; why: its message) or a
+  // result that is not finite (1/speed at speed 0; why empty). Those give nullopt; malformed text or an
+  // unknown name still fail().
+  std::optional<double> as_number_if_defined(std::string& why) const;
   std::string as_string() const;
   bool as_bool() const;
   Eigen::Vector3d as_vector(int minimum_size = 1, int maximum_size = 3) const;  // padded with zeros
