@@ -4,12 +4,11 @@
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 #include "tools/scene/scene_error.h"
+#include "tests/tools/scene/scene_file_test.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 
 namespace csim {
 namespace {
@@ -42,18 +41,13 @@ probes:
 checks:
 CHECKS)";
 
-class CheckVerdict : public ::testing::Test {
+class CheckVerdict : public SceneFileTest {
  protected:
   std::unique_ptr<Scene> load(const std::string& checks, const std::vector<std::string>& overrides = {}) {
     std::string text = kScene;
     text.replace(text.find("CHECKS"), 6, checks);
-    path_ = std::filesystem::temp_directory_path() /
-            ("csim_verdict_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".yaml");
-    std::ofstream(path_) << text;
-    return load_scene(path_.string(), overrides);
+    return load_scene(write(text), overrides);
   }
-  void TearDown() override { std::filesystem::remove(path_); }
-  std::filesystem::path path_;
 };
 
 const char* kStill =

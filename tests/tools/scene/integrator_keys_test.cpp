@@ -2,11 +2,10 @@
 // dropped when they belong to the file's own integrator and --set chose another.
 #include "tools/scene/integrator_keys.h"
 #include "tools/scene/scene.h"
+#include "tests/tools/scene/scene_file_test.h"
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
 
 namespace csim {
 namespace {
@@ -31,31 +30,12 @@ time: {end: 0.1, step: 0.01}
 )" + integrator_line + "\n";
 }
 
-class IntegratorKeysTest : public ::testing::Test {
+class IntegratorKeysTest : public SceneFileTest {
  protected:
-  std::string write(const std::string& text) {
-    const auto path = std::filesystem::temp_directory_path() /
-                      ("csim_integrator_keys_" + std::to_string(counter_++) + "_" +
-                       ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml");
-    std::ofstream(path) << text;
-    files_.push_back(path);
-    return path.string();
+  // The error of the block scene with this integrator line ("" if it loaded).
+  std::string error_with(const std::string& integrator_line, const std::vector<std::string>& overrides = {}) {
+    return error_of(write(scene_with(integrator_line)), overrides);
   }
-  void TearDown() override {
-    for (const auto& f : files_) std::filesystem::remove(f);
-  }
-  std::string error_of(const std::string& integrator_line, const std::vector<std::string>& overrides = {}) {
-    try {
-      load_scene(write(scene_with(integrator_line)), overrides);
-    } catch (const SceneError& e) {
-      return e.what();
-    }
-    return "";
-  }
-
- private:
-  int counter_ = 0;
-  std::vector<std::filesystem::path> files_;
 };
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -75,25 +55,25 @@ TEST(IntegratorKeyTable, WhoReadsWhat) {
 }
 
 TEST_F(IntegratorKeysTest, AKeyWrittenForTheDeclaredIntegratorThatIgnoresItIsRefused) {
-  const std::string theta = error_of("integrator: {type: ida, theta: 0.5}");
+  const std::string theta = error_with("integrator: {type: ida, theta: 0.5}");
   EXPECT_TRUE(contains(theta, "integrator.theta")) << theta;
   EXPECT_TRUE(contains(theta, "ida integrator")) << theta;
   EXPECT_TRUE(contains(theta, "moreau-jean does")) << theta;
   EXPECT_TRUE(contains(theta, "remove it from the scene")) << theta;
-  const std::string rtol = error_of("integrator: {type: quasi-static, rtol: 1e-8}");
+  const std::string rtol = error_with("integrator: {type: quasi-static, rtol: 1e-8}");
   EXPECT_TRUE(contains(rtol, "integrator.rtol")) << rtol;
   EXPECT_TRUE(contains(rtol, "quasi-static")) << rtol;
   // No type written: the file's integrator is the default, moreau-jean.
-  const std::string cutbacks = error_of("integrator: {max_cutbacks: 2}");
+  const std::string cutbacks = error_with("integrator: {max_cutbacks: 2}");
   EXPECT_TRUE(contains(cutbacks, "integrator.max_cutbacks")) << cutbacks;
   EXPECT_TRUE(contains(cutbacks, "moreau-jean integrator")) << cutbacks;
 }
 
 TEST_F(IntegratorKeysTest, AKeySetForAnIntegratorThatIgnoresItIsRefused) {
-  const std::string message = error_of("", {"integrator.max_cutbacks=3"});
+  const std::string message = error_with("", {"integrator.max_cutbacks=3"});
   EXPECT_TRUE(contains(message, "integrator.max_cutbacks")) << message;
   EXPECT_TRUE(contains(message, "drop --set integrator.max_cutbacks")) << message;
-  const std::string switched = error_of("integrator: {type: moreau-jean}", {"integrator.type=ida", "integrator.theta=1"});
+  const std::string switched = error_with("integrator: {type: moreau-jean}", {"integrator.type=ida", "integrator.theta=1"});
   EXPECT_TRUE(contains(switched, "integrator.theta")) << switched;
   EXPECT_TRUE(contains(switched, "ida integrator")) << switched;
 }
@@ -121,7 +101,7 @@ TEST_F(IntegratorKeysTest, SetTypeWhereTheFileHasNoneReachesTheOtherIntegratorsK
 
 TEST_F(IntegratorKeysTest, AFileKeyNoIntegratorOfTheFileReadsIsRefusedEvenWhenSwitched) {
   // rtol is not moreau-jean's: the file is wrong on its own, whatever --set chooses.
-  const std::string message = error_of("integrator: {type: moreau-jean, rtol: 1e-8}", {"integrator.type=quasi-static"});
+  const std::string message = error_with("integrator: {type: moreau-jean, rtol: 1e-8}", {"integrator.type=quasi-static"});
   EXPECT_TRUE(contains(message, "integrator.rtol")) << message;
 }
 

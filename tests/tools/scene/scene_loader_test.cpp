@@ -2,12 +2,11 @@
 // and (where the key is in the file) its line.
 #include "tools/scene/scene.h"
 #include "engine/bodies/fe_body.h"
+#include "tests/tools/scene/scene_file_test.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 
 namespace csim {
 namespace {
@@ -37,18 +36,8 @@ checks:
   still: {probe: x, final: true, reference: 0, tolerance: {absolute: 1e-12}, kind: analytical, source: test}
 )";
 
-class SceneLoaderTest : public ::testing::Test {
+class SceneLoaderTest : public SceneFileTest {
  protected:
-  std::string write(const std::string& text) {
-    const auto path = std::filesystem::temp_directory_path() /
-                      ("csim_scene_" + std::to_string(counter_++) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml");
-    std::ofstream(path) << text;
-    files_.push_back(path);
-    return path.string();
-  }
-  void TearDown() override {
-    for (const auto& f : files_) std::filesystem::remove(f);
-  }
   // Replaces the first occurrence of `from` in the valid scene.
   std::string variant(const std::string& from, const std::string& to) {
     std::string text = kValidScene;
@@ -56,18 +45,6 @@ class SceneLoaderTest : public ::testing::Test {
     EXPECT_NE(at, std::string::npos) << from;
     return write(text.replace(at, from.size(), to));
   }
-  // Loads and returns the error message ("" if it loaded).
-  std::string error_of(const std::string& file, const std::vector<std::string>& overrides = {}) {
-    try {
-      load_scene(file, overrides);
-    } catch (const SceneError& e) {
-      return e.what();
-    }
-    return "";
-  }
-
-  std::vector<std::filesystem::path> files_;
-  int counter_ = 0;
 };
 
 TEST_F(SceneLoaderTest, ValidSceneLoads) {
