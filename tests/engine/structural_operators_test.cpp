@@ -2,7 +2,7 @@
 // spring element between two point masses, against the hand-written matrices.
 #include "engine/structural_operators.h"
 #include "engine/dynamics.h"
-#include "test_worlds.h"
+#include "tests/engine/test_worlds.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // ProbeEvaluator on its own: each kind of probe on a small World and a State set by hand, against the
 // values of probes.h's definitions computed by hand.
 #include "tools/run/probes.h"
-#include "engine/bodies/point_mass.h"
+#include "tests/engine/test_worlds.h"
 #include "engine/state.h"
 #include "engine/world.h"
 #include "tools/scene/scene.h"
@@ -11,23 +11,13 @@
 namespace csim {
 namespace {
 
-BodyInstance point_mass(const std::string& name, double mass, const Eigen::Vector2d& position) {
-  BodyInstance b;
-  b.name = name;
-  b.body = std::make_unique<PointMass>(2, mass);
-  b.reference_position = position;
-  b.initial_position = position;
-  b.initial_velocity = Eigen::Vector2d::Zero();
-  return b;
-}
-
 // Two point masses in the plane: "ball" (2 kg, reference (1, 2) m) resting on "floor" (a second
 // mass at the origin), with one contact law between [ball, floor].
 World ball_on_floor() {
   World world;
   world.dimension = 2;
-  world.bodies.push_back(point_mass("ball", 2.0, {1.0, 2.0}));
-  world.bodies.push_back(point_mass("floor", 5.0, {0.0, 0.0}));
+  world.bodies.push_back(test::point_mass("ball", 2, 2.0, {1.0, 2.0, 0.0}));
+  world.bodies.push_back(test::point_mass("floor", 2, 5.0, {0.0, 0.0, 0.0}));
   ContactLaw law;
   law.body_a = 0;
   law.body_b = 1;
