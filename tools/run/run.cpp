@@ -58,10 +58,8 @@ class Progress {
 // Rows of probes.csv, and so ParaView frames, a run writes at most: the first, then at most one per step
 // and one per output interval, and the last.
 std::size_t output_rows(const RunSettings& run) {
-  const double h = run.step;
-  const long steps = std::lround(std::ceil(run.end_time / h - 1e-9));
-  const double intervals = std::ceil(run.end_time / std::max(run.output_rate, h));
-  return static_cast<std::size_t>(std::min<double>(steps, intervals + 1.0)) + 1;
+  const double intervals = std::ceil(run.end_time / std::max(run.output_rate, run.step));
+  return static_cast<std::size_t>(std::min<double>(run.steps, intervals + 1.0)) + 1;
 }
 
 }  // namespace
