@@ -15,11 +15,6 @@ const std::vector<KeyReaders>& key_table() {
   using enum Integrator;
   static const std::vector<KeyReaders> table{
       {"theta", {moreau_jean}},
-      {"close_gaps", {moreau_jean}},
-      {"newton_tolerance", {moreau_jean, quasi_static}},  // Moreau–Jean: finite-strain bodies
-      {"newton_max_iterations", {moreau_jean, quasi_static}},
-      {"contact_distance", {quasi_static}},
-      {"max_cutbacks", {quasi_static}},
       {"rtol", {ida, ida_events}},
       {"atol", {ida, ida_events}},
       {"penalty_stiffness", {ida, ida_events}},
@@ -28,11 +23,22 @@ const std::vector<KeyReaders>& key_table() {
       {"linear_solver", {ida, ida_events}},
       {"max_step", {ida, ida_events}},
       {"max_steps", {ida, ida_events}},
+      {"contact_distance", {quasi_static}},
+      {"newton_tolerance", {moreau_jean, quasi_static}},  // Moreau–Jean: finite-strain bodies
+      {"newton_max_iterations", {moreau_jean, quasi_static}},
+      {"max_cutbacks", {quasi_static}},
+      {"close_gaps", {moreau_jean}},
   };
   return table;
 }
 
 }  // namespace
+
+std::vector<std::string> integrator_section_keys() {
+  std::vector<std::string> keys{"type"};
+  for (const KeyReaders& entry : key_table()) keys.push_back(entry.key);
+  return keys;
+}
 
 bool is_integrator_key(const std::string& key) {
   for (const KeyReaders& entry : key_table())

@@ -16,9 +16,12 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace csim {
 
+// Every key the integrator section may hold: type, then the table's keys.
+std::vector<std::string> integrator_section_keys();
 // A key of the integrator section that some integrator reads (not type).
 bool is_integrator_key(const std::string& key);
 bool integrator_reads(Integrator integrator, const std::string& key);

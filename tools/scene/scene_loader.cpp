@@ -68,9 +68,7 @@ void refuse_ignored_keys(const SceneNode& integrator, Integrator chosen, const G
 
 void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegratorKeys& given) {
   const SceneNode integrator = root.section("integrator");
-  integrator.allow_only({"type", "theta", "rtol", "atol", "penalty_stiffness", "penalty_damping", "epsilon",
-                         "linear_solver", "max_step", "max_steps", "contact_distance", "newton_tolerance",
-                         "newton_max_iterations", "max_cutbacks", "close_gaps"});
+  integrator.allow_only(integrator_section_keys());
   const std::string type = integrator.string("type", integrator_name(Integrator::moreau_jean));
   const std::optional<Integrator> chosen = integrator_from_name(type);
   if (!chosen) integrator.fail_at("type", "unknown integrator '" + type + "' (available: " + integrator_names() + ")");

@@ -86,14 +86,18 @@ void SceneNode::expect_map() const {
 }
 
 void SceneNode::allow_only(std::initializer_list<const char*> keys) const {
+  allow_only(std::vector<std::string>(keys.begin(), keys.end()));
+}
+
+void SceneNode::allow_only(const std::vector<std::string>& keys) const {
   expect_map();
   for (auto it = node_.begin(); it != node_.end(); ++it) {
     const std::string key = it->first.as<std::string>();
     bool known = false;
-    for (const char* k : keys) known = known || key == k;
+    for (const std::string& k : keys) known = known || key == k;
     if (known) continue;
     std::string expected;
-    for (const char* k : keys) expected += std::string(expected.empty() ? "" : ", ") + k;
+    for (const std::string& k : keys) expected += (expected.empty() ? "" : ", ") + k;
     const int key_line = it->first.Mark().line + 1;
     throw SceneError(document_->file, key_line > 0 ? key_line : line(), join_path(path_, key),
                      "unknown key (expected one of: " + expected + ")");

@@ -64,6 +64,7 @@ class SceneNode {
 
   void expect_map() const;
   void allow_only(std::initializer_list<const char*> keys) const;
+  void allow_only(const std::vector<std::string>& keys) const;
 
   // This node as a value.
   double as_number() const;
