@@ -63,7 +63,9 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   add_output(*run, a, "out/<scene>");
   run->add_flag("--quiet", a.quiet, "print only the checks and the verdict");
   run->footer("Writes DIR/summary.json, DIR/probes.csv and, for elastic bodies, DIR/paraview/.\n"
-              "Exit status: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure;\n" +
+              "Exit status: 0 checks passed (at least one evaluated, none failed, the others excluded by\n"
+              "their only_if), 1 not a pass (a check failed or could not be evaluated, or none applies),\n"
+              "2 bad input or a numerical failure;\n" +
               std::string(kStopped));
 
   CLI::App* validate = app.add_subcommand("validate", "check a scene (and what run would refuse) without running it");

@@ -10,7 +10,8 @@
 // run, compare and stress write into a temporary folder beside DIR and swap it in whole when they end
 // (tools/output/output_folder.h); SIGINT or SIGTERM stops them at the next step boundary or between
 // runs, removes that folder and leaves DIR as it was: exit status 130 or 143 (128 + the signal).
-// Exit status of run: 0 all checks pass, 1 a check fails, 2 bad input or a numerical failure.
+// Exit status of run: 0 checks passed (checks.h: CheckCounts::pass), 1 not a pass, 2 bad input or a
+// numerical failure.
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
 // Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
 // 1 some run did, 2 bad input (sweeps file, --only, --set).
