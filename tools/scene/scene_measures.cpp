@@ -19,9 +19,7 @@ std::optional<double> value_for_these_parameters(const SceneNode& node, std::str
   return std::nullopt;
 }
 
-bool is_expression(const SceneNode& node) {
-  return node.is_scalar() && !node.as_string().empty() && node.as_string()[0] == '=';
-}
+bool is_expression(const SceneNode& node) { return node.is_scalar() && node.yaml().Scalar().starts_with('='); }
 
 Eigen::Vector3d component_direction(const SceneNode& node, int dimension) {
   if (node.has("direction")) {
