@@ -3,18 +3,12 @@
 #include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 
-#include <Eigen/CholmodSupport>
-
 #include <chrono>
 
 namespace csim {
 
-struct StructuralOperators::CholmodFactor {
-  Eigen::CholmodSimplicialLDLT<SparseMatrix> factor;
-};
-
 StructuralOperators::StructuralOperators(const Dynamics& dynamics)
-    : world_(dynamics.world()), dynamics_(dynamics), sparse_factor_(std::make_unique<CholmodFactor>()) {
+    : world_(dynamics.world()), dynamics_(dynamics) {
   const int n = world_.velocity_size;
   sparse_ = n > kDenseLimit;
   has_stiffness_ = dynamics.has_stiffness();
@@ -30,8 +24,6 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
     dense_damping_ = Matrix(sparse_damping_);
   }
 }
-
-StructuralOperators::~StructuralOperators() = default;
 
 void StructuralOperators::update(const Vector& q, double h, double theta) {
   if (factored_ && constant_ && h == factored_h_ && theta == factored_theta_) return;
@@ -53,13 +45,9 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       sparse_stiffness_ += spring_matrix;
     }
     const SparseMatrix A = sparse_mass_ + (h * theta) * sparse_damping_ + scale * sparse_stiffness_;
-    // The symbolic analysis depends only on the pattern, which K's refresh keeps.
-    if (nonlinear_) {
-      factor_regularized(A);
-    } else {
-      if (!factored_) sparse_factor_->factor.analyzePattern(A);
-      sparse_factor_->factor.factorize(A);
-    }
+    // The symbolic analysis depends only on the pattern, which K's refresh keeps (sparse_ldlt.h).
+    if (nonlinear_) factor_regularized(A);
+    else sparse_factor_.factor_positive_definite(A);
   } else {
     if (dynamics_.has_springs()) {
       dynamics_.spring_stiffness(q, dense_stiffness_);
@@ -82,9 +70,9 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
   factorization_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// A (or A + ε I, see the header) into tangent_factor_.
+// A (or A + ε I, see the header) into sparse_factor_.
 void StructuralOperators::factor_regularized(const SparseMatrix& A) {
-  auto positive_definite = [&](const SparseMatrix& A) { return tangent_factor_.factor_positive_definite(A); };
+  auto positive_definite = [&](const SparseMatrix& A) { return sparse_factor_.factor_positive_definite(A); };
   if (positive_definite(A)) return;
   SparseMatrix identity(A.rows(), A.cols());
   identity.setIdentity();
@@ -101,8 +89,7 @@ void StructuralOperators::regularize(double largest, PositiveDefiniteWith&& posi
 }
 
 void StructuralOperators::solve_in_place(Vector& x) const {
-  if (sparse_ && nonlinear_) x = tangent_factor_.solve(x);
-  else if (sparse_) x = sparse_factor_->factor.solve(x);
+  if (sparse_) sparse_factor_.solve_in_place(x);
   else dense_factor_.solveInPlace(x);
 }
 
