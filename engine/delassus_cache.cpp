@@ -38,6 +38,8 @@ int DelassusCache::slot(const Key& key, const int* index, const double* value, i
       free_slots_.pop_back();
     }
   }
+  if (static_cast<int>(by_slot_.size()) < slot_count_) by_slot_.resize(slot_count_);
+  by_slot_[entry.slot] = &entry;
   fresh_.push_back(&entry);
   return entry.slot;
 }

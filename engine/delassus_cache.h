@@ -36,6 +36,8 @@ class DelassusCache {
   // Frees the rows not asked for since begin, and computes the entries of W of the new rows.
   void finish();
   double operator()(int slot_a, int slot_b) const { return delassus_(slot_a, slot_b); }
+  // The forward column L⁻¹ P hᵀ of the row in this slot (asked for since begin).
+  const SparseLdlt::ForwardColumn& forward(int slot) const { return by_slot_[slot]->forward; }
   std::size_t rows() const { return entries_.size(); }
   std::size_t stored_values() const;  // entries of the forward columns kept, for the memory budget
   long computed_entries() const { return computed_entries_; }  // entries of W computed so far
@@ -52,6 +54,7 @@ class DelassusCache {
   long factorization_ = -1;
   std::map<Key, Entry> entries_;
   std::vector<Entry*> fresh_;     // rows (re)computed since begin
+  std::vector<const Entry*> by_slot_;
   std::vector<int> free_slots_;
   int slot_count_ = 0;
   Matrix delassus_;               // slots × slots

@@ -202,6 +202,24 @@ double SparseLdlt::delassus_entry(const ForwardColumn& a, const ForwardColumn& b
   return sum;
 }
 
+void SparseLdlt::back_substitute(Vector& z, Vector& x) const {
+  prepare_tree();
+  const Cholmod& c = *cholmod_;
+  const int n = size();
+  const int* start = c.column_start();
+  const int* count = c.column_count();
+  const int* row = c.row_index();
+  const double* values = c.values();
+  for (int j = n - 1; j >= 0; --j) {  // Lᵀ's row j is L's column j
+    double sum = z(j) / pivots_(j);
+    for (int q = start[j] + 1; q < start[j] + count[j]; ++q) sum -= values[q] * z(row[q]);
+    z(j) = sum;
+  }
+  x.resize(n);
+  const int* permutation = static_cast<const int*>(c.factor->Perm);
+  for (int k = 0; k < n; ++k) x(permutation[k]) = z(k);
+}
+
 void SparseLdlt::scatter_scaled(const ForwardColumn& y, Vector& x) const {
   for (std::size_t k = 0; k < y.index.size(); ++k) x(y.index[k]) = y.value[k] / pivots_(y.index[k]);
 }

@@ -364,7 +364,17 @@ void MoreauJean::update(State& state) {
   v_next_ = v_free_;
   const int rows = static_cast<int>(r_.size());
   const int contact_rows = static_cast<int>(rows_.size());
-  if (rows > 0 && operators_.sparse()) {
+  if (rows > 0 && operators_.sparse() && !operators_.direct_delassus()) {
+    // A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r): the forward columns kept for W, then a backward substitution alone.
+    const SparseLdlt& factor = operators_.sparse_factor();
+    forward_sum_.setZero(factor.size());
+    for (int a = 0; a < rows; ++a) {
+      const SparseLdlt::ForwardColumn& y = delassus_cache_.forward(delassus_slots_[a]);
+      for (std::size_t k = 0; k < y.index.size(); ++k) forward_sum_(y.index[k]) += r_(a) * y.value[k];
+    }
+    factor.back_substitute(forward_sum_, work_);
+    v_next_ += work_;
+  } else if (rows > 0 && operators_.sparse()) {
     // One solve A⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
     work_.setZero(world_.velocity_size);
     for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(r_(a), work_);

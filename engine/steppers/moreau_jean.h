@@ -19,10 +19,12 @@
 //                      iterate, which hold at Newton's convergence. H is sparse (a few entries a
 //                      row). With a sparse A, W's entries are kept by row identity while A and the row
 //                      do not change (a node sliding on a plane keeps its rows; delassus_cache.h), each
-//                      row's from its forward column L⁻¹ P hᵀ, so that a step costs two solves and
-//                      O(contacts²) once A is factored, and a row entering one forward substitution;
+//                      row's from its forward column L⁻¹ P hᵀ, so that a step costs a solve, a
+//                      backward substitution (step 5) and O(contacts²) once A is factored, and a row
+//                      entering one sparse forward substitution;
 //   4. solve           projected Gauss–Seidel on {W, b, μ};
-//   5. update          v_{k+1} = v_free + A⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
+//   5. update          v_{k+1} = v_free + A⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1}); with a
+//                      sparse A, A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r) from the kept forward columns Y of step 3;
 //   6. post            energy balance, counters, non-finite check.
 //
 // Finite-strain bodies (nonlinear internal force f(q), tangent K_T(q)): the step is the implicit
@@ -137,6 +139,7 @@ class MoreauJean final : public Stepper {
   DelassusCache delassus_cache_;
   std::vector<int> delassus_slots_, equality_index_;
   std::vector<double> equality_value_;
+  Vector forward_sum_;  // Y r, in the factor's order
   FrictionContactProblem problem_;
   EqualityRows equalities_;           // the World's constraints, then the active prescriptions (dynamics.h)
   // The ties' rows after the constraints', linearized at each iterate, their A⁻¹ tᵀ recomputed

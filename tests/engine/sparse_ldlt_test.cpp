@@ -157,6 +157,14 @@ TEST(SparseLdlt, ForwardColumnsGiveTheDelassusOperatorOfARandomSparseMatrix) {
   factor.scatter_scaled(y[3], x);
   EXPECT_NEAR(SparseLdlt::dot(y[5], x), expected(5, 3), 1e-12 * scale);
   EXPECT_GE(factor.factor_nonzeros(), A.nonZeros() / 2);
+  // A⁻¹ Hᵀ r from Y r and a backward substitution.
+  const Vector r = Vector::LinSpaced(m, 0.5, -1.5);
+  Vector z = Vector::Zero(n), v;
+  for (int a = 0; a < m; ++a)
+    for (std::size_t k = 0; k < y[a].index.size(); ++k) z(y[a].index[k]) += r(a) * y[a].value[k];
+  factor.back_substitute(z, v);
+  const Vector expected_v = Matrix(A).ldlt().solve(H.transpose() * r);
+  EXPECT_LE((v - expected_v).lpNorm<Eigen::Infinity>(), 1e-11 * expected_v.lpNorm<Eigen::Infinity>());
 }
 
 TEST(SparseLdlt, SolvesLikeADenseFactorizationAfterARefactorization) {
