@@ -524,7 +524,7 @@ int MoreauJean::newton_iterations(State& state) {
 void MoreauJean::step(State& state) {
   // Phase timers (phase_clock.h): a linear World's step is timed on one step in kTimerSampling, the
   // last of each group, so that the first step's one-time work (the factorization, the contacts' first
-  // Delassus columns) is not counted kTimerSampling times; a Newton step is timed whole.
+  // Delassus entries) is not counted kTimerSampling times; a Newton step is timed whole.
   if (operators_.nonlinear()) clock_.start(true);
   else clock_.start(state.counters.steps % kTimerSampling == kTimerSampling - 1, kTimerSampling);
   // A prescription released over this step: its row goes.
