@@ -1,5 +1,6 @@
-// ParaView output of finite-element scenes (docs/contract.md): VTK XML UnstructuredGrid files (.vtu, ASCII,
-// Float64) per output frame, and VTK Collection files (.pvd) that give ParaView each frame's real time.
+// ParaView output of finite-element scenes (docs/contract.md): VTK XML UnstructuredGrid files (.vtu,
+// Float64, in the encoding of output.paraview: vtk_data_array.h) per output frame, and VTK Collection
+// files (.pvd) that give ParaView each frame's real time.
 //
 //   DIR/paraview/BODY_NNNNNN.vtu      one per frame and elastic body: the reference mesh with point data
 //                                     displacement (m) and velocity (m/s); cell data, at each element's
@@ -20,6 +21,7 @@
 #pragma once
 
 #include "tools/output/element_fields.h"
+#include "tools/output/vtk_data_array.h"
 #include "engine/state.h"
 #include "engine/world.h"
 #include "fem/elements.h"
@@ -41,15 +43,27 @@ double von_mises(const Stress& stress);
 // The mean pressure p = −(σxx + σyy + σzz) / 3 (Pa, compression positive) of the same.
 double mean_pressure(const Stress& stress);
 
-// One elastic body at one frame. displacement and velocity: all the mesh's dofs, node-major (m, m/s;
-// 2 or 3 per node as the mesh), fields: one stress (and strain, or none) per element, t: the frame's
-// time (s).
-std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
+// The arrays of a mesh that no frame changes (reference points, m; connectivity, offsets, cell types),
+// encoded once per series: compressing them is most of a binary frame's cost otherwise.
+struct EncodedMesh {
+  VtkEncoding encoding = VtkEncoding::ascii;
+  std::size_t points = 0, cells = 0;
+  int dofs_per_node = 0;
+  EncodedArray coordinates, connectivity, offsets, types;
+};
+EncodedMesh encode_mesh(const Mesh& mesh, VtkEncoding encoding);
+
+// One elastic body at one frame, in the mesh's encoding. displacement and velocity: all the mesh's
+// dofs, node-major (m, m/s; 2 or 3 per node as the mesh), fields: one stress (and strain, or none) per
+// element, t: the frame's time (s).
+std::string fe_body_vtu(const EncodedMesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
                         const ElementFields& fields, double t);
+std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
+                        const ElementFields& fields, double t, VtkEncoding encoding);
 
 // The contact points at one frame, each at the midpoint of its two surface points (m). Zero contacts give
 // a valid empty grid, so that every frame of the series exists.
-std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t);
+std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, VtkEncoding encoding);
 
 // A VTK Collection: one DataSet per frame, file relative to the .pvd's folder, timestep = time (s).
 struct CollectionEntry {
@@ -81,12 +95,13 @@ void remove_paraview_outputs(const std::string& output_directory);
 // no outputs behind. Throws std::runtime_error naming the file on an I/O error.
 class ParaviewSeries {
  public:
-  ParaviewSeries(const World& world, const std::string& output_directory);
+  ParaviewSeries(const World& world, const std::string& output_directory, VtkEncoding encoding);
   ~ParaviewSeries();
   ParaviewSeries(const ParaviewSeries&) = delete;
   ParaviewSeries& operator=(const ParaviewSeries&) = delete;
 
-  // One frame of every elastic body and of the contacts, at time t (s).
+  // One frame of every elastic body and of the contacts, at time t (s). The element fields (stress,
+  // strain) are computed here, for the frames written only.
   void write_frame(const World& world, const State& state, double t);
   void finish();
 
@@ -94,11 +109,13 @@ class ParaviewSeries {
   struct Series {
     int body = -1;      // index in World::bodies; −1 for the contacts
     std::string stem;   // file-name prefix
+    std::optional<EncodedMesh> mesh;  // the body's; none for the contacts
     std::vector<std::string> written;
   };
   void write(Series& series, const std::string& text);
 
   std::string directory_;    // DIR/paraview
+  VtkEncoding encoding_;
   std::vector<Series> series_;  // the elastic bodies, then the contacts
   std::vector<double> times_;   // s, one per frame
   bool finished_ = false;

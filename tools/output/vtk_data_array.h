@@ -1,0 +1,66 @@
+// The DataArrays of a VTK XML file (.vtu) in one of the three encodings of output.paraview
+// (docs/contract.md):
+//
+//   ascii    inline text, format="ascii": each value in its shortest form that reads back as the same
+//            double;
+//   binary   format="appended": the values as little-endian bytes in the file's one
+//            <AppendedData encoding="raw"> block, zlib-compressed (vtkZLibDataCompressor) when csim is
+//            built with zlib, uncompressed otherwise;
+//   raw      format="appended", never compressed: the fastest to write, the largest files.
+//
+// VTK's layout of an appended array (vtkXMLWriter, header_type="UInt64"): uncompressed, the byte count
+// then the bytes; compressed, the header [number of blocks, block size, size of a partial last block
+// (0 when the last is full), compressed size of each block] then the blocks, each the zlib stream
+// (compress2) of at most 32 KiB of the array's bytes. The offset="" of a DataArray counts from the byte
+// after the '_' that opens the appended data.
+//
+// A file is assembled by VtkFileText: arrays are encoded apart (EncodedArray) so that a series can keep
+// those that no frame changes (a mesh's points and cells) and compress them once.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace csim {
+
+enum class VtkEncoding { ascii, binary, raw };
+
+// True when this csim compresses VtkEncoding::binary (it was built with zlib).
+bool vtk_compression_available();
+
+// One encoded DataArray: its attributes without format/offset, and its data as the encoding stores it
+// (the text for ascii; header and bytes for the appended encodings).
+struct EncodedArray {
+  std::string attributes;  // type="Float64" Name="..." NumberOfComponents="3" ComponentName0="..."
+  std::string data;
+  std::size_t values = 0;  // number of values (tuples × components)
+};
+
+// `values` of VTK type `type` ("Float64", "Int64", "Int32", "UInt8"), `components` per tuple; an empty
+// name gives no Name attribute (a Points array). Component names show in ParaView's array selector.
+EncodedArray encode_array(VtkEncoding encoding, const char* type, const std::string& name, int components,
+                          const std::vector<double>& values, const std::vector<std::string>& component_names = {});
+EncodedArray encode_array(VtkEncoding encoding, const char* type, const std::string& name, int components,
+                          const std::vector<std::int64_t>& values,
+                          const std::vector<std::string>& component_names = {});
+
+// The text of one VTK XML file. open() writes the root element; array() a DataArray (inline, or a
+// reference into the appended data); finish() the appended data and the closing of the root.
+class VtkFileText {
+ public:
+  explicit VtkFileText(VtkEncoding encoding) : encoding_(encoding) {}
+  // The XML declaration, `prolog` (comment lines), and <VTKFile type="TYPE" ...>.
+  void open(const std::string& type, const std::string& prolog);
+  std::string& xml() { return xml_; }  // for the elements between the arrays
+  void array(const EncodedArray& array, const char* indent = "        ");
+  std::string finish();
+
+ private:
+  VtkEncoding encoding_;
+  std::string xml_;
+  std::string appended_;
+};
+
+}  // namespace csim
