@@ -3,10 +3,10 @@
 
 Usage: paraview_vtk_test.py CSIM SCENE OUT [--set KEY=VALUE]...
 
-Runs SCENE three times with output.paraview = ascii, binary and raw into OUT/<encoding>, then for every
+Runs SCENE three times with output.paraview = ascii, binary and zlib into OUT/<encoding>, then for every
 .pvd: its DataSets, in time order, are the folder's .vtu files; each is read by
 vtkXMLUnstructuredGridReader with no error or warning, its FieldData TimeValue is the .pvd's timestep,
-and the binary and raw files hold exactly the ASCII file's points, cells (connectivity, types) and
+and the binary and zlib files hold exactly the ASCII file's points, cells (connectivity, types) and
 arrays. Exit 0 when all hold, 1 when one does not, 77 (skipped) when VTK cannot be imported.
 """
 import os
@@ -21,7 +21,7 @@ except ImportError:
     print("paraview_vtk_test: skipped, no VTK for Python (Debian's python3-vtk9)")
     sys.exit(77)
 
-ENCODINGS = ("ascii", "binary", "raw")
+ENCODINGS = ("ascii", "binary", "zlib")
 
 
 class ReadError(Exception):

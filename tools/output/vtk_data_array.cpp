@@ -70,7 +70,7 @@ std::string appended_block(const void* bytes, std::size_t size, bool compress) {
   for (std::size_t i = 0; i < words.size(); ++i) std::memcpy(out.data() + 8 * i, &words[i], 8);
   return out;
 #else
-  return appended_block(bytes, size, false);
+  throw std::logic_error("zlib-compressed ParaView files: this csim was built without zlib");
 #endif
 }
 
@@ -119,14 +119,14 @@ EncodedArray encode_array(VtkEncoding encoding, const char* type, const std::str
   if (std::string(type) != "Float64") throw std::logic_error("encode_array: doubles are written as Float64");
   EncodedArray out{attributes(type, name, components, component_names), {}, values.size()};
   if (encoding == VtkEncoding::ascii) out.data = ascii_values(values, components);
-  else out.data = appended_block(values.data(), values.size() * sizeof(double), encoding == VtkEncoding::binary);
+  else out.data = appended_block(values.data(), values.size() * sizeof(double), encoding == VtkEncoding::zlib);
   return out;
 }
 
 EncodedArray encode_array(VtkEncoding encoding, const char* type, const std::string& name, int components,
                           const std::vector<std::int64_t>& values, const std::vector<std::string>& component_names) {
   EncodedArray out{attributes(type, name, components, component_names), {}, values.size()};
-  const bool compress = encoding == VtkEncoding::binary;
+  const bool compress = encoding == VtkEncoding::zlib;
   const std::string t = type;
   if (encoding == VtkEncoding::ascii) out.data = ascii_values(values, components);
   else if (t == "Int64") out.data = integer_block<std::int64_t>(values, compress);
@@ -139,8 +139,7 @@ EncodedArray encode_array(VtkEncoding encoding, const char* type, const std::str
 void VtkFileText::open(const std::string& type, const std::string& prolog) {
   xml_ = "<?xml version=\"1.0\"?>\n" + prolog + "<VTKFile type=\"" + type +
          "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
-  if (encoding_ == VtkEncoding::binary && vtk_compression_available())
-    xml_ += " compressor=\"vtkZLibDataCompressor\"";
+  if (encoding_ == VtkEncoding::zlib) xml_ += " compressor=\"vtkZLibDataCompressor\"";
   xml_ += ">\n";
 }
 

@@ -4,9 +4,10 @@
 //   ascii    inline text, format="ascii": each value in its shortest form that reads back as the same
 //            double;
 //   binary   format="appended": the values as little-endian bytes in the file's one
-//            <AppendedData encoding="raw"> block, zlib-compressed (vtkZLibDataCompressor) when csim is
-//            built with zlib, uncompressed otherwise;
-//   raw      format="appended", never compressed: the fastest to write, the largest files.
+//            <AppendedData encoding="raw"> block, uncompressed: the fastest to write;
+//   zlib     the same, each array zlib-compressed (vtkZLibDataCompressor, level 1): about half the
+//            size of binary, at several times its cost to write (docs/output.md). Only in a csim
+//            built with zlib (vtk_compression_available()).
 //
 // VTK's layout of an appended array (vtkXMLWriter, header_type="UInt64"): uncompressed, the byte count
 // then the bytes; compressed, the header [number of blocks, block size, size of a partial last block
@@ -25,9 +26,9 @@
 
 namespace csim {
 
-enum class VtkEncoding { ascii, binary, raw };
+enum class VtkEncoding { ascii, binary, zlib };
 
-// True when this csim compresses VtkEncoding::binary (it was built with zlib).
+// True when this csim can write VtkEncoding::zlib (it was built with zlib).
 bool vtk_compression_available();
 
 // One encoded DataArray: its attributes without format/offset, and its data as the encoding stores it

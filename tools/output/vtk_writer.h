@@ -15,8 +15,8 @@
 //                                     normal, t1, t2), normal and gap (m);
 //   DIR/paraview/BODY.pvd, contacts.pvd  the collections, written when the run ends.
 //
-// The text builders take plain data and return the file's text; ParaviewSeries writes them, each file
-// atomically (atomic_file.h). Points are the reference coordinates: ParaView's "Warp By Vector" on
+// The text builders take plain data and return the file's text; ParaviewSeries (paraview_series.h)
+// writes them. Points are the reference coordinates: ParaView's "Warp By Vector" on
 // displacement shows the deformed shape.
 #pragma once
 
@@ -71,54 +71,5 @@ struct CollectionEntry {
   std::string file;
 };
 std::string pvd_collection(const std::vector<CollectionEntry>& entries);
-
-// True when the world holds at least one finite-element body: only such scenes get ParaView files.
-bool has_elastic_bodies(const World& world);
-
-// What stops the ParaView files of `world` from being written when a series has `frames` frames: an
-// elastic body whose file names would be those of another series (two names that differ only in
-// characters outside [A-Za-z0-9_.-], or a body named "contacts"), or a file name longer than a folder
-// entry may be (NAME_MAX, 255 bytes). Checked before the first step (check_outputs in run.h), so that
-// validate refuses what run would.
-struct ParaviewNameProblem {
-  std::string body;     // the body's name in the scene
-  std::string message;  // what is wrong, without the body's name
-};
-std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames);
-
-// Deletes the ParaView files of an earlier run in DIR/paraview (*.vtu, *.pvd, *.tmp), and the folder
-// when that leaves it empty, so that a new run never mixes its frames with stale ones.
-void remove_paraview_outputs(const std::string& output_directory);
-
-// The ParaView files of one run. Frames are written as they come; finish() writes the collections.
-// A series destroyed before finish() (the run stopped) deletes the frames it wrote: a failed run leaves
-// no outputs behind. Throws std::runtime_error naming the file on an I/O error.
-class ParaviewSeries {
- public:
-  ParaviewSeries(const World& world, const std::string& output_directory, VtkEncoding encoding);
-  ~ParaviewSeries();
-  ParaviewSeries(const ParaviewSeries&) = delete;
-  ParaviewSeries& operator=(const ParaviewSeries&) = delete;
-
-  // One frame of every elastic body and of the contacts, at time t (s). The element fields (stress,
-  // strain) are computed here, for the frames written only.
-  void write_frame(const World& world, const State& state, double t);
-  void finish();
-
- private:
-  struct Series {
-    int body = -1;      // index in World::bodies; −1 for the contacts
-    std::string stem;   // file-name prefix
-    std::optional<EncodedMesh> mesh;  // the body's; none for the contacts
-    std::vector<std::string> written;
-  };
-  void write(Series& series, const std::string& text);
-
-  std::string directory_;    // DIR/paraview
-  VtkEncoding encoding_;
-  std::vector<Series> series_;  // the elastic bodies, then the contacts
-  std::vector<double> times_;   // s, one per frame
-  bool finished_ = false;
-};
 
 }  // namespace csim

@@ -2,6 +2,7 @@
 
 #include "tools/output/atomic_file.h"
 #include "tools/output/json_writer.h"
+#include "tools/output/paraview_series.h"
 #include "tools/output/vtk_writer.h"
 #include "tools/run/probes.h"
 #include "tools/scene/scene_error.h"
