@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #ifdef CSIM_HAVE_ZLIB
 #include <zlib.h>
@@ -143,24 +144,29 @@ void VtkFileText::open(const std::string& type, const std::string& prolog) {
   xml_ += ">\n";
 }
 
-void VtkFileText::array(const EncodedArray& array, const char* indent) {
+template <typename A>
+void VtkFileText::put(A&& array, const char* indent) {
   xml_ += indent;
   xml_ += "<DataArray " + array.attributes;
   if (encoding_ == VtkEncoding::ascii) {
     xml_ += " format=\"ascii\">\n" + array.data + indent + "</DataArray>\n";
     return;
   }
-  xml_ += " format=\"appended\" offset=\"" + std::to_string(appended_.size()) + "\"/>\n";
-  appended_ += array.data;
+  xml_ += " format=\"appended\" offset=\"" + std::to_string(appended_size_) + "\"/>\n";
+  appended_size_ += array.data.size();
+  appended_.push_back(&keep(std::forward<A>(array)));
 }
+
+void VtkFileText::array(const EncodedArray& array, const char* indent) { put(array, indent); }
+void VtkFileText::array(EncodedArray&& array, const char* indent) { put(std::move(array), indent); }
 
 std::string VtkFileText::finish() {
   if (encoding_ == VtkEncoding::ascii) return std::move(xml_) + "</VTKFile>\n";
   std::string out;
-  out.reserve(xml_.size() + appended_.size() + 64);
+  out.reserve(xml_.size() + appended_size_ + 64);
   out += xml_;
   out += "  <AppendedData encoding=\"raw\">\n   _";
-  out += appended_;
+  for (const std::string* data : appended_) out += *data;
   out += "\n  </AppendedData>\n</VTKFile>\n";
   return out;
 }

@@ -21,6 +21,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -55,13 +56,23 @@ class VtkFileText {
   // The XML declaration, `prolog` (comment lines), and <VTKFile type="TYPE" ...>.
   void open(const std::string& type, const std::string& prolog);
   std::string& xml() { return xml_; }  // for the elements between the arrays
+  // An array the caller keeps until finish() (a series' mesh), or one handed over: its data is copied
+  // once, into the file's text.
   void array(const EncodedArray& array, const char* indent = "        ");
+  void array(EncodedArray&& array, const char* indent = "        ");
   std::string finish();
 
  private:
+  const std::string& keep(const EncodedArray& array) { return array.data; }
+  const std::string& keep(EncodedArray&& array) { return owned_.emplace_back(std::move(array.data)); }
+  template <typename A>
+  void put(A&& array, const char* indent);
+
   VtkEncoding encoding_;
   std::string xml_;
-  std::string appended_;
+  std::deque<std::string> owned_;              // the data of the arrays handed over
+  std::vector<const std::string*> appended_;   // the appended data, in order
+  std::size_t appended_size_ = 0;              // bytes
 };
 
 }  // namespace csim

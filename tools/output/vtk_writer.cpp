@@ -178,11 +178,13 @@ std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, V
   file.array(encode_array(encoding, "Float64", "normal", 3, normal));
   file.array(encode_array(encoding, "Float64", "gap", 1, gap));
   file.xml() += "      </PointData>\n";
-  const std::vector<std::int64_t> types(contacts.size(), 1);  // VTK_VERTEX
-  put_points_and_cells(file, encode_array(encoding, "Float64", "", 3, points),
-                       encode_array(encoding, "Int64", "connectivity", 1, connectivity),
-                       encode_array(encoding, "Int64", "offsets", 1, offsets),
-                       encode_array(encoding, "UInt8", "types", 1, types));
+  // Named: the file refers to their data until finish().
+  const EncodedArray point_array = encode_array(encoding, "Float64", "", 3, points),
+                     connectivity_array = encode_array(encoding, "Int64", "connectivity", 1, connectivity),
+                     offset_array = encode_array(encoding, "Int64", "offsets", 1, offsets),
+                     type_array = encode_array(encoding, "UInt8", "types", 1,
+                                               std::vector<std::int64_t>(contacts.size(), 1));  // VTK_VERTEX
+  put_points_and_cells(file, point_array, connectivity_array, offset_array, type_array);
   close_grid(file);
   return file.finish();
 }
