@@ -32,7 +32,7 @@ Dynamics::Dynamics(const World& world) : world_(world) {
   }
   const int n = world.velocity_size;
   position_of_velocity_.assign(n, -1);
-  Triplets mass, damping, stiffness;
+  Triplets mass, damping;
   for (const BodyInstance& b : world.bodies) {
     for (int c = 0; c < b.body->velocity_size(); ++c)
       if (const int coordinate = b.body->coordinate_of(c); coordinate >= 0)
@@ -42,14 +42,19 @@ Dynamics::Dynamics(const World& world) : world_(world) {
     gyroscopic_ = gyroscopic_ || b.body->has_inertial_force();
     b.body->add_mass(b.velocity_offset, mass);
     b.body->add_damping(b.velocity_offset, damping);
-    b.body->add_stiffness(b.velocity_offset, stiffness);
   }
   mass_.resize(n, n);
   mass_.setFromTriplets(mass.begin(), mass.end());
   damping_.resize(n, n);
   damping_.setFromTriplets(damping.begin(), damping.end());
-  body_stiffness_.resize(n, n);
-  body_stiffness_.setFromTriplets(stiffness.begin(), stiffness.end());
+}
+
+SparseMatrix Dynamics::body_stiffness() const {
+  Triplets stiffness;
+  for (const BodyInstance& b : world_.bodies) b.body->add_stiffness(b.velocity_offset, stiffness);
+  SparseMatrix K(size(), size());
+  K.setFromTriplets(stiffness.begin(), stiffness.end());
+  return K;
 }
 
 void Dynamics::force(double t, const Vector& q, const Vector& v, Vector& f, Vector* loads, Vector* damping) const {

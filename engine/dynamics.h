@@ -73,7 +73,9 @@ class Dynamics {
   // Tangents.
   const SparseMatrix& mass() const { return mass_; }
   const SparseMatrix& damping() const { return damping_; }       // C
-  const SparseMatrix& body_stiffness() const { return body_stiffness_; }  // the bodies' K at u = 0
+  // The bodies' K at u = 0, assembled at each call and not held here: the operators that need it keep
+  // it, so that a large FE body's K is not held once more.
+  SparseMatrix body_stiffness() const;
   void add_spring_stiffness(const Vector& q, Triplets& K) const;
   void spring_stiffness(const Vector& q, Matrix& K) const;       // dense, the springs only
   void add_stiffness(const Vector& q, Triplets& K) const;        // the bodies' tangent at q and the springs'
@@ -107,7 +109,7 @@ class Dynamics {
   const World& world_;
   std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
   std::vector<int> position_of_velocity_;
-  SparseMatrix mass_, damping_, body_stiffness_;
+  SparseMatrix mass_, damping_;
   bool constant_stiffness_ = true;
   bool has_elastic_bodies_ = false;
   bool nonlinear_ = false;

@@ -7,6 +7,40 @@
 
 namespace csim {
 
+namespace {
+
+// A sparse expression (sums of scaled matrices) evaluated entry for entry as `SparseMatrix m = expression`
+// does, by Eigen's evaluator, but counted first and stored once at its size: the assignment grows its
+// storage by doubling, to up to twice the entries (three times while it copies). lower: the entries
+// i ≥ j alone.
+template <class Expression>
+SparseMatrix evaluate_sized(const Expression& expression, bool lower) {
+  using Evaluator = Eigen::internal::evaluator<Expression>;
+  static_assert(!(Evaluator::Flags & Eigen::RowMajorBit), "column-major expressions only");
+  const Evaluator evaluator(expression);
+  const int columns = static_cast<int>(expression.cols());
+  SparseMatrix result(expression.rows(), columns);
+  int* start = result.outerIndexPtr();
+  for (int j = 0; j < columns; ++j) {
+    int count = 0;
+    for (typename Evaluator::InnerIterator it(evaluator, j); it; ++it)
+      if (!lower || it.index() >= j) ++count;
+    start[j + 1] = start[j] + count;
+  }
+  result.resizeNonZeros(start[columns]);
+  int* row = result.innerIndexPtr();
+  double* value = result.valuePtr();
+  for (int j = 0, k = 0; j < columns; ++j)
+    for (typename Evaluator::InnerIterator it(evaluator, j); it; ++it)
+      if (!lower || it.index() >= j) {
+        row[k] = static_cast<int>(it.index());
+        value[k++] = it.value();
+      }
+  return result;
+}
+
+}  // namespace
+
 StructuralOperators::StructuralOperators(const Dynamics& dynamics)
     : world_(dynamics.world()), dynamics_(dynamics) {
   const int n = world_.velocity_size;
@@ -15,13 +49,12 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
   nonlinear_ = dynamics.nonlinear();
   constant_ = dynamics.constant_stiffness();
   has_damping_ = dynamics.has_damping();
-  sparse_damping_ = dynamics.damping();
-  sparse_mass_ = dynamics.mass();
-  body_stiffness_ = dynamics.body_stiffness();
+  if (sparse_ && nonlinear_) body_stiffness_.resize(n, n);  // the tangent, at each update
+  else dynamics.body_stiffness().swap(body_stiffness_);  // Eigen 3.4's SparseMatrix has no move: swaps
   if (!sparse_) {
-    dense_mass_ = Matrix(sparse_mass_);
+    dense_mass_ = Matrix(dynamics.mass());
     dense_stiffness_ = Matrix(body_stiffness_);
-    dense_damping_ = Matrix(sparse_damping_);
+    dense_damping_ = Matrix(dynamics.damping());
   }
 }
 
@@ -36,15 +69,17 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     if (!sparse_) dense_stiffness_ = Matrix(body_stiffness_);
   }
   if (sparse_) {
-    sparse_stiffness_ = body_stiffness_;
-    if (dynamics_.has_springs()) {
+    if (dynamics_.has_springs() && !(constant_ && factored_)) {  // a constant sum is formed once
       Triplets springs;
       dynamics_.add_spring_stiffness(q, springs);
       SparseMatrix spring_matrix(world_.velocity_size, world_.velocity_size);
       spring_matrix.setFromTriplets(springs.begin(), springs.end());
-      sparse_stiffness_ += spring_matrix;
+      evaluate_sized(body_stiffness_ + spring_matrix, false).swap(sparse_stiffness_);
+      if (constant_) SparseMatrix().swap(body_stiffness_);  // freed (an assignment keeps the storage)
     }
-    const SparseMatrix A = sparse_mass_ + (h * theta) * sparse_damping_ + scale * sparse_stiffness_;
+    // CHOLMOD reads A's lower triangle only (sparse_ldlt.h): the upper one is not formed.
+    const SparseMatrix A =
+        evaluate_sized(dynamics_.mass() + (h * theta) * dynamics_.damping() + scale * stiffness(), true);
     // The symbolic analysis depends only on the pattern, which K's refresh keeps (sparse_ldlt.h).
     if (nonlinear_) factor_regularized(A);
     else sparse_factor_.factor_positive_definite(A);
@@ -94,17 +129,17 @@ void StructuralOperators::solve_in_place(Vector& x) const {
 }
 
 void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
-  if (sparse_) out.noalias() = sparse_mass_ * v;
+  if (sparse_) out.noalias() = dynamics_.mass() * v;
   else out.noalias() = dense_mass_ * v;
 }
 
 void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {
-  if (sparse_) out.noalias() = sparse_damping_ * v;
+  if (sparse_) out.noalias() = dynamics_.damping() * v;
   else out.noalias() = dense_damping_ * v;
 }
 
 void StructuralOperators::apply_stiffness(const Vector& v, Vector& out) const {
-  if (sparse_) out.noalias() = sparse_stiffness_ * v;
+  if (sparse_) out.noalias() = stiffness() * v;
   else out.noalias() = dense_stiffness_ * v;
 }
 

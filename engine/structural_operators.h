@@ -56,12 +56,16 @@ class StructuralOperators {
   long factorizations_ = 0, regularizations_ = 0;
   Matrix dense_mass_, dense_stiffness_, dense_damping_;
   Eigen::LDLT<Matrix> dense_factor_;
-  SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_, sparse_damping_;
+  // M and C are Dynamics'. body_stiffness_: the bodies' K (a finite-strain body's tangent at q), dropped
+  // by a sparse constant K with springs once their sum sparse_stiffness_ is formed; K is the one that
+  // stiffness() names. A large FE body's K-sized matrices are thus held once here, not three times.
+  SparseMatrix body_stiffness_, sparse_stiffness_;
   // CHOLMOD's simplicial LDLᵀ with its AMD ordering: the fastest single right-hand-side solve of the
   // factorizations compared (timings: docs/solver-measurements.md); for a nonlinear World its pivots
   // say whether A > 0.
   SparseLdlt sparse_factor_;
 
+  const SparseMatrix& stiffness() const { return dynamics_.has_springs() ? sparse_stiffness_ : body_stiffness_; }
   void factor_regularized(const SparseMatrix& A);
   template <class PositiveDefiniteWith>
   void regularize(double largest, PositiveDefiniteWith&& positive_definite_with);

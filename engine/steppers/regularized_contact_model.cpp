@@ -22,6 +22,7 @@ RegularizedContactModel::RegularizedContactModel(const Dynamics& dynamics, doubl
     : world_(dynamics.world()), detector_(dynamics.world()), sample_step_(sample_step) {
   double heaviest = 0.0;
   for (const BodyInstance& b : world_.bodies) heaviest = std::max(heaviest, b.body->mass());
+  const SparseMatrix body_stiffness = dynamics.body_stiffness();
   for (const ContactLaw& law : world_.contact_laws) {
     RegularizedContactLaw regularized;
     double stiffest_node = 0.0, inverse_mass = 0.0;
@@ -29,7 +30,7 @@ RegularizedContactModel::RegularizedContactModel(const Dynamics& dynamics, doubl
       const BodyInstance& b = world_.bodies[body];
       if (b.body->fixed()) continue;
       if (b.body->elastic()) {
-        stiffest_node = std::max(stiffest_node, largest_diagonal(dynamics.body_stiffness(), b));
+        stiffest_node = std::max(stiffest_node, largest_diagonal(body_stiffness, b));
         inverse_mass += 1.0 / largest_diagonal(dynamics.mass(), b);
       } else {
         inverse_mass += 1.0 / b.body->mass();

@@ -1,7 +1,10 @@
 // StructuralOperators on its own: M, K and the factored iteration matrix A = M + hθC + h²θ²K of one
-// spring element between two point masses, against the hand-written matrices.
+// spring element between two point masses, against the hand-written matrices; and the sparse path
+// (an FE body), against the dense matrices of Dynamics.
 #include "engine/structural_operators.h"
+#include "engine/bodies/fe_body.h"
 #include "engine/dynamics.h"
+#include "fem/mesh_generators.h"
 #include "tests/engine/test_worlds.h"
 
 #include <gtest/gtest.h>
@@ -73,6 +76,72 @@ TEST(StructuralOperators, SolvesWithTheIterationMatrix) {
   // K is constant (a spring between translating points): the same h keeps the factorization.
   operators.update(state.q, h, theta);
   EXPECT_EQ(operators.factorizations(), 1);
+}
+
+// A 6 × 6 quad4 square (1 m, consistent mass, Rayleigh damping, its left side held: 84 unknowns, above
+// kDenseLimit) and a 1 kg point mass at (2, 1) tied to its top right corner by a spring: M, C and K
+// overlap in every pattern the sparse path sums.
+World elastic_square_and_mass() {
+  World world;
+  world.dimension = 2;
+  const Mesh mesh = rectangle_mesh(1.0, 1.0, 6, 6, ElementType::quad4);
+  std::vector<std::pair<int, int>> fixed;
+  for (int node : mesh.node_sets.at("left"))
+    for (int c = 0; c < 2; ++c) fixed.emplace_back(node, c);
+  BodyInstance square;
+  square.name = "square";
+  square.body = std::make_unique<FeBody>(mesh, ElasticMaterial{2e5, 0.3, 1000.0}, 0.1, false, fixed, 2.0, 1e-3);
+  const int n = square.body->position_size();
+  square.reference_position = square.initial_position = square.initial_velocity = Vector::Zero(n);
+  world.bodies.push_back(std::move(square));
+  world.bodies.push_back(test::point_mass("mass", 2, 1.0, Eigen::Vector3d(2.0, 1.0, 0.0)));
+  Spring spring;
+  spring.body_a = 0;
+  spring.point_a = Eigen::Vector3d(1.0, 1.0, 0.0);
+  spring.body_b = 1;
+  spring.stiffness = 5e4;
+  world.springs.push_back(spring);
+  world.finalize_layout();
+  return world;
+}
+
+// The sparse operators keep one copy of K (the bodies' and the springs' summed once, the bodies' own
+// then dropped) and A's lower triangle only: M v, C v, K v and A⁻¹ b must still be those of the
+// full matrices, also after a new h refactors A from the kept sum.
+TEST(StructuralOperators, SparseOperatorsAreTheAssembledMatrices) {
+  const World world = elastic_square_and_mass();
+  const Dynamics dynamics(world);
+  StructuralOperators operators(dynamics);
+  const State state = test::start(world);
+  const int n = world.velocity_size;
+  ASSERT_GT(n, StructuralOperators::kDenseLimit);
+  const Matrix M(dynamics.mass()), C(dynamics.damping());
+  Matrix K;
+  dynamics.spring_stiffness(state.q, K);
+  K += Matrix(dynamics.body_stiffness());
+  ASSERT_GT(C.norm(), 0.0);
+  const double theta = 0.55;
+  const Vector b = Vector::LinSpaced(n, -1.0, 2.0);
+  for (double h : {1e-2, 3e-3}) {
+    operators.update(state.q, h, theta);
+    EXPECT_TRUE(operators.sparse());
+    EXPECT_TRUE(operators.has_damping());
+    Vector column;
+    for (int j = 0; j < n; ++j) {
+      const Vector e = Vector::Unit(n, j);
+      operators.apply_mass(e, column);
+      EXPECT_LE((column - M.col(j)).norm(), 1e-14 * M.norm()) << "column " << j << " of M";
+      operators.apply_damping(e, column);
+      EXPECT_LE((column - C.col(j)).norm(), 1e-14 * C.norm()) << "column " << j << " of C";
+      operators.apply_stiffness(e, column);
+      EXPECT_LE((column - K.col(j)).norm(), 1e-14 * K.norm()) << "column " << j << " of K";
+    }
+    const Matrix A = M + (h * theta) * C + (h * h * theta * theta) * K;
+    Vector solved = b;
+    operators.solve_in_place(solved);
+    EXPECT_LT((A * solved - b).norm(), 1e-12 * b.norm()) << "h = " << h;
+  }
+  EXPECT_EQ(operators.factorizations(), 2);
 }
 
 }  // namespace
