@@ -365,14 +365,15 @@ void ReducedCoordinates::hub_frame_columns(const Vector& q, Matrix& C) const {
 
 void ReducedCoordinates::reduce_stiffness(const Vector& q, const Vector& f, const Triplets& K, std::size_t world_from,
                                           SparseMatrix& K_z) {
-  K_z.resize(unknown_count_, unknown_count_);
+  assembly_.begin();
   if (identity_) {
-    K_z.setFromTriplets(K.begin(), K.end());
+    assembly_.add(K);
+    assembly_.finish(unknown_count_, unknown_count_, K_z);
     return;
   }
   const int n = static_cast<int>(unknown_of_.size()), hubs = static_cast<int>(hub_unknowns_.size());
-  Triplets turned;
-  add_turned_to_frame(q, K, world_from, turned);
+  turned_.clear();
+  add_turned_to_frame(q, K, world_from, turned_);
   if (hubs > 0) {
     hub_frame_columns(q, C_);
     KC_.setZero(n, hubs);
@@ -380,12 +381,10 @@ void ReducedCoordinates::reduce_stiffness(const Vector& q, const Vector& f, cons
     reaches_hub_row_.assign(n, 0);
     reaches_hub_column_.assign(n, 0);
   }
-  entries_.clear();
-  entries_.reserve(world_from + turned.size() + 2 * static_cast<std::size_t>(n * hubs) + hubs * hubs);
   // Sᵀ K' S as it is; K' C and Cᵀ K' (kept apart: K' need not be symmetric).
   auto visit = [&](const Eigen::Triplet<double>& t) {
     const int i = t.row(), j = t.col();
-    if (selected_[i] >= 0 && selected_[j] >= 0) entries_.emplace_back(selected_[i], selected_[j], t.value());
+    if (selected_[i] >= 0 && selected_[j] >= 0) assembly_.add(selected_[i], selected_[j], t.value());
     if (hubs == 0) return;
     if (floating_of_[j] >= 0) {
       for (int h = 0; h < hubs; ++h) KC_(i, h) += t.value() * C_(j, h);
@@ -397,23 +396,25 @@ void ReducedCoordinates::reduce_stiffness(const Vector& q, const Vector& f, cons
     }
   };
   for (std::size_t t = 0; t < world_from; ++t) visit(K[t]);
-  for (const auto& t : turned) visit(t);
+  for (const auto& t : turned_) visit(t);
   // Sᵀ K' C, Cᵀ K' S and Cᵀ K' C; every entry that K's pattern reaches, zero or not, so that K_z's
   // pattern stays that of K (sparse_ldlt.h analyses it again when it changes).
   for (int i = 0; i < n && hubs > 0; ++i) {
     if (selected_[i] < 0) continue;
     for (int h = 0; h < hubs; ++h) {
-      if (reaches_hub_row_[i]) entries_.emplace_back(selected_[i], hub_unknowns_[h], KC_(i, h));
-      if (reaches_hub_column_[i]) entries_.emplace_back(hub_unknowns_[h], selected_[i], CK_(i, h));
+      if (reaches_hub_row_[i]) assembly_.add(selected_[i], hub_unknowns_[h], KC_(i, h));
+      if (reaches_hub_column_[i]) assembly_.add(hub_unknowns_[h], selected_[i], CK_(i, h));
     }
   }
   if (hubs > 0) {
     const Matrix CKC = C_.transpose() * KC_;
     for (int h = 0; h < hubs; ++h)
-      for (int l = 0; l < hubs; ++l) entries_.emplace_back(hub_unknowns_[h], hub_unknowns_[l], CKC(h, l));
+      for (int l = 0; l < hubs; ++l) assembly_.add(hub_unknowns_[h], hub_unknowns_[l], CKC(h, l));
   }
-  add_geometric_stiffness(q, f, entries_);
-  K_z.setFromTriplets(entries_.begin(), entries_.end());
+  geometric_.clear();
+  add_geometric_stiffness(q, f, geometric_);
+  assembly_.add(geometric_);
+  assembly_.finish(unknown_count_, unknown_count_, K_z);
 }
 
 bool ReducedCoordinates::geometric_stiffness(const Vector& q, const Vector& f, SparseMatrix& G) const {

@@ -44,6 +44,7 @@
 #pragma once
 
 #include "engine/dynamics.h"
+#include "engine/sparse_assembly.h"
 #include "engine/sparse_row.h"
 #include "engine/world.h"
 
@@ -149,8 +150,9 @@ class ReducedCoordinates final : public BodyFrames {
   std::vector<int> floating_body_of_;
   std::vector<std::pair<int, int>> floating_bodies_;
   std::vector<int> selected_;  // S: per velocity component, its unknown in T̃ (a floating node's w), or −1
-  // reduce_stiffness' work space
-  Triplets entries_;
+  // reduce_stiffness' work space: K_z's entries come in the same order at every iterate
+  SparseAssembly assembly_;
+  Triplets turned_, geometric_;
   Matrix C_, KC_, CK_;  // C, K' C and (Cᵀ K')ᵀ
   std::vector<char> reaches_hub_row_, reaches_hub_column_;
 };

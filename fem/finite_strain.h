@@ -124,6 +124,18 @@ double assemble_finite_strain(const FiniteStrainModel& model, const Eigen::Vecto
                               Eigen::VectorXd& force,
                               std::vector<Eigen::Triplet<double>>& triplets);
 
+// The same with the tangent's rows and columns renumbered on the way, for a caller whose unknowns
+// are some of the mesh dofs: mesh dof i becomes offset + numbering[i], and an entry whose row or
+// column has numbering −1 (a fixed dof) is left out; appended to triplets, in the same order. The
+// force stays over the mesh dofs.
+struct DofNumbering {
+  const std::vector<int>& numbering;  // per mesh dof
+  int offset = 0;
+};
+double assemble_finite_strain(const FiniteStrainModel& model, const Eigen::VectorXd& displacement,
+                              Eigen::VectorXd& force, const DofNumbering& numbering,
+                              std::vector<Eigen::Triplet<double>>& triplets);
+
 // finite_strain_centroid_stress of every element, in element order.
 std::vector<Stress> cauchy_stresses(const FiniteStrainModel& model,
                                     const Eigen::VectorXd& displacement);

@@ -128,10 +128,8 @@ void FeBody::add_internal_force_and_tangent(const ConstVectorRef& q, VectorRef f
     return;
   }
   Eigen::VectorXd force;
-  Triplets element;
-  assemble_finite_strain(finite_strain_model(), full_displacement(q), force, element);
+  assemble_finite_strain(finite_strain_model(), full_displacement(q), force, {free_of_dof_, offset}, stiffness);
   f -= restrict(force);
-  append_free(element, offset, stiffness);
 }
 
 void FeBody::append_free(const Triplets& element, int offset, Triplets& stiffness) const {

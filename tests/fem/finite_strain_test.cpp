@@ -322,6 +322,41 @@ void expect_error(const std::function<void()>& call, const std::string& text) {
   }
 }
 
+// The renumbered assembly (a body's free dofs): the plain assembly's triplets with the fixed dofs left
+// out and the others renumbered, in the same order and with the same values, appended after what the
+// list held.
+TEST(FiniteStrainMesh, RenumberedAssemblyKeepsThePlainOnesEntriesInOrder) {
+  for (ElementType type : kTypes) {
+    Mesh mesh = type == ElementType::hexa8 ? test::box(2, 1, 1, 2.0, 1.0, 1.0)
+                                           : test::rectangle(type, 2, 2, 2.0, 1.0);
+    test::distort(mesh, 0.05);
+    const int n = mesh.dof_count();
+    Eigen::VectorXd u(n);
+    for (int r = 0; r < n; ++r) u(r) = 0.02 * std::sin(1.3 * r);
+    const FiniteStrainModel model{mesh, kMooneyRivlin, kThickness, FiniteStrainFormulation::standard};
+    std::vector<int> numbering(n);
+    int free = 0;
+    for (int r = 0; r < n; ++r) numbering[r] = r % 5 == 1 ? -1 : free++;  // every fifth dof fixed
+    Eigen::VectorXd force, force_numbered;
+    std::vector<Eigen::Triplet<double>> plain, numbered{{0, 0, 7.0}};
+    const double energy = assemble_finite_strain(model, u, force, plain);
+    EXPECT_EQ(assemble_finite_strain(model, u, force_numbered, {numbering, 3}, numbered), energy);
+    EXPECT_EQ((force_numbered - force).cwiseAbs().maxCoeff(), 0.0);
+    std::vector<Eigen::Triplet<double>> expected{{0, 0, 7.0}};
+    for (const auto& t : plain)
+      if (numbering[t.row()] >= 0 && numbering[t.col()] >= 0)
+        expected.emplace_back(3 + numbering[t.row()], 3 + numbering[t.col()], t.value());
+    ASSERT_EQ(numbered.size(), expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      EXPECT_EQ(numbered[k].row(), expected[k].row());
+      EXPECT_EQ(numbered[k].col(), expected[k].col());
+      EXPECT_EQ(numbered[k].value(), expected[k].value());
+    }
+    const std::vector<int> short_numbering(n - 1, 0);
+    EXPECT_THROW(assemble_finite_strain(model, u, force, {short_numbering, 0}, numbered), FemError);
+  }
+}
+
 TEST(FiniteStrainElement, InvertedElementsAndBadInputsThrow) {
   for (ElementType type : {ElementType::quad4, ElementType::quad8}) {
     Mesh mesh = test::rectangle(type, 3, 1, 3.0, 1.0);

@@ -1,0 +1,84 @@
+#include "engine/sparse_assembly.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace csim {
+
+void SparseAssembly::record(int row, int column, double value) {
+  replay_ = false;  // the entries before count_ are still the stream's: they are kept
+  if (count_ < row_.size()) {
+    row_[count_] = row;
+    column_[count_] = column;
+    value_[count_] = value;
+  } else {
+    row_.push_back(row);
+    column_.push_back(column);
+    value_.push_back(value);
+  }
+  ++count_;
+}
+
+// Each column's rows sorted, duplicates one slot: by a stable counting sort on the row, then on the
+// column, so that the entries of a slot stay in the order they came.
+void SparseAssembly::build_pattern(int rows, int columns) {
+  const std::size_t n = count_;
+  row_.resize(n);
+  column_.resize(n);
+  value_.resize(n);
+  std::vector<int> start(std::max(rows, columns) + 1), by_row(n), order(n);
+  std::fill(start.begin(), start.end(), 0);
+  for (std::size_t k = 0; k < n; ++k) ++start[row_[k] + 1];
+  for (int i = 0; i < rows; ++i) start[i + 1] += start[i];
+  for (std::size_t k = 0; k < n; ++k) by_row[start[row_[k]]++] = static_cast<int>(k);
+  std::fill(start.begin(), start.end(), 0);
+  for (std::size_t k = 0; k < n; ++k) ++start[column_[k] + 1];
+  for (int j = 0; j < columns; ++j) start[j + 1] += start[j];
+  std::vector<int> outer(start.begin(), start.begin() + columns + 1);
+  for (int k : by_row) order[start[column_[k]]++] = k;
+  // order: column-major, rows ascending, each position's entries in stream order.
+  slot_.resize(n);
+  std::vector<int> inner;
+  inner.reserve(n);
+  std::vector<int> outer_compressed(columns + 1, 0);
+  for (int j = 0; j < columns; ++j) {
+    outer_compressed[j] = static_cast<int>(inner.size());
+    int last = -1;
+    for (int p = outer[j]; p < outer[j + 1]; ++p) {
+      const int k = order[p];
+      if (row_[k] != last) {
+        inner.push_back(row_[k]);
+        last = row_[k];
+      }
+      slot_[k] = static_cast<int>(inner.size()) - 1;
+    }
+  }
+  outer_compressed[columns] = static_cast<int>(inner.size());
+  pattern_.resize(rows, columns);
+  pattern_.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+  std::copy(outer_compressed.begin(), outer_compressed.end(), pattern_.outerIndexPtr());
+  std::copy(inner.begin(), inner.end(), pattern_.innerIndexPtr());
+  std::fill(pattern_.valuePtr(), pattern_.valuePtr() + inner.size(), 0.0);
+  rows_ = rows;
+  columns_ = columns;
+  patterned_ = true;
+  ++patterns_;
+}
+
+bool SparseAssembly::finish(int rows, int columns, SparseMatrix& matrix) {
+  const bool rebuilt = !replay_ || count_ != row_.size() || rows != rows_ || columns != columns_;
+  if (rebuilt) build_pattern(rows, columns);
+  // matrix keeps the pattern unless someone changed it since (then it gets it again).
+  const Eigen::Index nonzeros = pattern_.nonZeros();
+  const bool same = matrix.isCompressed() && matrix.rows() == rows && matrix.cols() == columns &&
+                    matrix.nonZeros() == nonzeros &&
+                    std::memcmp(matrix.outerIndexPtr(), pattern_.outerIndexPtr(), sizeof(int) * (columns + 1)) == 0 &&
+                    std::memcmp(matrix.innerIndexPtr(), pattern_.innerIndexPtr(), sizeof(int) * nonzeros) == 0;
+  if (!same) matrix = pattern_;
+  double* values = matrix.valuePtr();
+  std::fill(values, values + nonzeros, 0.0);
+  for (std::size_t k = 0; k < count_; ++k) values[slot_[k]] += value_[k];
+  return rebuilt;
+}
+
+}  // namespace csim
