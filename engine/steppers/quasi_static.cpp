@@ -19,6 +19,30 @@ constexpr int kHeldRounds = 4;         // solves again after dropping let-go row
 constexpr int kCompliancePasses = 20;  // penalty friction: solves again at the new normal forces, at most
 constexpr double kComplianceTolerance = 1e-8;  // … until they change by less (over the largest)
 
+// Whether a and b are compressed with the same pattern.
+bool same_pattern(const SparseMatrix& a, const SparseMatrix& b) {
+  return a.isCompressed() && b.isCompressed() && a.rows() == b.rows() && a.cols() == b.cols() &&
+         a.nonZeros() == b.nonZeros() &&
+         std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.cols() + 1, b.outerIndexPtr()) &&
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+}
+
+// values ← S's entries at their places in pattern's values array (zero elsewhere); false when an entry
+// of S falls outside pattern (compressed, rows sorted in each column, as setFromTriplets leaves them).
+bool values_in_pattern(const SparseMatrix& pattern, const SparseMatrix& S, Vector& values) {
+  values.setZero(pattern.nonZeros());
+  const int* inner = pattern.innerIndexPtr();
+  for (int j = 0; j < S.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(S, j); it; ++it) {
+      const int* first = inner + pattern.outerIndexPtr()[j];
+      const int* last = inner + pattern.outerIndexPtr()[j + 1];
+      const int* found = std::lower_bound(first, last, static_cast<int>(it.row()));
+      if (found == last || *found != it.row()) return false;
+      values(found - inner) = it.value();
+    }
+  return true;
+}
+
 ReducedCoordinates reduce(const World& world, double t) {
   try {
     return ReducedCoordinates(world, t);
@@ -133,16 +157,36 @@ bool QuasiStatic::factor_stiffness() {
   if (!augmented.empty() && (!hub || sticking)) {
     SparseMatrix HtH(K_z_.rows(), K_z_.cols());
     HtH.setFromTriplets(augmented.begin(), augmented.end());
-    SparseMatrix base = K_z_;
+    SparseMatrix G;
+    bool geometric = false;
     if (hub) {
       update_contact_force();  // the warm start's, or the last round's
-      SparseMatrix G;
-      if (reduced_.geometric_stiffness(q_, contact_force_, G)) base += G;
+      geometric = reduced_.geometric_stiffness(q_, contact_force_, G);
     }
-    for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
-      if (factor_.factor_positive_definite(base + rho * HtH)) {
-        f_aug_ = f_z_ - rho * load;
-        return true;
+    // K_z + G + ρ HᵀH on K_z's own pattern, value by value, when G and HᵀH fall inside it (a node
+    // contact's rows sit in its node's block and the hub's columns): the same sums as the sparse ones
+    // below, without merging patterns at every ρ.
+    if (values_in_pattern(K_z_, HtH, held_values_) && (!geometric || values_in_pattern(K_z_, G, geometric_values_))) {
+      if (!same_pattern(held_matrix_, K_z_)) held_matrix_ = K_z_;
+      const Eigen::Index nonzeros = K_z_.nonZeros();
+      const Eigen::Map<const Vector> stiffness(K_z_.valuePtr(), nonzeros);
+      Eigen::Map<Vector> held(held_matrix_.valuePtr(), nonzeros);
+      base_values_ = geometric ? Vector(stiffness + geometric_values_) : Vector(stiffness);
+      for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
+        held = base_values_ + rho * held_values_;
+        if (factor_.factor_positive_definite(held_matrix_)) {
+          f_aug_ = f_z_ - rho * load;
+          return true;
+        }
+      }
+    } else {
+      SparseMatrix base = K_z_;
+      if (geometric) base += G;
+      for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
+        if (factor_.factor_positive_definite(base + rho * HtH)) {
+          f_aug_ = f_z_ - rho * load;
+          return true;
+        }
       }
     }
   }
