@@ -225,10 +225,17 @@ Eigen::Matrix3d ReducedCoordinates::relative_rotation(const Hub& hub, const Eige
   return pose.linear() * hub.rotation_ref.transpose();
 }
 
-PointJacobian ReducedCoordinates::hub_columns(const Floating& node, const Vector& q, const Eigen::Isometry3d& pose) const {
+PointJacobian ReducedCoordinates::hub_columns(const Floating& node, const Vector& q,
+                                              const Eigen::Isometry3d& inverse_pose) const {
   const BodyInstance& rigid = world_->bodies[hubs_[node.hub].body];
   return rigid.body->point_jacobian(q.segment(rigid.position_offset, rigid.body->position_size()),
-                                    pose.inverse() * node_position(node, q));
+                                    inverse_pose * node_position(node, q));
+}
+
+std::vector<Eigen::Isometry3d> ReducedCoordinates::inverses(const std::vector<Eigen::Isometry3d>& poses) {
+  std::vector<Eigen::Isometry3d> inverse(poses.size());
+  for (std::size_t h = 0; h < poses.size(); ++h) inverse[h] = poses[h].inverse();
+  return inverse;
 }
 
 void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vector& forces) const {
@@ -236,11 +243,11 @@ void ReducedCoordinates::prescribed_forces(const Vector& q, const Vector& f, Vec
   forces.setZero(n);
   for (int i = 0; i < n; ++i)
     if (prescription_of_[i] >= 0) forces(i) = f(i);
-  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
+  const std::vector<Eigen::Isometry3d> inverse = inverses(hub_poses(q));
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const PointJacobian J = hub_columns(node, q, poses[node.hub]);
+    const PointJacobian J = hub_columns(node, q, inverse[node.hub]);
     const Eigen::Vector3d force = node_force(node, f);
     for (int k = 0; k < J.count; ++k) {
       const int i = rigid.velocity_offset + J.index[k];
@@ -255,13 +262,13 @@ void ReducedCoordinates::tangent(const Vector& q, SparseRowMatrix& T) const {
   entries.reserve(n + 9 * floating_.size());
   for (int i = 0; i < n; ++i)
     if (unknown_of_[i] >= 0 && floating_of_[i] < 0) entries.emplace_back(i, unknown_of_[i], 1.0);
-  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q), inverse = inverses(poses);
   for (const Floating& f : floating_) {
     const Hub& hub = hubs_[f.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
     const Eigen::Isometry3d& pose = poses[f.hub];
     const Eigen::Matrix3d relative = relative_rotation(hub, pose);
-    const PointJacobian J = hub_columns(f, q, pose);
+    const PointJacobian J = hub_columns(f, q, inverse[f.hub]);
     for (int c = 0; c < 3; ++c) {
       if (f.dof[c] < 0) continue;
       for (int k = 0; k < J.count; ++k) {
@@ -345,13 +352,13 @@ void ReducedCoordinates::add_turned_to_frame(const Vector& q, const Triplets& K,
 
 void ReducedCoordinates::hub_frame_columns(const Vector& q, Matrix& C) const {
   C.setZero(static_cast<Eigen::Index>(unknown_of_.size()), static_cast<Eigen::Index>(hub_unknowns_.size()));
-  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
+  const std::vector<Eigen::Isometry3d> poses = hub_poses(q), inverse = inverses(poses);
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
     const Eigen::Isometry3d& pose = poses[node.hub];
     const Eigen::Matrix3d relative = relative_rotation(hub, pose);
-    const PointJacobian J = hub_columns(node, q, pose);
+    const PointJacobian J = hub_columns(node, q, inverse[node.hub]);
     for (int k = 0; k < J.count; ++k) {
       const int u = unknown_of_[rigid.velocity_offset + J.index[k]];
       if (u < 0) continue;

@@ -122,8 +122,10 @@ class ReducedCoordinates final : public BodyFrames {
   Eigen::Vector3d node_position(const Floating& node, const Vector& q) const;  // x_a at q (m)
   // R_rel = R_B R_B,ref⁻¹, the hub's rotation since the reference, at its pose.
   Eigen::Matrix3d relative_rotation(const Hub& hub, const Eigen::Isometry3d& pose) const;
-  // ∂x_a/∂(hub velocity components): the node moves as the hub's material point at its place.
-  PointJacobian hub_columns(const Floating& node, const Vector& q, const Eigen::Isometry3d& pose) const;
+  // ∂x_a/∂(hub velocity components): the node moves as the hub's material point at its place (its
+  // body-frame position from the inverse of the hub's pose, inverted once per hub, not per node).
+  PointJacobian hub_columns(const Floating& node, const Vector& q, const Eigen::Isometry3d& inverse_pose) const;
+  static std::vector<Eigen::Isometry3d> inverses(const std::vector<Eigen::Isometry3d>& poses);
   Eigen::Vector3d node_force(const Floating& node, const Vector& f) const;
   // Throws unless the hub's frame keeps component c of the tied body's nodes where it is.
   void check_fixed_component(const Hub& hub, int c, const std::string& body_name) const;

@@ -202,21 +202,28 @@ struct ElementPoints {
   double size = 1.0;                                                       // ℓ, m
 };
 
-template <class E>
+// The positions, centroid and size only for a dilatation of more than one mode (the only reader of
+// them: dilatation_basis), so that the standard and mean-dilatation kernels skip them and their pow.
+template <class E, int Modes>
 ElementPoints<E> element_points(const typename E::Gradients& X, const typename E::Nodal& u,
                                 const KernelInput& in) {
+  constexpr bool positions = Modes > 1;
   const Reference<E>& ref = reference<E>();
   ElementPoints<E> points;
   points.centroid.setZero();
   for (int g = 0; g < E::points; ++g) {
     points.kinematics[g] = kinematics<E>(X, u, ref.derivatives[g], ref.weight[g], in.scale,
                                          in.element, ref.natural[g]);
-    points.position[g] = X.transpose() * ref.values[g];
     points.volume += points.kinematics[g].volume;
-    points.centroid += points.kinematics[g].volume * points.position[g];
+    if constexpr (positions) {
+      points.position[g] = X.transpose() * ref.values[g];
+      points.centroid += points.kinematics[g].volume * points.position[g];
+    }
   }
-  points.centroid /= points.volume;
-  points.size = std::pow(points.volume / in.scale, 1.0 / E::dimension);
+  if constexpr (positions) {
+    points.centroid /= points.volume;
+    points.size = std::pow(points.volume / in.scale, 1.0 / E::dimension);
+  }
   return points;
 }
 
@@ -260,7 +267,7 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
   constexpr int D = E::dimension;
   constexpr bool split = Modes > 0;
   constexpr int M = split ? Modes : 1;
-  const ElementPoints<E> points = element_points<E>(X, u, in);
+  const ElementPoints<E> points = element_points<E, Modes>(X, u, in);
   Dilatation<E::points, M> dilatation;
   if constexpr (split) dilatation = project_dilatation<E, M>(points, in);
 
@@ -326,7 +333,7 @@ void evaluate(const typename E::Gradients& X, const typename E::Nodal& u, const 
 template <class E, int Modes>
 double centroid_pressure(const typename E::Gradients& X, const typename E::Nodal& u,
                          const KernelInput& in) {
-  const ElementPoints<E> points = element_points<E>(X, u, in);
+  const ElementPoints<E> points = element_points<E, Modes>(X, u, in);
   const Dilatation<E::points, Modes> d = project_dilatation<E, Modes>(points, in);
   const Eigen::Matrix<double, E::dimension, 1> centre = X.transpose() * reference<E>().centre;
   return dilatation_basis<Modes>(centre, points.centroid, points.size).dot(d.pressure);
