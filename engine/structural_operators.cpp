@@ -19,8 +19,8 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
   sparse_ = n > kDenseLimit;
   has_stiffness_ = dynamics.has_stiffness();
   nonlinear_ = dynamics.nonlinear();
-  constant_ = dynamics.constant_stiffness();
   has_damping_ = dynamics.has_damping();
+  factored_coordinates_.resize(dynamics.spring_stiffness_coordinates().size());
   sparse_damping_ = dynamics.damping();
   sparse_mass_ = dynamics.mass();
   body_stiffness_ = dynamics.body_stiffness();
@@ -33,8 +33,19 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
 
 StructuralOperators::~StructuralOperators() = default;
 
+// K(q) of a linear World is a function of the springs' orientation coordinates alone
+// (Dynamics::spring_stiffness_coordinates): when they, h and θ are what A was factored with, A is
+// the same to the bit and is kept (a shoe that slides without turning keeps its factorization).
+bool StructuralOperators::factored_for(const Vector& q, double h, double theta) const {
+  if (!factored_ || nonlinear_ || h != factored_h_ || theta != factored_theta_) return false;
+  const std::vector<int>& coordinates = dynamics_.spring_stiffness_coordinates();
+  for (std::size_t i = 0; i < coordinates.size(); ++i)
+    if (q(coordinates[i]) != factored_coordinates_[i]) return false;
+  return true;
+}
+
 void StructuralOperators::update(const Vector& q, double h, double theta) {
-  if (factored_ && constant_ && h == factored_h_ && theta == factored_theta_) return;
+  if (factored_for(q, h, theta)) return;
   const auto start = std::chrono::steady_clock::now();
   const double scale = h * h * theta * theta;
   if (nonlinear_) {  // the bodies' tangent at q (a linear body's K is its tangent)
@@ -65,7 +76,10 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       dynamics_.spring_stiffness(q, dense_stiffness_);
       if (body_stiffness_.nonZeros() > 0) dense_stiffness_ += body_stiffness_;
     }
-    const Matrix A = dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_;
+    Matrix& A = dense_iteration_;  // a member: no allocation once sized
+    A = dense_mass_;
+    if (has_damping_) A += (h * theta) * dense_damping_;
+    A += scale * dense_stiffness_;
     dense_factor_.compute(A);
     if (nonlinear_ && !(dense_factor_.vectorD().array() > 0.0).all()) {
       const Matrix identity = Matrix::Identity(A.rows(), A.cols());
@@ -76,6 +90,8 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     }
   }
   factored_ = true;
+  for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
+    factored_coordinates_[i] = q(dynamics_.spring_stiffness_coordinates()[i]);
   ++factorizations_;
   factored_h_ = h;
   factored_theta_ = theta;

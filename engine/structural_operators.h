@@ -2,7 +2,7 @@
 // stiffness K (N/m) of the springs and of the elastic bodies, their viscous damping C (N·s/m: Rayleigh
 // damping of elastic bodies), and the factored iteration matrix
 //   A = M + hθ C + h²θ² K
-// of the θ-method. Small systems (up to kDenseLimit unknowns, all lumped scenes) are dense, because a
+// of the θ-method, refactored only when K, h or θ changed. Small systems (up to kDenseLimit unknowns, all lumped scenes) are dense, because a
 // lumped step must cost about a microsecond; larger ones (finite elements) are sparse and factored
 // with CHOLMOD's simplicial LDLᵀ (Debian's SuiteSparse, through Eigen's wrapper), once while K and h
 // stay the same (linear elastic bodies, springs on translating points), else at every step. With a
@@ -53,11 +53,12 @@ class StructuralOperators {
  private:
   const World& world_;
   const Dynamics& dynamics_;
-  bool sparse_, has_stiffness_, has_damping_, constant_, nonlinear_ = false;
+  bool sparse_, has_stiffness_, has_damping_, nonlinear_ = false;
   bool factored_ = false;
   double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;
   long factorizations_ = 0, regularizations_ = 0;
-  Matrix dense_mass_, dense_stiffness_, dense_damping_;
+  std::vector<double> factored_coordinates_;  // the springs' orientation coordinates A was factored at
+  Matrix dense_mass_, dense_stiffness_, dense_damping_, dense_iteration_;
   Eigen::LDLT<Matrix> dense_factor_;
   SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_, sparse_damping_;
   // CHOLMOD's simplicial LDLᵀ with its AMD ordering: the fastest single right-hand-side solve of the
@@ -67,6 +68,7 @@ class StructuralOperators {
   std::unique_ptr<CholmodFactor> sparse_factor_;
   SparseLdlt tangent_factor_;  // nonlinear worlds: its pivots say if A > 0
 
+  bool factored_for(const Vector& q, double h, double theta) const;
   void factor_regularized(const SparseMatrix& A);
   template <class PositiveDefiniteWith>
   void regularize(double largest, PositiveDefiniteWith&& positive_definite_with);

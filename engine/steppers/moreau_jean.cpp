@@ -337,7 +337,8 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
     warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
   const double t_next = state.t + parameters_.step;
   if (const std::string failure =
-          solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, state.counters);
+          solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, state.counters,
+                         &statuses_);
       !failure.empty())
     throw RunError(t_next, failure);
 }

@@ -118,6 +118,7 @@ class MoreauJean final : public Stepper {
   SecantRelaxation relaxation_;       // Newton: the length of its step (secant_relaxation.h)
   PhaseClock clock_;                  // State::timers (phase_clock.h)
   Vector f_loads_, f_total_, v_free_, v_predicted_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
+  std::vector<ContactStatus> statuses_;  // the contact solve's, kept to avoid allocation
   std::vector<ActiveContact> candidates_;
   std::vector<ActiveContact> active_;
   std::vector<SparseRow> candidate_rows_;  // rows of every candidate contact (dimension each)
