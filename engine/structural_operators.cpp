@@ -1,5 +1,7 @@
 #include "engine/structural_operators.h"
 
+#include "engine/dense_inverse.h"
+#include "engine/small_dense_products.h"
 #include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 
@@ -20,6 +22,7 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
   has_stiffness_ = dynamics.has_stiffness();
   nonlinear_ = dynamics.nonlinear();
   has_damping_ = dynamics.has_damping();
+  explicit_inverse_ = !sparse_ && !dynamics.has_elastic_bodies();
   factored_coordinates_.resize(dynamics.spring_stiffness_coordinates().size());
   sparse_damping_ = dynamics.damping();
   sparse_mass_ = dynamics.mass();
@@ -80,14 +83,7 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     A = dense_mass_;
     if (has_damping_) A += (h * theta) * dense_damping_;
     A += scale * dense_stiffness_;
-    dense_factor_.compute(A);
-    if (nonlinear_ && !(dense_factor_.vectorD().array() > 0.0).all()) {
-      const Matrix identity = Matrix::Identity(A.rows(), A.cols());
-      regularize(A.diagonal().cwiseAbs().maxCoeff(), [&](double epsilon) {
-        dense_factor_.compute(A + epsilon * identity);
-        return (dense_factor_.vectorD().array() > 0.0).all();
-      });
-    }
+    factor_dense(A);
   }
   factored_ = true;
   for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
@@ -96,6 +92,29 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
   factored_h_ = h;
   factored_theta_ = theta;
   factorization_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A lumped World's A (masses and springs: mass-dominated, well conditioned) is inverted
+// (dense_inverse.h); one that is not positive definite (springs whose geometric stiffness outweighs
+// the masses) through a pivoting LDLᵀ. A small elastic body's A is factored: h²K can make it
+// ill-conditioned, and an explicit inverse then loses digits that the factorization's solves keep
+// (fe-damped-drift's elastic energy moved by a quarter). A nonlinear World's indefinite A gets the
+// proximal term of the header.
+void StructuralOperators::factor_dense(const Matrix& A) {
+  if (explicit_inverse_) {
+    if (invert_positive_definite(A, dense_scratch_, dense_inverse_)) return;
+    dense_factor_.compute(A);
+    dense_inverse_ = dense_factor_.solve(Matrix::Identity(A.rows(), A.cols()));
+    return;
+  }
+  dense_factor_.compute(A);
+  if (nonlinear_ && !(dense_factor_.vectorD().array() > 0.0).all()) {
+    const Matrix identity = Matrix::Identity(A.rows(), A.cols());
+    regularize(A.diagonal().cwiseAbs().maxCoeff(), [&](double epsilon) {
+      dense_factor_.compute(A + epsilon * identity);
+      return (dense_factor_.vectorD().array() > 0.0).all();
+    });
+  }
 }
 
 // A (or A + ε I, see the header) into tangent_factor_.
@@ -119,22 +138,31 @@ void StructuralOperators::regularize(double largest, PositiveDefiniteWith&& posi
 void StructuralOperators::solve_in_place(Vector& x) const {
   if (sparse_ && nonlinear_) x = tangent_factor_.solve(x);
   else if (sparse_) x = sparse_factor_->factor.solve(x);
-  else dense_factor_.solveInPlace(x);
+  else if (explicit_inverse_) {
+    small_multiply(dense_inverse_, x, dense_solution_);
+    x = dense_solution_;
+  } else {
+    dense_factor_.solveInPlace(x);
+  }
+}
+
+void StructuralOperators::dense_columns(const Matrix& Ht, Matrix& G) const {
+  small_combine_columns(dense_inverse_, Ht, G);
 }
 
 void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = sparse_mass_ * v;
-  else out.noalias() = dense_mass_ * v;
+  else small_multiply(dense_mass_, v, out);
 }
 
 void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = sparse_damping_ * v;
-  else out.noalias() = dense_damping_ * v;
+  else small_multiply(dense_damping_, v, out);
 }
 
 void StructuralOperators::apply_stiffness(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = sparse_stiffness_ * v;
-  else out.noalias() = dense_stiffness_ * v;
+  else small_multiply(dense_stiffness_, v, out);
 }
 
 }  // namespace csim

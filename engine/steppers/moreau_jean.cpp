@@ -1,5 +1,6 @@
 #include "engine/steppers/moreau_jean.h"
 
+#include "engine/small_dense_products.h"
 #include "engine/steppers/contact_solve.h"
 #include "fem/mesh.h"
 
@@ -257,6 +258,21 @@ void MoreauJean::gather_columns() {
   }
 }
 
+// A lumped World keeps A⁻¹ (structural_operators.h): G = A⁻¹ Hᵀ and W = H G, symmetric, are small
+// products (small_dense_products.h), with Hᵀ's columns the problem's rows. No solve.
+void MoreauJean::dense_delassus() {
+  const int n = world_.velocity_size;
+  const int contact_rows = static_cast<int>(rows_.size());
+  const int ne = static_cast<int>(equalities_.rows.rows());
+  const int m = contact_rows + equality_count();
+  problem_columns_.setZero(n, m);  // Hᵀ
+  for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(1.0, problem_columns_.col(a));
+  if (ne > 0) problem_columns_.middleCols(contact_rows, ne) = equalities_.rows.transpose();
+  for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(1.0, problem_columns_.col(contact_rows + ne + i));
+  operators_.dense_columns(problem_columns_, dense_columns_);
+  small_symmetric_gram(problem_columns_, dense_columns_, problem_.W);
+}
+
 void MoreauJean::assemble(const State& state) {
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
@@ -282,6 +298,8 @@ void MoreauJean::assemble(const State& state) {
     if (ne > 0) problem_rows_.middleRows(d * nc, ne) = equalities_.rows;
     for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(1.0, problem_rows_.row(d * nc + ne + i));
     operators_.delassus(problem_rows_, problem_.W);
+  } else if (operators_.explicit_inverse()) {
+    dense_delassus();
   } else {
     gather_columns();
     for (int a = 0; a < m; ++a)
@@ -357,6 +375,8 @@ void MoreauJean::update(State& state) {
     for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(r_(contact_rows + ne + i), work_);
     operators_.solve_in_place(work_);
     v_next_ += work_;
+  } else if (operators_.explicit_inverse()) {
+    if (rows > 0) v_next_.noalias() += dense_columns_ * r_;  // G r
   } else {
     for (int a = 0; a < rows; ++a) v_next_ += r_(a) * *columns_[a];
   }

@@ -95,6 +95,7 @@ class MoreauJean final : public Stepper {
   int activate_missed_contacts(double h);
   void gather_columns();
   void assemble(const State& state);
+  void dense_delassus();  // W and G = A⁻¹ Hᵀ of a lumped World
   void solve(State& state, bool warm_from_state = true);
   void update(State& state);
   void integrate_positions(const Vector& q, const Vector& v_theta, Vector& out) const;
@@ -133,7 +134,7 @@ class MoreauJean final : public Stepper {
   };
   std::map<std::pair<ContactKey, int>, CachedColumn> column_cache_;
   std::vector<Vector> constraint_columns_;
-  std::vector<Vector> direct_columns_;  // small dense systems: recomputed each step, no cache
+  std::vector<Vector> direct_columns_;  // small elastic systems: recomputed each step, no cache
   long cache_factorization_ = -1;
   std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and A⁻¹ Hᵀ
   FrictionContactProblem problem_;
@@ -143,6 +144,7 @@ class MoreauJean final : public Stepper {
   TieRows ties_;
   std::vector<Vector> tie_columns_;
   Matrix problem_rows_;  // the problem's rows H (m × n), for a direct Delassus operator (structural_operators.h)
+  Matrix problem_columns_, dense_columns_;  // a lumped World's Hᵀ and G = A⁻¹ Hᵀ (n × m each)
   Vector tie_targets_, q_tie_rows_;
 };
 
