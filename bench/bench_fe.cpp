@@ -1,20 +1,26 @@
-// Speed and scale of finite-element contact (run by hand: build/bench/bench_fe [steps] [max divisions]).
-// SDNV104 with an elastic QUAD4 shoe, divisions 5 … 160 (up to about 52 000 DOFs), a fixed number of
-// steps from rest: DOFs, active contacts, factorization time, time per step by phase, peak memory.
-// "steady" is the cost of a step once W is factored and the contacts' Delassus columns are cached:
-// the difference between runs of 2N and N steps, divided by N (the one-time work cancels); "total"
-// is the plain wall time per step of the N-step run, which includes it. The phase columns are
-// sampled on one step in 16 and include the first step's one-time work: indicative only.
+// Speed and scale of finite-element contact (run by hand:
+//   OMP_NUM_THREADS=1 build/bench/bench_fe [short steps] [long steps] [repeats] [max divisions]).
+// SDNV104 with an elastic QUAD4 shoe, divisions 5 … 160 (up to about 52 000 DOFs), runs from rest:
+// DOFs, active contacts, time per step, peak memory. "steady" is the cost of a step once A is
+// factored and the contacts' Delassus entries are kept: the difference between the wall times of a
+// long and a short run, divided by the difference of their steps (the one-time work cancels), the
+// median of `repeats` pairs with its spread min–max beside it; the slope is log(steady) against
+// log(DOFs) from the previous size. "one-time" is the short run's time less its steps at the steady
+// cost: the factorization, the first contacts' Delassus entries and the set-up (median). The phase
+// columns are sampled on one step in 16 of the last long run and include the first step's one-time
+// work: indicative only.
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace {
 
@@ -24,18 +30,29 @@ double peak_memory_mb() {
   return usage.ru_maxrss / 1024.0;  // kB on Linux
 }
 
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int steps = argc > 1 ? std::atoi(argv[1]) : 200;
-  const int largest = argc > 2 ? std::atoi(argv[2]) : 160;
+  const int short_steps = argc > 1 ? std::atoi(argv[1]) : 200;
+  const int long_steps = argc > 2 ? std::atoi(argv[2]) : 1200;
+  const int repeats = argc > 3 ? std::atoi(argv[3]) : 5;
+  const int largest = argc > 4 ? std::atoi(argv[4]) : 160;
   const std::string scene_file = CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml";
-  std::printf("SDNV104 elastic shoe (QUAD4), %d steps of 1e-3 s from rest; times per step in ms\n", steps);
-  std::printf("%6s %8s %8s %10s %10s %10s %10s %10s %10s %10s %10s %9s\n", "div", "dofs", "contacts",
-              "factor (s)", "total", "steady", "free v", "detect", "assemble", "solve", "update", "peak MB");
+  std::printf("SDNV104 elastic shoe (QUAD4) from rest, steps of 1e-3 s; steady = (long − short run) / %d steps, "
+              "median of %d [min–max]; times per step in ms\n",
+              long_steps - short_steps, repeats);
+  std::printf("%5s %7s %8s %10s %22s %6s %12s %8s %8s %8s %8s %8s %8s\n", "div", "dofs", "contacts", "factor (s)",
+              "steady [min-max]", "slope", "one-time (s)", "free v", "detect", "assemble", "solve", "update",
+              "peak MB");
   double previous_dofs = 0, previous_time = 0;
   for (int divisions = 5; divisions <= largest; divisions *= 2) {
-    // The scene's checks need the whole run and fail on this short one: only the cost matters here.
+    // The scene's checks need the whole run and fail on a short one: only the cost matters here.
     const auto run = [&](int count) {
       const std::string end = std::to_string(count * 1e-3);
       // The literature checks' times must lie in the shortened window.
@@ -45,22 +62,34 @@ int main(int argc, char** argv) {
       csim::RunReport report = csim::run_scene(*scene, {});
       return std::make_pair(scene->world.velocity_size, std::move(report));
     };
-    const auto [dofs, report] = run(steps);
-    const double doubled_wall = run(2 * steps).second.wall_time;
-    const auto& s = report.state;
+    std::vector<double> steady, one_time;
+    int dofs = 0;
+    csim::RunReport last;
+    for (int r = 0; r < repeats; ++r) {
+      auto [size, brief] = run(short_steps);
+      auto [unused, full] = run(long_steps);
+      dofs = size;
+      const double per_step = (full.wall_time - brief.wall_time) / (long_steps - short_steps);
+      steady.push_back(per_step * 1e3);
+      one_time.push_back(brief.wall_time - short_steps * per_step);
+      last = std::move(full);
+    }
+    const auto& s = last.state;
     const double n = s.counters.steps;
     const auto& t = s.timers;
-    const double per_step = report.wall_time / n * 1e3;
-    const double steady = (doubled_wall - report.wall_time) / n * 1e3;
-    std::printf("%6d %8d %8.1f %10.4f %10.3f %10.3f %10.3f %10.3f %10.3f %10.3f %10.3f %9.0f", divisions, dofs,
-                s.counters.contact_points / n, s.factorization_seconds, per_step, steady,
-                t.free_velocity / n * 1e3, t.detection / n * 1e3, t.assembly / n * 1e3, t.solve / n * 1e3,
-                t.update / n * 1e3, peak_memory_mb());
-    if (previous_dofs > 0)
-      std::printf("   slope %.2f", std::log(steady / previous_time) / std::log(dofs / previous_dofs));
-    std::printf("\n");
+    const double middle = median(steady);
+    std::printf("%5d %7d %8.1f %10.4f %8.3f [%5.3f-%5.3f] %6s %12.3f %8.3f %8.3f %8.3f %8.3f %8.3f %8.0f\n",
+                divisions, dofs, s.counters.contact_points / n, s.factorization_seconds, middle,
+                *std::min_element(steady.begin(), steady.end()), *std::max_element(steady.begin(), steady.end()),
+                previous_dofs > 0 ? std::to_string(std::log(middle / previous_time) / std::log(dofs / previous_dofs))
+                                        .substr(0, 5)
+                                        .c_str()
+                                  : "",
+                median(one_time), t.free_velocity / n * 1e3, t.detection / n * 1e3, t.assembly / n * 1e3,
+                t.solve / n * 1e3, t.update / n * 1e3, peak_memory_mb());
+    std::fflush(stdout);
     previous_dofs = dofs;
-    previous_time = steady;
+    previous_time = middle;
   }
   return 0;
 }

@@ -1,9 +1,77 @@
 #include "engine/sparse_ldlt.h"
 
+#include <cholmod.h>
+
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace csim {
+
+struct SparseLdlt::Cholmod {
+  cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  // cholmod_solve2's result and work space, reused from solve to solve.
+  cholmod_dense* x = nullptr;
+  cholmod_dense* y = nullptr;
+  cholmod_dense* e = nullptr;
+  std::vector<int> inverse;  // position in the factor's order of each unknown
+
+  Cholmod() {
+    cholmod_start(&common);
+    common.supernodal = CHOLMOD_SIMPLICIAL;
+    common.final_asis = 1;  // keep LDLᵀ: D's pivots say whether A > 0
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_AMD;
+    common.print = 1;  // errors only: a non-positive pivot is an answer here, not a warning
+  }
+  ~Cholmod() {
+    if (factor) cholmod_free_factor(&factor, &common);
+    cholmod_free_dense(&x, &common);
+    cholmod_free_dense(&y, &common);
+    cholmod_free_dense(&e, &common);
+    cholmod_finish(&common);
+  }
+  int* column_start() const { return static_cast<int*>(factor->p); }
+  int* column_count() const { return static_cast<int*>(factor->nz); }
+  int* row_index() const { return static_cast<int*>(factor->i); }
+  double* values() const { return static_cast<double*>(factor->x); }
+};
+
+namespace {
+
+// A's lower triangle as CHOLMOD reads it, without a copy (A compressed).
+cholmod_sparse view_lower(const SparseMatrix& A) {
+  cholmod_sparse view{};
+  view.nrow = static_cast<std::size_t>(A.rows());
+  view.ncol = static_cast<std::size_t>(A.cols());
+  view.nzmax = static_cast<std::size_t>(A.nonZeros());
+  view.p = const_cast<int*>(A.outerIndexPtr());
+  view.i = const_cast<int*>(A.innerIndexPtr());
+  view.x = const_cast<double*>(A.valuePtr());
+  view.stype = -1;
+  view.itype = CHOLMOD_INT;
+  view.xtype = CHOLMOD_REAL;
+  view.dtype = CHOLMOD_DOUBLE;
+  view.sorted = 1;
+  view.packed = 1;
+  return view;
+}
+
+}  // namespace
+
+SparseLdlt::SparseLdlt() : cholmod_(std::make_unique<Cholmod>()) {}
+SparseLdlt::~SparseLdlt() = default;
+
+int SparseLdlt::size() const { return cholmod_->factor ? static_cast<int>(cholmod_->factor->n) : 0; }
+
+double SparseLdlt::factor_nonzeros() const {
+  if (!cholmod_->factor) return 0.0;
+  const int n = size();
+  double count = 0.0;
+  for (int j = 0; j < n; ++j) count += cholmod_->column_count()[j];
+  return count;
+}
 
 bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
   if (!A.isCompressed()) {  // a coeffRef that inserted an entry
@@ -11,32 +79,176 @@ bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
     compressed.makeCompressed();
     return factor_positive_definite(compressed);
   }
+  Cholmod& c = *cholmod_;
   const int n = static_cast<int>(A.outerSize()), nnz = static_cast<int>(A.nonZeros());
-  const bool same = static_cast<int>(outer_.size()) == n + 1 && static_cast<int>(inner_.size()) == nnz &&
+  const bool same = c.factor && static_cast<int>(outer_.size()) == n + 1 && static_cast<int>(inner_.size()) == nnz &&
                     std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
                     std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
+  cholmod_sparse view = view_lower(A);
   if (!same) {
-    factor_.analyzePattern(A);
+    if (c.factor) cholmod_free_factor(&c.factor, &c.common);
+    c.factor = cholmod_analyze(&view, &c.common);
+    if (!c.factor) throw std::runtime_error("CHOLMOD could not analyse the matrix (out of memory?)");
     outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + n + 1);
     inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + nnz);
+    c.inverse.resize(n);
+    const int* permutation = static_cast<const int*>(c.factor->Perm);
+    for (int k = 0; k < n; ++k) c.inverse[permutation[k]] = k;
     ++analyses_;
   }
-  factor_.factorize(A);
-  return factor_.info() == Eigen::Success && (factor_.vectorD().array() > 0.0).all();
+  double no_shift[2] = {0.0, 0.0};
+  cholmod_factorize_p(&view, no_shift, nullptr, 0, c.factor, &c.common);
+  ++factorizations_;
+  tree_ready_ = false;
+  if (c.common.status < CHOLMOD_OK) throw std::runtime_error("CHOLMOD could not factor the matrix (out of memory?)");
+  if (c.factor->minor != c.factor->n || c.factor->is_ll) return false;  // a zero pivot
+  const int* start = c.column_start();
+  const double* x = c.values();
+  for (int j = 0; j < n; ++j)
+    if (!(x[start[j]] > 0.0)) return false;  // D_j, first in column j of L
+  return true;
+}
+
+void SparseLdlt::solve_in_place(Vector& b) const {
+  Cholmod& c = *cholmod_;
+  cholmod_dense rhs{};
+  rhs.nrow = static_cast<std::size_t>(b.size());
+  rhs.ncol = 1;
+  rhs.nzmax = rhs.nrow;
+  rhs.d = rhs.nrow;
+  rhs.x = b.data();
+  rhs.xtype = CHOLMOD_REAL;
+  rhs.dtype = CHOLMOD_DOUBLE;
+  if (!cholmod_solve2(CHOLMOD_A, c.factor, &rhs, nullptr, &c.x, nullptr, &c.y, &c.e, &c.common))
+    throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
+  std::copy_n(static_cast<const double*>(c.x->x), b.size(), b.data());
+}
+
+Vector SparseLdlt::solve(const Vector& b) const {
+  Vector x = b;
+  solve_in_place(x);
+  return x;
+}
+
+// The parent of each column of L in the elimination tree (its first subdiagonal row: L's columns are
+// sorted, and the smallest row is taken whatever the order) and the pivots D.
+void SparseLdlt::prepare_tree() const {
+  if (tree_ready_) return;
+  const Cholmod& c = *cholmod_;
+  const int n = size();
+  const int* start = c.column_start();
+  const int* count = c.column_count();
+  const int* row = c.row_index();
+  const double* x = c.values();
+  parent_.assign(n, -1);
+  pivots_.resize(n);
+  for (int j = 0; j < n; ++j) {
+    pivots_(j) = x[start[j]];
+    int first = n;
+    for (int q = start[j] + 1; q < start[j] + count[j]; ++q) first = std::min(first, row[q]);
+    if (first < n) parent_[j] = first;
+  }
+  if (static_cast<int>(mark_.size()) != n) mark_.assign(n, 0);
+  work_.setZero(n);
+  tree_ready_ = true;
+}
+
+void SparseLdlt::forward(const int* index, const double* value, int count, ForwardColumn& y) const {
+  prepare_tree();
+  const Cholmod& c = *cholmod_;
+  // The reach: every column on the paths from the right-hand side's nonzeros to the root (marks are
+  // cleared on the way out, so that the next call starts from zero).
+  reach_.clear();
+  for (int k = 0; k < count; ++k) {
+    int j = c.inverse[index[k]];
+    work_(j) += value[k];
+    for (; j >= 0 && !mark_[j]; j = parent_[j]) {
+      mark_[j] = 1;
+      reach_.push_back(j);
+    }
+  }
+  std::sort(reach_.begin(), reach_.end());  // a column's ancestors come after it
+  const int* start = c.column_start();
+  const int* column_count = c.column_count();
+  const int* row = c.row_index();
+  const double* x = c.values();
+  y.index.resize(reach_.size());
+  y.value.resize(reach_.size());
+  for (std::size_t k = 0; k < reach_.size(); ++k) {
+    const int j = reach_[k];
+    const double yj = work_(j);
+    for (int q = start[j] + 1; q < start[j] + column_count[j]; ++q) work_(row[q]) -= x[q] * yj;
+    y.index[k] = j;
+    y.value[k] = yj;
+    work_(j) = 0.0;
+    mark_[j] = 0;
+  }
+}
+
+double SparseLdlt::delassus_entry(const ForwardColumn& a, const ForwardColumn& b) const {
+  double sum = 0.0;
+  std::size_t p = 0, q = 0;
+  while (p < a.index.size() && q < b.index.size()) {
+    if (a.index[p] < b.index[q]) {
+      ++p;
+    } else if (b.index[q] < a.index[p]) {
+      ++q;
+    } else {
+      sum += a.value[p] * b.value[q] / pivots_(a.index[p]);
+      ++p;
+      ++q;
+    }
+  }
+  return sum;
+}
+
+void SparseLdlt::back_substitute(Vector& z, Vector& x) const {
+  prepare_tree();
+  const Cholmod& c = *cholmod_;
+  const int n = size();
+  const int* start = c.column_start();
+  const int* count = c.column_count();
+  const int* row = c.row_index();
+  const double* values = c.values();
+  for (int j = n - 1; j >= 0; --j) {  // Lᵀ's row j is L's column j
+    double sum = z(j) / pivots_(j);
+    for (int q = start[j] + 1; q < start[j] + count[j]; ++q) sum -= values[q] * z(row[q]);
+    z(j) = sum;
+  }
+  x.resize(n);
+  const int* permutation = static_cast<const int*>(c.factor->Perm);
+  for (int k = 0; k < n; ++k) x(permutation[k]) = z(k);
+}
+
+void SparseLdlt::scatter_scaled(const ForwardColumn& y, Vector& x) const {
+  for (std::size_t k = 0; k < y.index.size(); ++k) x(y.index[k]) = y.value[k] / pivots_(y.index[k]);
+}
+
+double SparseLdlt::dot(const ForwardColumn& y, const Vector& x) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < y.index.size(); ++k) sum += y.value[k] * x(y.index[k]);
+  return sum;
 }
 
 void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
   const int m = static_cast<int>(H.rows()), n = static_cast<int>(H.cols());
   W.resize(m, m);
   if (m == 0) return;
-  // Y = P Hᵀ from H's nonzeros, H read along its columns (its storage order): on a large mesh the
-  // transposing copy, reading H across its columns, took a fifth of this function.
-  const auto& permutation = factor_.permutationP().indices();
+  // Y = L⁻¹ P Hᵀ, column by column from H's nonzeros.
   Y_.setZero(n, m);
-  for (int k = 0; k < n; ++k)
-    for (int a = 0; a < m; ++a)
-      if (H(a, k) != 0.0) Y_(permutation(k), a) = H(a, k);
-  factor_.matrixL().solveInPlace(Y_);
+  std::vector<int> index;
+  std::vector<double> value;
+  for (int a = 0; a < m; ++a) {
+    index.clear();
+    value.clear();
+    for (int k = 0; k < n; ++k)
+      if (H(a, k) != 0.0) {
+        index.push_back(k);
+        value.push_back(H(a, k));
+      }
+    forward(index.data(), value.data(), static_cast<int>(index.size()), column_);
+    for (std::size_t k = 0; k < column_.index.size(); ++k) Y_(column_.index[k], a) = column_.value[k];
+  }
   // The columns that reach each row of Y, gathered along Y's columns (two passes in storage order, not
   // one across them).
   row_start_.assign(n + 1, 0);
@@ -52,7 +264,7 @@ void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
   // W = Σ_i y_i y_iᵀ / D_i over the rows y_i of Y (D > 0: a positive definite factor). A row that few
   // columns reach (below the top separators of the elimination tree) adds its few products directly; the
   // denser rows, scaled by D^-1/2, go to one matrix product.
-  const Vector& D = factor_.vectorD();
+  const Vector& D = pivots_;
   W.setZero();
   rows_.clear();
   for (int i = 0; i < n; ++i) {

@@ -1,43 +1,82 @@
-// The sparse LDLᵀ factor of a symmetric matrix A (A = Pᵀ L D Lᵀ P, Eigen's SimplicialLDLT with its AMD
-// ordering), with what a Newton stepper asks of it: whether A is positive definite, solves, and the
-// Delassus operator of contact rows.
+// The sparse LDLᵀ factor of a symmetric matrix A, P A Pᵀ = L D Lᵀ (CHOLMOD's simplicial LDLᵀ from
+// Debian's SuiteSparse, its AMD ordering), with what the steppers ask of it: whether A is positive
+// definite, solves, and the Delassus operator of contact rows. One class for the linear iteration
+// matrix of finite elements, the finite-strain tangent and the quasi-static stiffness; CHOLMOD's
+// headers stay in the .cpp.
 //
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
 // iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
 // that couple nodes not yet coupled, such as a smoothed surface's, change it); they are recomputed
-// when the pattern changes, not at every factorization (2 analyses in a 68 × 10 rolling-ring run, where
-// there were 1613).
+// when the pattern changes, not at every factorization.
 //
 // Delassus operator W = H A⁻¹ Hᵀ of rows H (m × n, each row touching a few unknowns), without A⁻¹ Hᵀ:
 //   Y = L⁻¹ P Hᵀ,   W = Yᵀ D⁻¹ Y.
-// Eigen's forward substitution with a column-major L skips the zero entries of its right-hand side,
-// and P Hᵀ's columns have a handful of nonzeros whose elimination-tree paths fill part of each column
-// of Y; the backward substitution that a full solve adds reads every entry of L for every column. The
-// product Yᵀ D⁻¹ Y takes each row of Y's nonzeros only (delassus).
+// A column of P Hᵀ has a handful of nonzeros; the forward substitution fills only the union of their
+// paths to the root of the elimination tree (Gilbert & Peierls 1988; Davis, Direct Methods for Sparse
+// Linear Systems, 2006, §3.2), and reads only L's columns on it, so that a column of Y costs a small
+// part of a solve (which reads all of L twice) and holds a small part of the n entries of A⁻¹ hᵀ.
+// forward gives one such sparse column (kept by the caller, e.g. per contact; delassus_cache.h),
+// delassus_entry one entry of W from two of them, delassus all of W for dense rows H.
 #pragma once
 
 #include "engine/bodies/body.h"
 
-#include <Eigen/SparseCholesky>
+#include <memory>
 #include <vector>
 
 namespace csim {
 
 class SparseLdlt {
  public:
-  // Factors A (compressed); true when the factorization succeeded with every pivot of D positive.
+  // A sparse column of Y = L⁻¹ P hᵀ: its nonzero rows (in the factor's order, ascending) and values.
+  struct ForwardColumn {
+    std::vector<int> index;
+    std::vector<double> value;
+  };
+
+  SparseLdlt();
+  ~SparseLdlt();
+  SparseLdlt(const SparseLdlt&) = delete;
+  SparseLdlt& operator=(const SparseLdlt&) = delete;
+
+  // Factors A (compressed or not; its lower triangle is read); true when the factorization succeeded
+  // with every pivot of D positive.
   bool factor_positive_definite(const SparseMatrix& A);
-  Vector solve(const Vector& b) const { return factor_.solve(b); }  // A⁻¹ b
+  Vector solve(const Vector& b) const;  // A⁻¹ b
+  void solve_in_place(Vector& x) const;  // x ← A⁻¹ x
   // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage.
   void delassus(const Matrix& H, Matrix& W);
+  // y ← L⁻¹ P hᵀ for the row h = Σ_k value[k] e_{index[k]}ᵀ (count entries, distinct indices).
+  void forward(const int* index, const double* value, int count, ForwardColumn& y) const;
+  // y_aᵀ D⁻¹ y_b: the entry of W of the two rows whose forward columns these are.
+  double delassus_entry(const ForwardColumn& a, const ForwardColumn& b) const;
+  // x ← Pᵀ L⁻ᵀ D⁻¹ z, z in the factor's order (Σ r_a y_a of forward columns): the second half of a solve,
+  // so that A⁻¹ Hᵀ r costs a backward substitution once Y's columns are known. z is overwritten.
+  void back_substitute(Vector& z, Vector& x) const;
+  // x(i) ← y(i) / D_i on y's rows (x dense, in the factor's order): then y_bᵀ D⁻¹ y = dot(y_b, x).
+  void scatter_scaled(const ForwardColumn& y, Vector& x) const;
+  static double dot(const ForwardColumn& y, const Vector& x);
+  int size() const;                            // n
   long analyses() const { return analyses_; }  // symbolic analyses so far
+  long factorizations() const { return factorizations_; }
+  double factor_nonzeros() const;              // entries of L, its diagonal (D) included
 
  private:
-  Eigen::SimplicialLDLT<SparseMatrix> factor_;
-  std::vector<int> outer_, inner_;  // the pattern factor_ was analysed for
-  long analyses_ = 0;
-  Matrix Y_, compact_;              // delassus' work space
+  struct Cholmod;
+  std::unique_ptr<Cholmod> cholmod_;
+  std::vector<int> outer_, inner_;  // the pattern the analysis was made for
+  long analyses_ = 0, factorizations_ = 0;
+  // The elimination tree (parent of each column of L, −1 at a root) and the diagonal D, read from L
+  // after each factorization when forward asks.
+  mutable std::vector<int> parent_;
+  mutable Vector pivots_;
+  mutable bool tree_ready_ = false;
+  mutable std::vector<int> mark_, reach_;  // forward's work space: a visit mark by column, the reach
+  mutable Vector work_;                    // forward's dense work vector, zero between calls
+  Matrix Y_, compact_;                     // delassus' work space
   std::vector<int> rows_, row_start_, row_columns_, fill_;
+  ForwardColumn column_;
+  void prepare_tree() const;
 };
 
 }  // namespace csim

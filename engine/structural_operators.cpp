@@ -5,18 +5,12 @@
 #include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 
-#include <Eigen/CholmodSupport>
-
 #include <chrono>
 
 namespace csim {
 
-struct StructuralOperators::CholmodFactor {
-  Eigen::CholmodSimplicialLDLT<SparseMatrix> factor;
-};
-
 StructuralOperators::StructuralOperators(const Dynamics& dynamics)
-    : world_(dynamics.world()), dynamics_(dynamics), sparse_factor_(std::make_unique<CholmodFactor>()) {
+    : world_(dynamics.world()), dynamics_(dynamics) {
   const int n = world_.velocity_size;
   sparse_ = n > kDenseLimit;
   has_stiffness_ = dynamics.has_stiffness();
@@ -33,8 +27,6 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
     dense_damping_ = Matrix(sparse_damping_);
   }
 }
-
-StructuralOperators::~StructuralOperators() = default;
 
 // K(q) of a linear World is a function of the springs' orientation coordinates alone
 // (Dynamics::spring_stiffness_coordinates): when they, h and θ are what A was factored with, A is
@@ -67,13 +59,9 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       sparse_stiffness_ += spring_matrix;
     }
     const SparseMatrix A = sparse_mass_ + (h * theta) * sparse_damping_ + scale * sparse_stiffness_;
-    // The symbolic analysis depends only on the pattern, which K's refresh keeps.
-    if (nonlinear_) {
-      factor_regularized(A);
-    } else {
-      if (!factored_) sparse_factor_->factor.analyzePattern(A);
-      sparse_factor_->factor.factorize(A);
-    }
+    // The symbolic analysis depends only on the pattern, which K's refresh keeps (sparse_ldlt.h).
+    if (nonlinear_) factor_regularized(A);
+    else sparse_factor_.factor_positive_definite(A);
   } else {
     if (dynamics_.has_springs()) {
       dynamics_.spring_stiffness(q, dense_stiffness_);
@@ -117,9 +105,9 @@ void StructuralOperators::factor_dense(const Matrix& A) {
   }
 }
 
-// A (or A + ε I, see the header) into tangent_factor_.
+// A (or A + ε I, see the header) into sparse_factor_.
 void StructuralOperators::factor_regularized(const SparseMatrix& A) {
-  auto positive_definite = [&](const SparseMatrix& A) { return tangent_factor_.factor_positive_definite(A); };
+  auto positive_definite = [&](const SparseMatrix& A) { return sparse_factor_.factor_positive_definite(A); };
   if (positive_definite(A)) return;
   SparseMatrix identity(A.rows(), A.cols());
   identity.setIdentity();
@@ -136,8 +124,7 @@ void StructuralOperators::regularize(double largest, PositiveDefiniteWith&& posi
 }
 
 void StructuralOperators::solve_in_place(Vector& x) const {
-  if (sparse_ && nonlinear_) x = tangent_factor_.solve(x);
-  else if (sparse_) x = sparse_factor_->factor.solve(x);
+  if (sparse_) sparse_factor_.solve_in_place(x);
   else if (explicit_inverse_) {
     small_multiply(dense_inverse_, x, dense_solution_);
     x = dense_solution_;
@@ -150,19 +137,24 @@ void StructuralOperators::dense_columns(const Matrix& Ht, Matrix& G) const {
   small_combine_columns(dense_inverse_, Ht, G);
 }
 
+// A lumped World's products are compiled for its size (small_dense_products.h); a small elastic World
+// keeps Eigen's, whose summation order its results were verified with.
 void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = sparse_mass_ * v;
-  else small_multiply(dense_mass_, v, out);
+  else if (explicit_inverse_) small_multiply(dense_mass_, v, out);
+  else out.noalias() = dense_mass_ * v;
 }
 
 void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = sparse_damping_ * v;
-  else small_multiply(dense_damping_, v, out);
+  else if (explicit_inverse_) small_multiply(dense_damping_, v, out);
+  else out.noalias() = dense_damping_ * v;
 }
 
 void StructuralOperators::apply_stiffness(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = sparse_stiffness_ * v;
-  else small_multiply(dense_stiffness_, v, out);
+  else if (explicit_inverse_) small_multiply(dense_stiffness_, v, out);
+  else out.noalias() = dense_stiffness_ * v;
 }
 
 }  // namespace csim

@@ -5,22 +5,18 @@
 // of the θ-method, refactored only when K, h or θ changed. Small systems (up to kDenseLimit unknowns,
 // all lumped scenes) are dense, because a lumped step must cost well under a microsecond: a lumped
 // World (no elastic body) keeps A⁻¹ itself (dense_inverse.h), a small elastic one A's LDLᵀ; larger ones (finite elements) are sparse and factored
-// with CHOLMOD's simplicial LDLᵀ (Debian's SuiteSparse, through Eigen's wrapper), once while K and h
+// with CHOLMOD's simplicial LDLᵀ (sparse_ldlt.h), once while K and h
 // stay the same (linear elastic bodies, springs on translating points), else at every step. With a
 // finite-strain (hyperelastic) body, K is its tangent at the q of the last update: Moreau–Jean's Newton
 // iterations refresh it at every iterate. That tangent can be indefinite (a compressed body held only
 // by contacts, whose own stiffness is not in K: its sway and buckling modes), and so can A when the
 // masses are small: A then gets a proximal term ε I (engine/steppers/proximal.h: from 1e-6 · max diag A
-// grown tenfold until A is positive definite; Eigen's SimplicialLDLT, whose pivots D are checked).
+// grown tenfold until A is positive definite; the pivots D of the LDLᵀ are checked).
 // Newton's residual is exact, so the term changes the iterations' path, not the converged step.
 #pragma once
 
 #include "engine/dynamics.h"
 #include "engine/sparse_ldlt.h"
-
-#include <Eigen/SparseCholesky>
-
-#include <memory>
 
 namespace csim {
 
@@ -29,7 +25,6 @@ class StructuralOperators {
   static constexpr int kDenseLimit = 64;
 
   explicit StructuralOperators(const Dynamics& dynamics);
-  ~StructuralOperators();  // where CholmodFactor is complete
 
   // Refreshes K at q and refactors A when needed (always the first time).
   void update(const Vector& q, double h, double theta);
@@ -50,7 +45,10 @@ class StructuralOperators {
   // reused: its Delassus operator H A⁻¹ Hᵀ then comes from the forward substitution alone
   // (sparse_ldlt.h). H: rows × unknowns, dense storage.
   bool direct_delassus() const { return sparse_ && nonlinear_; }
-  void delassus(const Matrix& H, Matrix& D) { tangent_factor_.delassus(H, D); }
+  void delassus(const Matrix& H, Matrix& D) { sparse_factor_.delassus(H, D); }
+  // The sparse factor of A (sparse() only), for the Delassus operator of rows kept from step to step
+  // (delassus_cache.h).
+  const SparseLdlt& sparse_factor() const { return sparse_factor_; }
   void apply_mass(const Vector& v, Vector& out) const;       // out = M v
   void apply_stiffness(const Vector& v, Vector& out) const;  // out = K v
   void apply_damping(const Vector& v, Vector& out) const;    // out = C v
@@ -70,11 +68,9 @@ class StructuralOperators {
   mutable Vector dense_solution_;          // solve_in_place's product (one thread per stepper, as the run)
   SparseMatrix sparse_mass_, sparse_stiffness_, body_stiffness_, sparse_damping_;
   // CHOLMOD's simplicial LDLᵀ with its AMD ordering: the fastest single right-hand-side solve of the
-  // factorizations compared (timings: docs/solver-measurements.md). Defined in the .cpp, so that
-  // CHOLMOD's headers stay out of every includer.
-  struct CholmodFactor;
-  std::unique_ptr<CholmodFactor> sparse_factor_;
-  SparseLdlt tangent_factor_;  // nonlinear worlds: its pivots say if A > 0
+  // factorizations compared (timings: docs/solver-measurements.md); for a nonlinear World its pivots
+  // say whether A > 0.
+  SparseLdlt sparse_factor_;
 
   bool factored_for(const Vector& q, double h, double theta) const;
   void factor_dense(const Matrix& A);

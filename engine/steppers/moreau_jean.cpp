@@ -203,7 +203,7 @@ int MoreauJean::activate_missed_contacts(double h) {
   return static_cast<int>(missed.size());
 }
 
-// A⁻¹ hᵀ for every row of the problem, reused while the factorization and the row are the same.
+// A⁻¹ hᵀ for every row of the problem (a small dense system: a column costs less than a cache look-up).
 void MoreauJean::gather_columns() {
   const int n = world_.velocity_size;
   const int d = contact_dimension_;
@@ -211,36 +211,17 @@ void MoreauJean::gather_columns() {
   const int ne = static_cast<int>(equalities_.rows.rows());
   const int nt = ties_.size();
   if (operators_.factorizations() != cache_factorization_) {
-    column_cache_.clear();
     constraint_columns_.clear();
     cache_factorization_ = operators_.factorizations();
   }
   columns_.resize(d * nc + ne + nt);
-  if (!operators_.sparse()) {
-    // A small dense system: a column costs less than a cache look-up.
-    direct_columns_.resize(d * nc);
-    for (int a = 0; a < d * nc; ++a) {
-      direct_columns_[a].setZero(n);
-      rows_[a].scatter(1.0, direct_columns_[a]);
-      operators_.solve_in_place(direct_columns_[a]);
-      columns_[a] = &direct_columns_[a];
-    }
+  direct_columns_.resize(d * nc);
+  for (int a = 0; a < d * nc; ++a) {
+    direct_columns_[a].setZero(n);
+    rows_[a].scatter(1.0, direct_columns_[a]);
+    operators_.solve_in_place(direct_columns_[a]);
+    columns_[a] = &direct_columns_[a];
   }
-  for (auto& [key, entry] : column_cache_) entry.used = false;
-  for (int i = 0; i < nc && operators_.sparse(); ++i)
-    for (int k = 0; k < d; ++k) {
-      const SparseRow& row = rows_[d * i + k];
-      CachedColumn& entry = column_cache_[{active_[i].point.key, k}];
-      if (entry.column.size() != n || !(entry.row == row)) {
-        entry.row = row;
-        entry.column.setZero(n);
-        row.scatter(1.0, entry.column);
-        operators_.solve_in_place(entry.column);
-      }
-      entry.used = true;
-      columns_[d * i + k] = &entry.column;
-    }
-  std::erase_if(column_cache_, [](const auto& item) { return !item.second.used; });
   if (static_cast<int>(constraint_columns_.size()) != ne) {
     constraint_columns_.resize(ne);
     for (int e = 0; e < ne; ++e) {
@@ -273,6 +254,38 @@ void MoreauJean::dense_delassus() {
   small_symmetric_gram(problem_columns_, dense_columns_, problem_.W);
 }
 
+// A sparse linear World: every row of the problem in the Delassus cache, its slot in delassus_slots_.
+void MoreauJean::gather_delassus() {
+  const int d = contact_dimension_;
+  const int nc = static_cast<int>(active_.size());
+  const int ne = static_cast<int>(equalities_.rows.rows());
+  const int n = world_.velocity_size;
+  delassus_slots_.resize(d * nc + equality_count());
+  delassus_cache_.begin(operators_.sparse_factor());
+  for (int i = 0; i < nc; ++i)
+    for (int k = 0; k < d; ++k) {
+      const SparseRow& row = rows_[d * i + k];
+      delassus_slots_[d * i + k] =
+          delassus_cache_.slot({0, active_[i].point.key, k}, row.index.data(), row.value.data(), row.count);
+    }
+  for (int e = 0; e < ne; ++e) {
+    equality_index_.clear();
+    equality_value_.clear();
+    for (int j = 0; j < n; ++j)
+      if (equalities_.rows(e, j) != 0.0) {
+        equality_index_.push_back(j);
+        equality_value_.push_back(equalities_.rows(e, j));
+      }
+    delassus_slots_[d * nc + e] = delassus_cache_.slot({1, {}, e}, equality_index_.data(), equality_value_.data(),
+                                                       static_cast<int>(equality_index_.size()));
+  }
+  for (int i = 0; i < ties_.size(); ++i) {
+    const SparseRow& row = ties_.rows()[i];
+    delassus_slots_[d * nc + ne + i] = delassus_cache_.slot({2, {}, i}, row.index.data(), row.value.data(), row.count);
+  }
+  delassus_cache_.finish();
+}
+
 void MoreauJean::assemble(const State& state) {
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
@@ -300,6 +313,10 @@ void MoreauJean::assemble(const State& state) {
     operators_.delassus(problem_rows_, problem_.W);
   } else if (operators_.explicit_inverse()) {
     dense_delassus();
+  } else if (operators_.sparse()) {
+    gather_delassus();
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) problem_.W(a, b) = delassus_cache_(delassus_slots_[a], delassus_slots_[b]);
   } else {
     gather_columns();
     for (int a = 0; a < m; ++a)
@@ -366,7 +383,17 @@ void MoreauJean::update(State& state) {
   v_next_ = v_free_;
   const int rows = static_cast<int>(r_.size());
   const int contact_rows = static_cast<int>(rows_.size());
-  if (rows > 0 && operators_.sparse()) {
+  if (rows > 0 && operators_.sparse() && !operators_.direct_delassus()) {
+    // A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r): the forward columns kept for W, then a backward substitution alone.
+    const SparseLdlt& factor = operators_.sparse_factor();
+    forward_sum_.setZero(factor.size());
+    for (int a = 0; a < rows; ++a) {
+      const SparseLdlt::ForwardColumn& y = delassus_cache_.forward(delassus_slots_[a]);
+      for (std::size_t k = 0; k < y.index.size(); ++k) forward_sum_(y.index[k]) += r_(a) * y.value[k];
+    }
+    factor.back_substitute(forward_sum_, work_);
+    v_next_ += work_;
+  } else if (rows > 0 && operators_.sparse()) {
     // One solve A⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
     work_.setZero(world_.velocity_size);
     for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(r_(a), work_);
@@ -376,7 +403,9 @@ void MoreauJean::update(State& state) {
     operators_.solve_in_place(work_);
     v_next_ += work_;
   } else if (operators_.explicit_inverse()) {
-    if (rows > 0) v_next_.noalias() += dense_columns_ * r_;  // G r
+    // G r column by column, in the rows' order: a resting contact's velocity then cancels exactly, as
+    // with the factored path's columns.
+    for (int a = 0; a < rows; ++a) v_next_ += r_(a) * dense_columns_.col(a);
   } else {
     for (int a = 0; a < rows; ++a) v_next_ += r_(a) * *columns_[a];
   }
@@ -518,7 +547,7 @@ int MoreauJean::newton_iterations(State& state) {
 void MoreauJean::step(State& state) {
   // Phase timers (phase_clock.h): a linear World's step is timed on one step in kTimerSampling, the
   // last of each group, so that the first step's one-time work (the factorization, the contacts' first
-  // Delassus columns) is not counted kTimerSampling times; a Newton step is timed whole.
+  // Delassus entries) is not counted kTimerSampling times; a Newton step is timed whole.
   if (operators_.nonlinear()) clock_.start(true);
   else clock_.start(state.counters.steps % kTimerSampling == kTimerSampling - 1, kTimerSampling);
   // A prescription released over this step: its row goes.

@@ -17,11 +17,14 @@
 //                      impulse / h, is state.reactions), whose target makes them hold exactly in
 //                      position at t_{k+1}, and those of the ties (tie_rows.h), linearized at each
 //                      iterate, which hold at Newton's convergence. H is sparse (a few entries a
-//                      row), and the columns A⁻¹ hᵀ are cached by contact key while A and the row
-//                      do not change (a node sliding on a plane keeps its column), so that a step costs
-//                      O(unknowns + contacts²) once A is factored;
+//                      row). With a sparse A, W's entries are kept by row identity while A and the row
+//                      do not change (a node sliding on a plane keeps its rows; delassus_cache.h), each
+//                      row's from its forward column L⁻¹ P hᵀ, so that a step costs a solve, a
+//                      backward substitution (step 5) and O(contacts²) once A is factored, and a row
+//                      entering one sparse forward substitution;
 //   4. solve           projected Gauss–Seidel on {W, b, μ};
-//   5. update          v_{k+1} = v_free + A⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
+//   5. update          v_{k+1} = v_free + A⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1}); with a
+//                      sparse A, A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r) from the kept forward columns Y of step 3;
 //   6. post            energy balance, counters, non-finite check.
 //
 // Finite-strain bodies (nonlinear internal force f(q), tangent K_T(q)): the step is the implicit
@@ -55,6 +58,7 @@
 
 #include "contact/pgs_solver.h"
 #include "engine/contact_detector.h"
+#include "engine/delassus_cache.h"
 #include "engine/dynamics.h"
 #include "engine/structural_operators.h"
 #include "engine/tie_rows.h"
@@ -94,6 +98,7 @@ class MoreauJean final : public Stepper {
   bool closes(std::size_t k, const Vector& v, double time) const;  // candidate k, predicted gap
   int activate_missed_contacts(double h);
   void gather_columns();
+  void gather_delassus();
   void assemble(const State& state);
   void dense_delassus();  // W and G = A⁻¹ Hᵀ of a lumped World
   void solve(State& state, bool warm_from_state = true);
@@ -125,18 +130,18 @@ class MoreauJean final : public Stepper {
   std::vector<SparseRow> candidate_rows_;  // rows of every candidate contact (dimension each)
   std::vector<int> active_rows_;      // candidate index of each active contact
   std::vector<SparseRow> rows_;       // rows of the active contacts
-  // A⁻¹ hᵀ for each row of the problem: cached per (contact key, row) while the factorization and
-  // the row stay the same; the constraints' once per factorization.
-  struct CachedColumn {
-    SparseRow row;
-    Vector column;
-    bool used = false;
-  };
-  std::map<std::pair<ContactKey, int>, CachedColumn> column_cache_;
+  // Small dense systems: A⁻¹ hᵀ for each row of the problem, the contacts' recomputed each step, the
+  // constraints' once per factorization.
   std::vector<Vector> constraint_columns_;
   std::vector<Vector> direct_columns_;  // small elastic systems: recomputed each step, no cache
   long cache_factorization_ = -1;
   std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and A⁻¹ Hᵀ
+  // A sparse linear World: W kept by row identity (delassus_cache.h); each row's slot in it, and the
+  // nonzeros of an equality row.
+  DelassusCache delassus_cache_;
+  std::vector<int> delassus_slots_, equality_index_;
+  std::vector<double> equality_value_;
+  Vector forward_sum_;  // Y r, in the factor's order
   FrictionContactProblem problem_;
   EqualityRows equalities_;           // the World's constraints, then the active prescriptions (dynamics.h)
   // The ties' rows after the constraints', linearized at each iterate, their A⁻¹ tᵀ recomputed

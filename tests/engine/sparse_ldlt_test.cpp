@@ -1,9 +1,11 @@
-// The sparse LDLᵀ of the Newton steppers (engine/sparse_ldlt.h): its Delassus operator from the forward
-// substitution alone against H A⁻¹ Hᵀ from dense algebra, its positive-definiteness verdict, and the
-// reuse of its symbolic analysis while the pattern stays.
+// The sparse LDLᵀ of the steppers (engine/sparse_ldlt.h, on CHOLMOD): its Delassus operator from the
+// forward substitution alone against H A⁻¹ Hᵀ from dense algebra, its sparse forward columns, its
+// positive-definiteness verdict, and the reuse of its symbolic analysis while the pattern stays.
 #include "engine/sparse_ldlt.h"
 
 #include <gtest/gtest.h>
+
+#include <random>
 
 namespace csim {
 namespace {
@@ -87,6 +89,114 @@ TEST(SparseLdlt, AnalysesThePatternOnlyWhenItChanges) {
   EXPECT_EQ(factor.analyses(), 2);
   const Vector b = Vector::Ones(12);
   EXPECT_LE((factor.solve(b) - Matrix(coupled).ldlt().solve(b)).lpNorm<Eigen::Infinity>(), 1e-10);
+}
+
+// A random symmetric positive definite matrix with the pattern of a 2D grid's 5-point stencil (an
+// elimination tree with long paths, as a mesh has), two unknowns a node, and some random couplings.
+SparseMatrix random_grid(int side, std::mt19937& random) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const int n = 2 * side * side;
+  Triplets t;
+  auto couple = [&](int i, int j, double k) {
+    t.emplace_back(i, i, k);
+    t.emplace_back(j, j, k);
+    t.emplace_back(i, j, -k);
+    t.emplace_back(j, i, -k);
+  };
+  for (int x = 0; x < side; ++x)
+    for (int y = 0; y < side; ++y) {
+      const int node = x * side + y;
+      couple(2 * node, 2 * node + 1, 0.5 + 0.4 * uniform(random));
+      if (x + 1 < side)
+        for (int c = 0; c < 2; ++c) couple(2 * node + c, 2 * (node + side) + c, 1.5 + uniform(random));
+      if (y + 1 < side)
+        for (int c = 0; c < 2; ++c) couple(2 * node + c, 2 * (node + 1) + c, 1.5 + uniform(random));
+      for (int c = 0; c < 2; ++c) t.emplace_back(2 * node + c, 2 * node + c, 1e-2 * (1.2 + uniform(random)));
+    }
+  SparseMatrix A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+TEST(SparseLdlt, ForwardColumnsGiveTheDelassusOperatorOfARandomSparseMatrix) {
+  std::mt19937 random(31);
+  const SparseMatrix A = random_grid(12, random);
+  const int n = static_cast<int>(A.rows()), m = 9;
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  std::uniform_int_distribution<int> unknown(0, n - 1);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Matrix H = Matrix::Zero(m, n);
+  std::vector<SparseLdlt::ForwardColumn> y(m);
+  for (int a = 0; a < m; ++a) {
+    std::vector<int> index;
+    std::vector<double> value;
+    for (int k = 0; k < 1 + a % 4; ++k) {
+      const int j = unknown(random);
+      if (H(a, j) != 0.0) continue;
+      H(a, j) = uniform(random);
+      index.push_back(j);
+      value.push_back(H(a, j));
+    }
+    factor.forward(index.data(), value.data(), static_cast<int>(index.size()), y[a]);
+    EXPECT_LT(static_cast<int>(y[a].index.size()), n);  // the reach, not all of L
+    EXPECT_TRUE(std::is_sorted(y[a].index.begin(), y[a].index.end()));
+  }
+  const Matrix expected = H * Matrix(A).ldlt().solve(H.transpose());
+  const double scale = expected.lpNorm<Eigen::Infinity>();
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b) {
+      EXPECT_NEAR(factor.delassus_entry(y[a], y[b]), expected(a, b), 1e-12 * scale) << a << ", " << b;
+      EXPECT_EQ(factor.delassus_entry(y[a], y[b]), factor.delassus_entry(y[b], y[a]));
+    }
+  Matrix W;
+  factor.delassus(H, W);
+  EXPECT_LE((W - expected).lpNorm<Eigen::Infinity>(), 1e-12 * scale);
+  // A forward column is the forward substitution alone: Yᵀ D⁻¹ Y of one row against hᵀ A⁻¹ h.
+  Vector x = Vector::Zero(n);
+  factor.scatter_scaled(y[3], x);
+  EXPECT_NEAR(SparseLdlt::dot(y[5], x), expected(5, 3), 1e-12 * scale);
+  EXPECT_GE(factor.factor_nonzeros(), A.nonZeros() / 2);
+  // A⁻¹ Hᵀ r from Y r and a backward substitution.
+  const Vector r = Vector::LinSpaced(m, 0.5, -1.5);
+  Vector z = Vector::Zero(n), v;
+  for (int a = 0; a < m; ++a)
+    for (std::size_t k = 0; k < y[a].index.size(); ++k) z(y[a].index[k]) += r(a) * y[a].value[k];
+  factor.back_substitute(z, v);
+  const Vector expected_v = Matrix(A).ldlt().solve(H.transpose() * r);
+  EXPECT_LE((v - expected_v).lpNorm<Eigen::Infinity>(), 1e-11 * expected_v.lpNorm<Eigen::Infinity>());
+}
+
+TEST(SparseLdlt, SolvesLikeADenseFactorizationAfterARefactorization) {
+  std::mt19937 random(7);
+  SparseMatrix A = random_grid(6, random);
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  const Vector b = Vector::LinSpaced(A.rows(), 1.0, -2.0);
+  EXPECT_LE((factor.solve(b) - Matrix(A).ldlt().solve(b)).lpNorm<Eigen::Infinity>(), 1e-9);
+  A *= 3.0;
+  A.diagonal().array() += 0.5;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  EXPECT_EQ(factor.analyses(), 1);
+  EXPECT_EQ(factor.factorizations(), 2);
+  Vector x = b;
+  factor.solve_in_place(x);
+  EXPECT_LE((x - Matrix(A).ldlt().solve(b)).lpNorm<Eigen::Infinity>(), 1e-9);
+  // A forward column after the refactorization is the new factor's.
+  const int index[] = {5};
+  const double value[] = {1.0};
+  SparseLdlt::ForwardColumn y;
+  factor.forward(index, value, 1, y);
+  EXPECT_NEAR(factor.delassus_entry(y, y), Matrix(A).ldlt().solve(Vector::Unit(A.rows(), 5))(5), 1e-12);
+}
+
+TEST(SparseLdlt, ReportsNegativeDefiniteAndSingularMatricesAndRecovers) {
+  SparseLdlt factor;
+  const SparseMatrix A = chain(6);
+  EXPECT_FALSE(factor.factor_positive_definite(-1.0 * A));  // every pivot negative
+  EXPECT_FALSE(factor.factor_positive_definite(chain(6, 0.0, 0)));  // no wall spring: singular
+  EXPECT_TRUE(factor.factor_positive_definite(A));
+  EXPECT_EQ(factor.analyses(), 1);
 }
 
 }  // namespace

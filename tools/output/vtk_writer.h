@@ -1,5 +1,6 @@
-// ParaView output of finite-element scenes (docs/contract.md): VTK XML UnstructuredGrid files (.vtu, ASCII,
-// Float64) per output frame, and VTK Collection files (.pvd) that give ParaView each frame's real time.
+// ParaView output of finite-element scenes (docs/contract.md): VTK XML UnstructuredGrid files (.vtu,
+// Float64, in the encoding of output.paraview: vtk_data_array.h) per output frame, and VTK Collection
+// files (.pvd) that give ParaView each frame's real time.
 //
 //   DIR/paraview/BODY_NNNNNN.vtu      one per frame and elastic body: the reference mesh with point data
 //                                     displacement (m) and velocity (m/s); cell data, at each element's
@@ -14,12 +15,13 @@
 //                                     normal, t1, t2), normal and gap (m);
 //   DIR/paraview/BODY.pvd, contacts.pvd  the collections, written when the run ends.
 //
-// The text builders take plain data and return the file's text; ParaviewSeries writes them, each file
-// atomically (atomic_file.h). Points are the reference coordinates: ParaView's "Warp By Vector" on
+// The text builders take plain data and return the file's text; ParaviewSeries (paraview_series.h)
+// writes them. Points are the reference coordinates: ParaView's "Warp By Vector" on
 // displacement shows the deformed shape.
 #pragma once
 
 #include "tools/output/element_fields.h"
+#include "tools/output/vtk_data_array.h"
 #include "engine/state.h"
 #include "engine/world.h"
 #include "fem/elements.h"
@@ -41,15 +43,27 @@ double von_mises(const Stress& stress);
 // The mean pressure p = −(σxx + σyy + σzz) / 3 (Pa, compression positive) of the same.
 double mean_pressure(const Stress& stress);
 
-// One elastic body at one frame. displacement and velocity: all the mesh's dofs, node-major (m, m/s;
-// 2 or 3 per node as the mesh), fields: one stress (and strain, or none) per element, t: the frame's
-// time (s).
-std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
+// The arrays of a mesh that no frame changes (reference points, m; connectivity, offsets, cell types),
+// encoded once per series: compressing them is most of a binary frame's cost otherwise.
+struct EncodedMesh {
+  VtkEncoding encoding = VtkEncoding::ascii;
+  std::size_t points = 0, cells = 0;
+  int dofs_per_node = 0;
+  EncodedArray coordinates, connectivity, offsets, types;
+};
+EncodedMesh encode_mesh(const Mesh& mesh, VtkEncoding encoding);
+
+// One elastic body at one frame, in the mesh's encoding. displacement and velocity: all the mesh's
+// dofs, node-major (m, m/s; 2 or 3 per node as the mesh), fields: one stress (and strain, or none) per
+// element, t: the frame's time (s).
+std::string fe_body_vtu(const EncodedMesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
                         const ElementFields& fields, double t);
+std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
+                        const ElementFields& fields, double t, VtkEncoding encoding);
 
 // The contact points at one frame, each at the midpoint of its two surface points (m). Zero contacts give
 // a valid empty grid, so that every frame of the series exists.
-std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t);
+std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, VtkEncoding encoding);
 
 // A VTK Collection: one DataSet per frame, file relative to the .pvd's folder, timestep = time (s).
 struct CollectionEntry {
@@ -57,51 +71,5 @@ struct CollectionEntry {
   std::string file;
 };
 std::string pvd_collection(const std::vector<CollectionEntry>& entries);
-
-// True when the world holds at least one finite-element body: only such scenes get ParaView files.
-bool has_elastic_bodies(const World& world);
-
-// What stops the ParaView files of `world` from being written when a series has `frames` frames: an
-// elastic body whose file names would be those of another series (two names that differ only in
-// characters outside [A-Za-z0-9_.-], or a body named "contacts"), or a file name longer than a folder
-// entry may be (NAME_MAX, 255 bytes). Checked before the first step (check_outputs in run.h), so that
-// validate refuses what run would.
-struct ParaviewNameProblem {
-  std::string body;     // the body's name in the scene
-  std::string message;  // what is wrong, without the body's name
-};
-std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames);
-
-// Deletes the ParaView files of an earlier run in DIR/paraview (*.vtu, *.pvd, *.tmp), and the folder
-// when that leaves it empty, so that a new run never mixes its frames with stale ones.
-void remove_paraview_outputs(const std::string& output_directory);
-
-// The ParaView files of one run. Frames are written as they come; finish() writes the collections.
-// A series destroyed before finish() (the run stopped) deletes the frames it wrote: a failed run leaves
-// no outputs behind. Throws std::runtime_error naming the file on an I/O error.
-class ParaviewSeries {
- public:
-  ParaviewSeries(const World& world, const std::string& output_directory);
-  ~ParaviewSeries();
-  ParaviewSeries(const ParaviewSeries&) = delete;
-  ParaviewSeries& operator=(const ParaviewSeries&) = delete;
-
-  // One frame of every elastic body and of the contacts, at time t (s).
-  void write_frame(const World& world, const State& state, double t);
-  void finish();
-
- private:
-  struct Series {
-    int body = -1;      // index in World::bodies; −1 for the contacts
-    std::string stem;   // file-name prefix
-    std::vector<std::string> written;
-  };
-  void write(Series& series, const std::string& text);
-
-  std::string directory_;    // DIR/paraview
-  std::vector<Series> series_;  // the elastic bodies, then the contacts
-  std::vector<double> times_;   // s, one per frame
-  bool finished_ = false;
-};
 
 }  // namespace csim

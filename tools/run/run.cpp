@@ -2,6 +2,7 @@
 
 #include "tools/output/atomic_file.h"
 #include "tools/output/json_writer.h"
+#include "tools/output/paraview_series.h"
 #include "tools/output/vtk_writer.h"
 #include "tools/run/probes.h"
 #include "tools/scene/scene_error.h"
@@ -65,6 +66,7 @@ std::size_t output_rows(const RunSettings& run) {
 }  // namespace
 
 void check_outputs(const Scene& scene) {
+  if (!scene.run.paraview) return;  // output.paraview: none
   const auto problem = paraview_name_problem(scene.world, output_rows(scene.run));
   if (!problem) return;
   int line = 0;  // of the body's name
@@ -128,8 +130,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const double rate = std::max(run.output_rate, h);
   // ParaView frames of the elastic bodies, at the rows of probes.csv (docs/contract.md).
   std::unique_ptr<ParaviewSeries> paraview;
-  if (!options.output_directory.empty() && has_elastic_bodies(scene.world))
-    paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory);
+  if (!options.output_directory.empty() && run.paraview && has_elastic_bodies(scene.world))
+    paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory, *run.paraview);
   const auto output_row = [&](const std::vector<double>& row) {
     append_row(csv, state.t, row, report);
     if (paraview) paraview->write_frame(scene.world, state, state.t);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "tools/scene/scene_node.h"
+#include "tools/output/vtk_data_array.h"
 #include "contact/pgs_solver.h"
 #include "engine/steppers/ida_parameters.h"
 #include "engine/steppers/integrator.h"
@@ -11,6 +12,7 @@
 #include "engine/world.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -77,6 +79,8 @@ struct RunSettings {
   IdaOptions ida;                  // integrator.rtol, atol, penalty_*, epsilon, linear_solver, max_step(s)
   QuasiStaticOptions quasi_static; // integrator.contact_distance, max_cutbacks
   double output_rate = 0.0;  // s between rows of probes.csv; 0 = every step
+  // output.paraview: how the ParaView files store their arrays; none: no ParaView files.
+  std::optional<VtkEncoding> paraview = VtkEncoding::binary;
   std::vector<ProbeDefinition> probes;
   std::vector<CheckDefinition> checks;
 };

@@ -123,8 +123,16 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
 
 void read_output(const SceneNode& root, RunSettings& run) {
   const SceneNode output = root.section("output");
-  output.allow_only({"rate"});
+  output.allow_only({"rate", "paraview"});
   run.output_rate = output.non_negative("rate", run.end_time / 1000.0);
+  const std::string paraview = output.string("paraview", "binary");
+  if (paraview == "binary") run.paraview = VtkEncoding::binary;
+  else if (paraview == "zlib") run.paraview = VtkEncoding::zlib;
+  else if (paraview == "ascii") run.paraview = VtkEncoding::ascii;
+  else if (paraview == "none") run.paraview = std::nullopt;
+  else output.fail_at("paraview", "expected binary, zlib, ascii or none, not '" + paraview + "'");
+  if (run.paraview == VtkEncoding::zlib && !vtk_compression_available())
+    output.fail_at("paraview", "this csim was built without zlib (Debian's zlib1g-dev): use binary or ascii");
 }
 
 // The combinations of integrator and scene that an integrator cannot run are refused here, before the

@@ -3,10 +3,12 @@
 // law's Cauchy stress: none under a rigid motion, the closed form under a stretch, a bounded one in the
 // tied pendulum's swing), the contact writer on hand-made states, and no ParaView files for lumped
 // scenes or for a run that stopped.
+#include "tools/output/paraview_series.h"
 #include "tools/output/vtk_writer.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 #include "fem/mesh_generators.h"
+#include "tests/tools/output/vtu_reader.h"
 #include "tests/tools/output/xml_reader.h"
 
 #include <gtest/gtest.h>
@@ -41,6 +43,8 @@ std::string read_text(const fs::path& path) {
 }
 
 XmlElement read_xml(const fs::path& path) { return XmlReader(read_text(path)).document(); }
+// A .vtu in any encoding, its appended arrays decoded into their text (vtu_reader.h).
+XmlElement read_vtu(const fs::path& path) { return test_vtu::read_vtu(read_text(path)).root; }
 
 const XmlElement& piece_of(const XmlElement& vtu) { return vtu.child("UnstructuredGrid").child("Piece"); }
 
@@ -74,6 +78,13 @@ fs::path fresh_directory(const std::string& name) {
   return dir;
 }
 
+std::vector<VtkEncoding> encodings() {
+  std::vector<VtkEncoding> out{VtkEncoding::ascii, VtkEncoding::binary};
+  if (vtk_compression_available()) out.push_back(VtkEncoding::zlib);
+  return out;
+}
+const std::vector<VtkEncoding> kEncodings = encodings();
+
 // ---- the writers on plain data --------------------------------------------------------------------
 
 TEST(VtkWriter, XmlReaderRejectsMalformedText) {
@@ -96,7 +107,7 @@ TEST(VtkWriter, HeaderCommentsStayWellFormed) {
   fields.stress.push_back(Stress::Zero());
   fields.stress_description = "a -- b ---";
   const Eigen::VectorXd u = Eigen::VectorXd::Zero(8);
-  XmlReader reader(fe_body_vtu(mesh, u, u, fields, 0.0));
+  XmlReader reader(fe_body_vtu(mesh, u, u, fields, 0.0, VtkEncoding::ascii));
   EXPECT_NO_THROW(reader.document());
   ASSERT_FALSE(reader.prolog_comments().empty());
   EXPECT_EQ(reader.prolog_comments()[0], " stress: a - - b - - - ");
@@ -124,7 +135,9 @@ ActiveContact contact_at(double x, ContactStatus status, const Eigen::Vector3d& 
 TEST(VtkWriter, ContactsCarryStatusImpulseNormalAndGap) {
   const std::vector<ActiveContact> contacts{contact_at(0.5, ContactStatus::stick, {10.0, 1.5, 0.0}),
                                             contact_at(2.0, ContactStatus::slip, {20.0, -6.0, 0.0})};
-  const XmlElement piece = piece_of(XmlReader(contacts_vtu(contacts, 0.25)).document());
+  for (const VtkEncoding encoding : kEncodings) {
+  SCOPED_TRACE(static_cast<int>(encoding));
+  const XmlElement piece = piece_of(test_vtu::read_vtu(contacts_vtu(contacts, 0.25, encoding)).root);
   EXPECT_EQ(piece.attributes.at("NumberOfPoints"), "2");
   EXPECT_EQ(piece.attributes.at("NumberOfCells"), "2");
   const XmlElement& data = piece.child("PointData");
@@ -139,15 +152,18 @@ TEST(VtkWriter, ContactsCarryStatusImpulseNormalAndGap) {
   EXPECT_EQ(cells.array("connectivity").numbers(), (std::vector<double>{0, 1}));
   EXPECT_EQ(cells.array("offsets").numbers(), (std::vector<double>{1, 2}));
   EXPECT_EQ(cells.array("types").numbers(), (std::vector<double>{1, 1}));  // VTK_VERTEX
+  }
 }
 
 TEST(VtkWriter, NoContactsGiveAValidEmptyGrid) {
-  const XmlElement vtu = XmlReader(contacts_vtu({}, 0.0)).document();
-  const XmlElement& piece = piece_of(vtu);
-  EXPECT_EQ(piece.attributes.at("NumberOfPoints"), "0");
-  EXPECT_EQ(piece.attributes.at("NumberOfCells"), "0");
-  EXPECT_TRUE(piece.child("PointData").array("status").numbers().empty());
-  EXPECT_TRUE(piece.child("Cells").array("offsets").numbers().empty());
+  for (const VtkEncoding encoding : kEncodings) {
+    const XmlElement vtu = test_vtu::read_vtu(contacts_vtu({}, 0.0, encoding)).root;
+    const XmlElement& piece = piece_of(vtu);
+    EXPECT_EQ(piece.attributes.at("NumberOfPoints"), "0");
+    EXPECT_EQ(piece.attributes.at("NumberOfCells"), "0");
+    EXPECT_TRUE(piece.child("PointData").array("status").numbers().empty());
+    EXPECT_TRUE(piece.child("Cells").array("offsets").numbers().empty());
+  }
 }
 
 TEST(VtkWriter, CollectionListsFilesWithTheirTimes) {
@@ -172,12 +188,14 @@ TEST(VtkWriter, CellTypesAndThreeComponentsForEachElementType) {
     const Eigen::VectorXd u = Eigen::VectorXd::LinSpaced(d * n, 1.0, d * n);
     ElementFields fields;
     fields.stress.push_back(Stress::Zero());
-    const XmlElement piece = piece_of(XmlReader(fe_body_vtu(mesh, u, u, fields, 0.0)).document());
-    EXPECT_EQ(piece.child("Cells").array("types").numbers(), std::vector<double>{double(cell)});
-    const std::vector<double> written = piece.child("PointData").array("displacement").numbers();
-    ASSERT_EQ(written.size(), 3u * n);
-    EXPECT_EQ(written[3 * (n - 1) + 1], d * (n - 1) + 2.0);              // y of the last node
-    EXPECT_EQ(written[3 * (n - 1) + 2], d == 3 ? 3.0 * n : 0.0);         // its z
+    for (const VtkEncoding encoding : kEncodings) {
+      const XmlElement piece = piece_of(test_vtu::read_vtu(fe_body_vtu(mesh, u, u, fields, 0.0, encoding)).root);
+      EXPECT_EQ(piece.child("Cells").array("types").numbers(), std::vector<double>{double(cell)});
+      const std::vector<double> written = piece.child("PointData").array("displacement").numbers();
+      ASSERT_EQ(written.size(), 3u * n);
+      EXPECT_EQ(written[3 * (n - 1) + 1], d * (n - 1) + 2.0);              // y of the last node
+      EXPECT_EQ(written[3 * (n - 1) + 2], d == 3 ? 3.0 * n : 0.0);         // its z
+    }
   }
 }
 
@@ -209,7 +227,7 @@ TEST(VtkWriter, ElasticBarFramesMatchTheProbes) {
   for (std::size_t k = 0; k < probes.rows.size(); ++k) {
     char name[32];
     std::snprintf(name, sizeof name, "bar_%06zu.vtu", k);
-    const XmlElement piece = piece_of(read_xml(dir / "paraview" / name));
+    const XmlElement piece = piece_of(read_vtu(dir / "paraview" / name));
     ASSERT_EQ(piece.attributes.at("NumberOfPoints"), "63") << name;  // 21 × 3 nodes
     ASSERT_EQ(piece.attributes.at("NumberOfCells"), "40") << name;
     const std::vector<double> u = piece.child("PointData").array("displacement").numbers();
@@ -240,12 +258,13 @@ TEST(VtkWriter, ElasticBarFramesMatchTheProbes) {
   }
   ASSERT_NE(report.samples.back()[tip_column - 1], 0.0);  // the last frame checks a moving tip
 
-  XmlReader bar_file(read_text(dir / "paraview" / "bar_000010.vtu"));
-  bar_file.document();
-  ASSERT_FALSE(bar_file.prolog_comments().empty());
-  EXPECT_NE(bar_file.prolog_comments()[0].find("stress: linear elastic stress"), std::string::npos);
+  const test_vtu::VtuFile bar_file = test_vtu::read_vtu(read_text(dir / "paraview" / "bar_000010.vtu"));
+  EXPECT_TRUE(bar_file.appended);  // the default encoding: binary
+  EXPECT_FALSE(bar_file.compressed);
+  ASSERT_FALSE(bar_file.comments.empty());
+  EXPECT_NE(bar_file.comments[0].find("stress: linear elastic stress"), std::string::npos);
 
-  const XmlElement contacts = piece_of(read_xml(dir / "paraview" / "contacts_000010.vtu"));
+  const XmlElement contacts = piece_of(read_vtu(dir / "paraview" / "contacts_000010.vtu"));
   EXPECT_EQ(contacts.attributes.at("NumberOfPoints"), "0");  // the bar touches nothing
 }
 
@@ -296,7 +315,7 @@ TEST(VtkWriter, FiniteStrainBodyWritesTheCauchyStressOfItsLaw) {
     const FiniteStrainWorld block(std::move(mesh), material);
     const Eigen::Vector3d axis = block.world.dimension == 3 ? Eigen::Vector3d(1, -2, 2).normalized() : Eigen::Vector3d::UnitZ();
     {
-      ParaviewSeries series(block.world, dir.string());
+      ParaviewSeries series(block.world, dir.string(), VtkEncoding::ascii);
       series.write_frame(block.world, block.state_of(Eigen::AngleAxisd(M_PI / 2, axis).toRotationMatrix(), {0.3, -0.7, 0.2}), 0.0);
       series.write_frame(block.world, block.state_of(Eigen::Vector3d(a, 1.0, 1.0).asDiagonal(), Eigen::Vector3d::Zero()), 1.0);
       series.finish();
@@ -351,7 +370,7 @@ TEST(VtkWriter, TiedPendulumFramesShowTheSwingNotTheRotation) {
   ASSERT_EQ(sets.size(), report.sample_times.size());
   double largest = 0.0;
   for (const XmlElement& set : sets) {
-    const XmlElement piece = piece_of(read_xml(dir / "paraview" / set.attributes.at("file")));
+    const XmlElement piece = piece_of(read_vtu(dir / "paraview" / set.attributes.at("file")));
     const XmlElement& data = piece.child("CellData");
     ASSERT_EQ(data.array("stress").numbers().size(), 6u * 40);  // 20 × 2 quad4
     ASSERT_EQ(data.array("green_lagrange_strain").numbers().size(), 6u * 40);
@@ -390,8 +409,9 @@ TEST(VtkWriter, UnfinishedSeriesLeavesNoFiles) {
   state.q.setZero(scene->world.position_size);
   state.v.setZero(scene->world.velocity_size);
   {
-    ParaviewSeries series(scene->world, dir.string());
+    ParaviewSeries series(scene->world, dir.string(), VtkEncoding::binary);
     series.write_frame(scene->world, state, 0.0);
+    series.wait();
     EXPECT_TRUE(fs::exists(dir / "paraview" / "bar_000000.vtu"));
   }  // destroyed without finish(): as when the run stops with an error
   EXPECT_FALSE(fs::exists(dir / "paraview"));

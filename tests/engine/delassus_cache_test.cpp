@@ -1,0 +1,100 @@
+// The Delassus cache of a sparse linear World (engine/delassus_cache.h): W of the rows asked for against
+// H A⁻¹ Hᵀ from dense algebra as contacts enter, stay, change their row and leave, only the new rows'
+// entries computed, and everything dropped on a refactorization.
+#include "engine/delassus_cache.h"
+
+#include <gtest/gtest.h>
+
+namespace csim {
+namespace {
+
+// A 2D grid's 5-point stencil, one unknown a node, plus a small mass: positive definite.
+SparseMatrix grid(int side, double mass) {
+  Triplets t;
+  const int n = side * side;
+  for (int x = 0; x < side; ++x)
+    for (int y = 0; y < side; ++y) {
+      const int i = x * side + y;
+      t.emplace_back(i, i, mass);
+      for (int j : {x + 1 < side ? i + side : -1, y + 1 < side ? i + 1 : -1}) {
+        if (j < 0) continue;
+        t.emplace_back(i, i, 1.0);
+        t.emplace_back(j, j, 1.0);
+        t.emplace_back(i, j, -1.0);
+        t.emplace_back(j, i, -1.0);
+      }
+    }
+  SparseMatrix A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+struct Row {
+  DelassusCache::Key key;
+  std::vector<int> index;
+  std::vector<double> value;
+};
+
+Row contact_row(int node, int k, double slope) {
+  return {{0, {0, 1, node}, k}, {node, node + 1}, {1.0, k == 0 ? slope : -slope}};
+}
+
+// W through the cache for these rows against the dense product.
+void expect_delassus(DelassusCache& cache, const SparseLdlt& factor, const SparseMatrix& A,
+                     const std::vector<Row>& rows) {
+  cache.begin(factor);
+  std::vector<int> slots;
+  for (const Row& row : rows)
+    slots.push_back(cache.slot(row.key, row.index.data(), row.value.data(), static_cast<int>(row.index.size())));
+  cache.finish();
+  const int m = static_cast<int>(rows.size()), n = static_cast<int>(A.rows());
+  Matrix H = Matrix::Zero(m, n);
+  for (int a = 0; a < m; ++a)
+    for (std::size_t k = 0; k < rows[a].index.size(); ++k) H(a, rows[a].index[k]) = rows[a].value[k];
+  const Matrix expected = H * Matrix(A).ldlt().solve(H.transpose());
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b) {
+      EXPECT_NEAR(cache(slots[a], slots[b]), expected(a, b), 1e-12 * expected.lpNorm<Eigen::Infinity>());
+      EXPECT_EQ(cache(slots[a], slots[b]), cache(slots[b], slots[a]));
+    }
+  EXPECT_EQ(cache.rows(), rows.size());
+}
+
+TEST(DelassusCache, KeepsTheEntriesOfRowsThatStayAndComputesThoseOfRowsThatEnter) {
+  const SparseMatrix A = grid(10, 0.1);
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  DelassusCache cache;
+  std::vector<Row> rows = {contact_row(3, 0, 0.2), contact_row(3, 1, 0.2), contact_row(40, 0, 0.5)};
+  expect_delassus(cache, factor, A, rows);
+  EXPECT_EQ(cache.computed_entries(), 6);  // the 3 × 3 triangle
+  expect_delassus(cache, factor, A, rows);  // nothing new
+  EXPECT_EQ(cache.computed_entries(), 6);
+  rows.push_back(contact_row(77, 0, 0.1));  // a contact enters: one row against four
+  expect_delassus(cache, factor, A, rows);
+  EXPECT_EQ(cache.computed_entries(), 10);
+  rows.erase(rows.begin());  // one leaves, another's row changes (a node sliding onto a slope)
+  rows[1] = contact_row(40, 0, 0.7);
+  expect_delassus(cache, factor, A, rows);
+  EXPECT_EQ(cache.computed_entries(), 13);
+  rows.push_back(contact_row(3, 0, 0.2));  // back: into the freed slot, its entries computed again
+  rows.push_back(contact_row(90, 1, 0.3));
+  expect_delassus(cache, factor, A, rows);
+  EXPECT_EQ(cache.computed_entries(), 13 + 4 + 5);
+}
+
+TEST(DelassusCache, DropsEverythingWhenTheFactorIsRefactored) {
+  SparseMatrix A = grid(6, 0.1);
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  DelassusCache cache;
+  const std::vector<Row> rows = {contact_row(2, 0, 0.2), contact_row(20, 1, 0.4)};
+  expect_delassus(cache, factor, A, rows);
+  A = 2.0 * A;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  expect_delassus(cache, factor, A, rows);  // the new A's entries, not the kept ones
+  EXPECT_EQ(cache.computed_entries(), 6);
+}
+
+}  // namespace
+}  // namespace csim

@@ -1,0 +1,198 @@
+#include "tools/output/paraview_series.h"
+
+#include "engine/bodies/fe_body.h"
+#include "tools/output/atomic_file.h"
+
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+namespace csim {
+
+namespace {
+
+// A body name as a file-name prefix: characters outside [A-Za-z0-9_.-] become '_'.
+std::string file_stem(const std::string& name) {
+  std::string stem = name.empty() ? "_" : name;
+  for (char& c : stem)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-')) c = '_';
+  return stem;
+}
+
+std::string frame_name(const std::string& stem, std::size_t frame) {
+  char number[32];
+  std::snprintf(number, sizeof number, "_%06zu.vtu", frame);
+  return stem + number;
+}
+
+// The longest name a folder entry may have on Linux (NAME_MAX); a longer one fails at open().
+constexpr std::size_t kNameMax = 255;
+const char* const kTemporarySuffix = ".tmp";  // write_file_atomically's
+
+}  // namespace
+
+bool has_elastic_bodies(const World& world) {
+  for (const BodyInstance& b : world.bodies)
+    if (b.body->finite_elements()) return true;
+  return false;
+}
+
+void remove_paraview_outputs(const std::string& output_directory) {
+  const std::filesystem::path folder = std::filesystem::path(output_directory) / "paraview";
+  std::error_code error;
+  if (!std::filesystem::is_directory(folder, error)) return;
+  std::vector<std::filesystem::path> ours;  // listed first: removing while iterating is unspecified
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    const std::string extension = entry.path().extension().string();
+    if (extension == ".vtu" || extension == ".pvd" || extension == ".tmp") ours.push_back(entry.path());
+  }
+  for (const auto& path : ours) std::filesystem::remove(path, error);
+  std::filesystem::remove(folder, error);  // only succeeds when empty: files of the user's stay
+}
+
+std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames) {
+  std::map<std::string, std::string> owners{{"contacts", "the contacts' series"}};  // stem -> whose
+  for (const BodyInstance& b : world.bodies) {
+    if (!b.body->finite_elements()) continue;
+    const std::string stem = file_stem(b.name);
+    const auto [owner, added] = owners.emplace(stem, "body '" + b.name + "'");
+    if (!added)
+      return ParaviewNameProblem{b.name, "its ParaView files would be named like those of " + owner->second + " (" +
+                                             stem + "_*.vtu): rename one of them"};
+    const std::string longest = frame_name(stem, frames > 0 ? frames - 1 : 0) + kTemporarySuffix;
+    if (longest.size() > kNameMax)
+      return ParaviewNameProblem{b.name, "the name is too long for its ParaView files (" + longest.substr(0, 12) +
+                                             "..." + longest.substr(longest.size() - 19) + ": " +
+                                             std::to_string(longest.size()) + " bytes, at most " +
+                                             std::to_string(kNameMax) + "): shorten it"};
+  }
+  return std::nullopt;
+}
+
+ParaviewSeries::ParaviewSeries(const World& world, const std::string& output_directory, VtkEncoding encoding)
+    : world_(world), directory_((std::filesystem::path(output_directory) / "paraview").string()), encoding_(encoding) {
+  // The caller has checked the names (check_outputs); this is what a series cannot be written without.
+  if (const auto problem = paraview_name_problem(world, 0))
+    throw std::runtime_error(directory_ + ": body '" + problem->body + "': " + problem->message);
+  for (std::size_t i = 0; i < world.bodies.size(); ++i)
+    if (world.bodies[i].body->finite_elements())
+      series_.push_back({static_cast<int>(i), file_stem(world.bodies[i].name),
+                         encode_mesh(world.bodies[i].body->finite_elements()->mesh(), encoding), {}});
+  series_.push_back({-1, "contacts", {}, {}});
+  std::error_code error;
+  std::filesystem::create_directories(directory_, error);
+  if (error) throw std::runtime_error(directory_ + ": cannot create the folder (" + error.message() + ")");
+  writer_ = std::thread([this] { writer_loop(); });
+}
+
+ParaviewSeries::~ParaviewSeries() {
+  stop_writer(true);
+  if (finished_) return;
+  std::error_code ignored;  // a destructor must not throw; what cannot be removed stays
+  const std::filesystem::path folder(directory_);
+  for (const Series& s : series_) {
+    for (const std::string& file : s.written) std::filesystem::remove(folder / file, ignored);
+    std::filesystem::remove(folder / (frame_name(s.stem, s.written.size()) + ".tmp"), ignored);  // one cut short
+    std::filesystem::remove(folder / (s.stem + ".pvd"), ignored);  // finish() may have written some
+  }
+  std::filesystem::remove(directory_, ignored);
+}
+
+void ParaviewSeries::stop_writer(bool discard) {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+    if (discard) queue_.clear();
+  }
+  changed_.notify_all();
+  if (writer_.joinable()) writer_.join();
+}
+
+void ParaviewSeries::writer_loop() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    changed_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopping, and nothing left to write
+    Frame frame = std::move(queue_.front());
+    queue_.pop_front();
+    busy_ = true;
+    lock.unlock();
+    std::exception_ptr error;
+    try {
+      write_files(frame);
+    } catch (...) {
+      error = std::current_exception();
+    }
+    lock.lock();
+    busy_ = false;
+    if (error) {
+      error_ = error;
+      queue_.clear();  // the run stops at its next write_frame: later frames are not written
+    }
+    changed_.notify_all();
+  }
+}
+
+void ParaviewSeries::write_files(const Frame& frame) {
+  std::size_t next_body = 0;
+  for (Series& s : series_) {
+    std::string text;
+    if (s.body < 0) {
+      text = contacts_vtu(frame.contacts, frame.t, encoding_);
+    } else {
+      const FeBody& body = *world_.bodies[s.body].body->finite_elements();
+      const Eigen::VectorXd& u = frame.displacement[next_body];
+      text = fe_body_vtu(*s.mesh, u, frame.velocity[next_body], element_fields(body, u), frame.t);
+      ++next_body;
+    }
+    const std::string file = frame_name(s.stem, frame.index);
+    write_file_atomically((std::filesystem::path(directory_) / file).string(), text);
+    s.written.push_back(file);
+  }
+}
+
+void ParaviewSeries::write_frame(const World& world, const State& state, double t) {
+  Frame frame;
+  frame.index = times_.size();
+  frame.t = t;
+  for (const Series& s : series_) {
+    if (s.body < 0) continue;
+    const BodyInstance& b = world.bodies[s.body];
+    const FeBody& body = *b.body->finite_elements();  // a series is only opened for a finite-element body
+    frame.displacement.push_back(body.full_displacement(state.q.segment(b.position_offset, body.position_size())));
+    // v holds the same free dofs as q, so the same expansion gives the velocity of every dof.
+    frame.velocity.push_back(body.full_displacement(state.v.segment(b.velocity_offset, body.velocity_size())));
+  }
+  frame.contacts = state.contacts;
+  {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] { return error_ || queue_.size() < kQueuedFrames; });
+    if (error_) std::rethrow_exception(error_);
+    queue_.push_back(std::move(frame));
+  }
+  times_.push_back(t);
+  changed_.notify_all();
+}
+
+void ParaviewSeries::wait() {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [this] { return error_ || (queue_.empty() && !busy_); });
+  if (error_) std::rethrow_exception(error_);
+}
+
+void ParaviewSeries::finish() {
+  wait();
+  for (const Series& s : series_) {
+    std::vector<CollectionEntry> entries;
+    for (std::size_t k = 0; k < s.written.size(); ++k) entries.push_back({times_[k], s.written[k]});
+    write_file_atomically((std::filesystem::path(directory_) / (s.stem + ".pvd")).string(), pvd_collection(entries));
+  }
+  finished_ = true;
+  stop_writer(false);
+}
+
+}  // namespace csim
