@@ -137,6 +137,9 @@ struct CollisionWorld::Impl {
         world_half_size(object.instance.shape, object.instance.pose).array() + margin);
   }
 
+  // Whether the tree can hold a pair: with one object or none (a shoe, a block or a pad over a
+  // halfspace) its update and query are skipped, the halfspace pairs being formed without it.
+  bool tree_pairs() const { return objects_in_tree >= 2; }
   void gather_candidate_pairs() const;
   static bool gather_pair(fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* data);
 
@@ -145,6 +148,7 @@ struct CollisionWorld::Impl {
   std::vector<Object> objects;
   std::vector<int> halfspaces;      // ids, all fixed
   std::vector<int> moving_in_tree;  // ids of non-fixed spheres and boxes
+  int objects_in_tree = 0;
   mutable NarrowPhase narrow_phase;
   std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
   mutable std::vector<std::pair<int, int>> candidates;  // (lower id, higher id), scratch
@@ -162,7 +166,7 @@ bool CollisionWorld::Impl::gather_pair(fcl::CollisionObjectd* o1, fcl::Collision
 
 void CollisionWorld::Impl::gather_candidate_pairs() const {
   candidates.clear();
-  manager->collide(const_cast<Impl*>(this), &gather_pair);
+  if (tree_pairs()) manager->collide(const_cast<Impl*>(this), &gather_pair);
   // Halfspaces have infinite AABBs, which FCL 0.7's DynamicAABBTree cannot hold (its tree build and
   // rebalancing crash on them), so each is paired with every moving object directly; the pair
   // function culls far objects exactly and cheaply.
@@ -196,6 +200,7 @@ int CollisionWorld::add_object(int body, const Shape& shape, bool fixed) {
   object.fcl_object->setUserData(id_as_user_data(id));
   impl_->refresh_aabb(object);
   impl_->manager->registerObject(object.fcl_object.get());
+  ++impl_->objects_in_tree;
   if (!fixed) impl_->moving_in_tree.push_back(id);
   return id;
 }
@@ -210,6 +215,7 @@ void CollisionWorld::update(double margin) {
   // A negative margin would let FCL's penetrating contacts (not filtered by margin) through.
   if (!(margin >= 0.0)) throw std::invalid_argument("margin must be >= 0");
   impl_->margin = margin;
+  if (!impl_->tree_pairs()) return;  // the tree's AABBs serve its own pairs only
   for (Impl::Object& object : impl_->objects) {
     if (object.fcl_object) impl_->refresh_aabb(object);
   }
@@ -281,6 +287,7 @@ int CollisionWorld::add_deformable_surface(int body, const std::vector<Eigen::Ve
   object.fcl_object->setUserData(id_as_user_data(id));
   impl_->refresh_aabb(object);
   impl_->manager->registerObject(object.fcl_object.get());
+  ++impl_->objects_in_tree;
   impl_->moving_in_tree.push_back(id);
   return id;
 }

@@ -12,8 +12,8 @@
 // - W is symmetric (friction_contact_problem.h), so the coupling of contact c with the others is read
 //   from W's columns, which are contiguous in Eigen's column-major storage, rather than from its rows.
 // - Per-contact work is templated on the contact dimension and uses fixed-size Eigen objects: a solve
-//   without equality rows does not allocate at all; with equalities it allocates the condensed problem
-//   once per solve (condense, below).
+//   without equality rows does not allocate at all; with equalities the condensed problem's arrays are
+//   the solver's (PgsCondensation), reused from solve to solve.
 
 namespace csim {
 namespace {
@@ -460,56 +460,61 @@ constexpr double kCondensationRoundOff = 1e-11;
 // u_e = W_ec r_c + W_ee r_e + b_e = 0 give r_e = −W_ee⁺ (b_e + W_ec r_c), so the contacts see the Schur
 // complement W_cc − W_ce W_ee⁺ W_ec and the free velocity b_c − W_ce W_ee⁺ b_e. (W_ee⁺: the LDLT's
 // solve, which skips zero pivots, so redundant but consistent rows are allowed.)
-struct Condensed {
-  FrictionContactProblem contacts;  // the contact rows only
-  Eigen::LDLT<Eigen::MatrixXd> W_ee;
-  Eigen::MatrixXd X;                // W_ee⁺ W_ec
-  Eigen::VectorXd x_b;              // W_ee⁺ b_e
-};
-
-Condensed condense(const FrictionContactProblem& problem) {
+// The contact rows' problem with the equalities condensed out, into `condensed` (its arrays reused).
+void condense(const FrictionContactProblem& problem, PgsCondensation& condensed) {
   const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   const Eigen::Index m_e = problem.equalities;
-  Condensed condensed;
   condensed.W_ee.compute(problem.W.bottomRightCorner(m_e, m_e));
   condensed.X = condensed.W_ee.solve(problem.W.bottomLeftCorner(m_e, m_c));
   condensed.x_b = condensed.W_ee.solve(problem.b.tail(m_e));
   FrictionContactProblem& contacts = condensed.contacts;
   contacts.dimension = problem.dimension;
   contacts.contacts = problem.contacts;
+  contacts.equalities = 0;
   contacts.mu = problem.mu;
   contacts.W = problem.W.topLeftCorner(m_c, m_c);
   contacts.W.noalias() -= problem.W.topRightCorner(m_c, m_e) * condensed.X;
   // Symmetric up to round-off; made exactly so, since the sweeps read the coupling from W's columns.
-  contacts.W = (0.5 * (contacts.W + contacts.W.transpose())).eval();
+  for (Eigen::Index j = 0; j < m_c; ++j)
+    for (Eigen::Index i = 0; i < j; ++i) contacts.W(i, j) = contacts.W(j, i) = 0.5 * (contacts.W(i, j) + contacts.W(j, i));
   // The difference cancels the entries the ties make rigid: a node held across the ground by the
   // body's constraints has a zero column once condensed, which comes out as round-off of the full
   // entries (3e-16 of them on the tied 3D ring). Such a column must be exactly zero: on round-off the
   // polish's direct solves put unbounded impulses along it that the condensed residual (which weighs
   // them by that column) does not see, and the full problem does (1e14 on that ring).
-  const Eigen::VectorXd full_scale = problem.W.diagonal().head(m_c).cwiseAbs().cwiseSqrt();
+  condensed.full_scale = problem.W.diagonal().head(m_c).cwiseAbs().cwiseSqrt();
+  const Eigen::VectorXd& full_scale = condensed.full_scale;
   for (Eigen::Index j = 0; j < m_c; ++j)
     for (Eigen::Index i = 0; i < m_c; ++i)
       if (std::abs(contacts.W(i, j)) <= kCondensationRoundOff * full_scale(i) * full_scale(j))
         contacts.W(i, j) = 0.0;
-  contacts.b = problem.b.head(m_c) - problem.W.topRightCorner(m_c, m_e) * condensed.x_b;
-  return condensed;
+  // Each product into its array, then combined: the same operations as on temporaries, to the bit.
+  contacts.b.noalias() = problem.W.topRightCorner(m_c, m_e) * condensed.x_b;
+  contacts.b = problem.b.head(m_c) - contacts.b;
 }
 
 // Gauss–Seidel on the condensed contact rows, then r_e from r_c, with one step of refinement on the
 // equality rows (W_ee's condition number is 2e4 on the 3D ring tied to a light hub). Converged is
 // decided on the full problem's residual.
 PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const PgsParameters& parameters,
-                                    Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+                                    Eigen::VectorXd& r, std::vector<ContactStatus>* status,
+                                    PgsCondensation& condensed) {
   const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   const Eigen::Index m_e = problem.equalities;
-  const Condensed condensed = condense(problem);
-  Eigen::VectorXd r_c = r.head(m_c);
+  condense(problem, condensed);
+  Eigen::VectorXd& r_c = condensed.r_c;
+  Eigen::VectorXd& r_e = condensed.r_e;
+  Eigen::VectorXd& u_e = condensed.u_e;
+  r_c = r.head(m_c);
   PgsStatistics statistics = solve_contact_rows(condensed.contacts, parameters, r_c, status);
-  Eigen::VectorXd r_e = -(condensed.x_b + condensed.X * r_c);
-  const Eigen::VectorXd u_e = problem.W.bottomLeftCorner(m_e, m_c) * r_c +
-                              problem.W.bottomRightCorner(m_e, m_e) * r_e + problem.b.tail(m_e);
-  r_e -= condensed.W_ee.solve(u_e);
+  Eigen::VectorXd& product = condensed.product;
+  r_e.noalias() = condensed.X * r_c;
+  r_e = -(condensed.x_b + r_e);
+  u_e.noalias() = problem.W.bottomLeftCorner(m_e, m_c) * r_c;
+  product.noalias() = problem.W.bottomRightCorner(m_e, m_e) * r_e;
+  u_e = u_e + product + problem.b.tail(m_e);
+  condensed.W_ee.solveInPlace(u_e);
+  r_e -= u_e;
   // r_c is finite (the sweeps reject non-finite local results, the polish keeps only a smaller finite
   // residual); r_e is not when W_ee is singular and its rows inconsistent.
   if (!r_e.allFinite()) {
@@ -530,7 +535,7 @@ PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::Vec
   check_problem(problem);
   // A warm start of the wrong size, or one carrying NaN/inf from an earlier failure, is worthless.
   if (r.size() != problem.size() || !r.allFinite()) r = Eigen::VectorXd::Zero(problem.size());
-  if (problem.equalities > 0) return solve_with_equalities(problem, parameters_, r, status);
+  if (problem.equalities > 0) return solve_with_equalities(problem, parameters_, r, status, scratch_.condensation);
   return solve_contact_rows(problem, parameters_, r, status);
 }
 

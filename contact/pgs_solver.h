@@ -71,6 +71,16 @@ struct PgsStatistics {
   bool polished = false;      // the polish improved the iterate
 };
 
+// The work arrays of a solve with equality rows (their condensation, pgs_solver.cpp): a solver keeps
+// them, so that a stepper's solves allocate nothing once they have the problem's size.
+struct PgsCondensation {
+  FrictionContactProblem contacts;  // the contact rows only, the equalities condensed out
+  Eigen::LDLT<Eigen::MatrixXd> W_ee;
+  Eigen::MatrixXd X;                // W_ee⁺ W_ec
+  Eigen::VectorXd x_b;              // W_ee⁺ b_e
+  Eigen::VectorXd full_scale, r_c, r_e, u_e, product;
+};
+
 class PgsSolver {
  public:
   explicit PgsSolver(PgsParameters parameters = {}) : parameters_(parameters) {}
@@ -87,6 +97,15 @@ class PgsSolver {
 
  private:
   PgsParameters parameters_;
+  // Work arrays, not state: a copy of the solver starts with its own, empty. One thread per solver
+  // (a stepper's own), hence mutable in a const solve.
+  struct Scratch {
+    PgsCondensation condensation;
+    Scratch() = default;
+    Scratch(const Scratch&) {}
+    Scratch& operator=(const Scratch&) { return *this; }
+  };
+  mutable Scratch scratch_;
 };
 
 }  // namespace csim

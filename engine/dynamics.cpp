@@ -17,6 +17,18 @@ Eigen::Matrix3d projector(const Eigen::Vector3d& direction) {
 }  // namespace
 
 Dynamics::Dynamics(const World& world) : world_(world) {
+  // A body's orientation coordinates: its positions that are not the coordinate of a translation
+  // (a plane body's angle, a rigid body's quaternion).
+  auto add_orientation_coordinates = [&](const BodyInstance& b) {
+    std::vector<bool> translation(b.body->position_size(), false);
+    const auto axes = b.body->rotation_axes();
+    for (int c = 0; c < b.body->velocity_size(); ++c) {
+      const bool rotation = std::any_of(axes.begin(), axes.end(), [c](const auto& axis) { return axis.first == c; });
+      if (const int coordinate = b.body->coordinate_of(c); !rotation && coordinate >= 0) translation[coordinate] = true;
+    }
+    for (int p = 0; p < b.body->position_size(); ++p)
+      if (!translation[p]) spring_stiffness_coordinates_.push_back(b.position_offset + p);
+  };
   for (const Spring& s : world.springs) {
     const BodyInstance& a = world.bodies[s.body_a];
     reference_points_a_.push_back(a.body->point_world(a.reference_position, s.point_a));
@@ -29,7 +41,13 @@ Dynamics::Dynamics(const World& world) : world_(world) {
     const bool offset_a = rotates(*a.body) && !s.point_a.isZero();
     const bool offset_b = s.body_b >= 0 && rotates(*world.bodies[s.body_b].body) && !s.point_b.isZero();
     if (offset_a || offset_b) constant_stiffness_ = false;
+    if (offset_a) add_orientation_coordinates(a);
+    if (offset_b) add_orientation_coordinates(world.bodies[s.body_b]);
   }
+  std::sort(spring_stiffness_coordinates_.begin(), spring_stiffness_coordinates_.end());
+  spring_stiffness_coordinates_.erase(
+      std::unique(spring_stiffness_coordinates_.begin(), spring_stiffness_coordinates_.end()),
+      spring_stiffness_coordinates_.end());
   const int n = world.velocity_size;
   position_of_velocity_.assign(n, -1);
   Triplets mass, damping;

@@ -101,6 +101,10 @@ class Dynamics {
   bool constant_stiffness() const { return constant_stiffness_ && !nonlinear_; }
   // The same for the springs alone (a World of linear bodies may still have springs on rotating points).
   bool constant_spring_stiffness() const { return constant_stiffness_; }
+  // The indices in q that the springs' K depends on: the orientation coordinates of the bodies with a
+  // spring attached off their origin (none when constant_spring_stiffness()). K is a function of these
+  // alone, so that equal values give the same K to the bit.
+  const std::vector<int>& spring_stiffness_coordinates() const { return spring_stiffness_coordinates_; }
 
  private:
   // Relative displacement d of a spring's two points from the reference configuration (m).
@@ -109,6 +113,7 @@ class Dynamics {
   const World& world_;
   std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
   std::vector<int> position_of_velocity_;
+  std::vector<int> spring_stiffness_coordinates_;
   SparseMatrix mass_, damping_;
   bool constant_stiffness_ = true;
   bool has_elastic_bodies_ = false;

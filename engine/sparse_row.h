@@ -12,9 +12,12 @@
 namespace csim {
 
 struct SparseRow {
+  // User-provided, so that a vector of rows resized in every step is not zero-filled: only the first
+  // `count` entries are ever read.
+  SparseRow() {}
   int count = 0;
-  std::array<int, 15> index{};
-  std::array<double, 15> value{};
+  std::array<int, 15> index;
+  std::array<double, 15> value;
 
   void clear() { count = 0; }
   void add(int i, double x) {

@@ -1,5 +1,7 @@
 #include "engine/structural_operators.h"
 
+#include "engine/dense_inverse.h"
+#include "engine/small_dense_products.h"
 #include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 
@@ -47,8 +49,10 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
   sparse_ = n > kDenseLimit;
   has_stiffness_ = dynamics.has_stiffness();
   nonlinear_ = dynamics.nonlinear();
-  constant_ = dynamics.constant_stiffness();
   has_damping_ = dynamics.has_damping();
+  constant_ = dynamics.constant_stiffness();
+  explicit_inverse_ = !sparse_ && !dynamics.has_elastic_bodies();
+  factored_coordinates_.resize(dynamics.spring_stiffness_coordinates().size());
   if (sparse_ && nonlinear_) body_stiffness_.resize(n, n);  // the tangent, at each update
   else dynamics.body_stiffness().swap(body_stiffness_);  // Eigen 3.4's SparseMatrix has no move: swaps
   if (!sparse_) {
@@ -58,8 +62,19 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
   }
 }
 
+// K(q) of a linear World is a function of the springs' orientation coordinates alone
+// (Dynamics::spring_stiffness_coordinates): when they, h and θ are what A was factored with, A is
+// the same to the bit and is kept (a shoe that slides without turning keeps its factorization).
+bool StructuralOperators::factored_for(const Vector& q, double h, double theta) const {
+  if (!factored_ || nonlinear_ || h != factored_h_ || theta != factored_theta_) return false;
+  const std::vector<int>& coordinates = dynamics_.spring_stiffness_coordinates();
+  for (std::size_t i = 0; i < coordinates.size(); ++i)
+    if (q(coordinates[i]) != factored_coordinates_[i]) return false;
+  return true;
+}
+
 void StructuralOperators::update(const Vector& q, double h, double theta) {
-  if (factored_ && constant_ && h == factored_h_ && theta == factored_theta_) return;
+  if (factored_for(q, h, theta)) return;
   const auto start = std::chrono::steady_clock::now();
   const double scale = h * h * theta * theta;
   if (nonlinear_) {  // the bodies' tangent at q (a linear body's K is its tangent)
@@ -88,21 +103,42 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
       dynamics_.spring_stiffness(q, dense_stiffness_);
       if (body_stiffness_.nonZeros() > 0) dense_stiffness_ += body_stiffness_;
     }
-    const Matrix A = dense_mass_ + (h * theta) * dense_damping_ + scale * dense_stiffness_;
-    dense_factor_.compute(A);
-    if (nonlinear_ && !(dense_factor_.vectorD().array() > 0.0).all()) {
-      const Matrix identity = Matrix::Identity(A.rows(), A.cols());
-      regularize(A.diagonal().cwiseAbs().maxCoeff(), [&](double epsilon) {
-        dense_factor_.compute(A + epsilon * identity);
-        return (dense_factor_.vectorD().array() > 0.0).all();
-      });
-    }
+    Matrix& A = dense_iteration_;  // a member: no allocation once sized
+    A = dense_mass_;
+    if (has_damping_) A += (h * theta) * dense_damping_;
+    A += scale * dense_stiffness_;
+    factor_dense(A);
   }
   factored_ = true;
+  for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
+    factored_coordinates_[i] = q(dynamics_.spring_stiffness_coordinates()[i]);
   ++factorizations_;
   factored_h_ = h;
   factored_theta_ = theta;
   factorization_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A lumped World's A (masses and springs: mass-dominated, well conditioned) is inverted
+// (dense_inverse.h); one that is not positive definite (springs whose geometric stiffness outweighs
+// the masses) through a pivoting LDLᵀ. A small elastic body's A is factored: h²K can make it
+// ill-conditioned, and an explicit inverse then loses digits that the factorization's solves keep
+// (fe-damped-drift's elastic energy moved by a quarter). A nonlinear World's indefinite A gets the
+// proximal term of the header.
+void StructuralOperators::factor_dense(const Matrix& A) {
+  if (explicit_inverse_) {
+    if (invert_positive_definite(A, dense_scratch_, dense_inverse_)) return;
+    dense_factor_.compute(A);
+    dense_inverse_ = dense_factor_.solve(Matrix::Identity(A.rows(), A.cols()));
+    return;
+  }
+  dense_factor_.compute(A);
+  if (nonlinear_ && !(dense_factor_.vectorD().array() > 0.0).all()) {
+    const Matrix identity = Matrix::Identity(A.rows(), A.cols());
+    regularize(A.diagonal().cwiseAbs().maxCoeff(), [&](double epsilon) {
+      dense_factor_.compute(A + epsilon * identity);
+      return (dense_factor_.vectorD().array() > 0.0).all();
+    });
+  }
 }
 
 // A (or A + ε I, see the header) into sparse_factor_.
@@ -125,21 +161,35 @@ void StructuralOperators::regularize(double largest, PositiveDefiniteWith&& posi
 
 void StructuralOperators::solve_in_place(Vector& x) const {
   if (sparse_) sparse_factor_.solve_in_place(x);
-  else dense_factor_.solveInPlace(x);
+  else if (explicit_inverse_) {
+    small_multiply(dense_inverse_, x, dense_solution_);
+    x = dense_solution_;
+  } else {
+    dense_factor_.solveInPlace(x);
+  }
 }
 
+void StructuralOperators::dense_columns(const Matrix& Ht, Matrix& G) const {
+  small_combine_columns(dense_inverse_, Ht, G);
+}
+
+// A lumped World's products are compiled for its size (small_dense_products.h); a small elastic World
+// keeps Eigen's, whose summation order its results were verified with.
 void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = dynamics_.mass() * v;
+  else if (explicit_inverse_) small_multiply(dense_mass_, v, out);
   else out.noalias() = dense_mass_ * v;
 }
 
 void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = dynamics_.damping() * v;
+  else if (explicit_inverse_) small_multiply(dense_damping_, v, out);
   else out.noalias() = dense_damping_ * v;
 }
 
 void StructuralOperators::apply_stiffness(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = stiffness() * v;
+  else if (explicit_inverse_) small_multiply(dense_stiffness_, v, out);
   else out.noalias() = dense_stiffness_ * v;
 }
 

@@ -2,9 +2,11 @@
 // stiffness K (N/m) of the springs and of the elastic bodies, their viscous damping C (N·s/m: Rayleigh
 // damping of elastic bodies), and the factored iteration matrix
 //   A = M + hθ C + h²θ² K
-// of the θ-method. Small systems (up to kDenseLimit unknowns, all lumped scenes) are dense, because a
-// lumped step must cost about a microsecond; larger ones (finite elements) are sparse and factored
-// with CHOLMOD's simplicial LDLᵀ (sparse_ldlt.h), once while K and h stay the same (linear elastic bodies, springs on translating points), else at every step. With a
+// of the θ-method, refactored only when K, h or θ changed. Small systems (up to kDenseLimit unknowns,
+// all lumped scenes) are dense, because a lumped step must cost well under a microsecond: a lumped
+// World (no elastic body) keeps A⁻¹ itself (dense_inverse.h), a small elastic one A's LDLᵀ; larger ones (finite elements) are sparse and factored
+// with CHOLMOD's simplicial LDLᵀ (sparse_ldlt.h), once while K and h
+// stay the same (linear elastic bodies, springs on translating points), else at every step. With a
 // finite-strain (hyperelastic) body, K is its tangent at the q of the last update: Moreau–Jean's Newton
 // iterations refresh it at every iterate. That tangent can be indefinite (a compressed body held only
 // by contacts, whose own stiffness is not in K: its sway and buckling modes), and so can A when the
@@ -35,6 +37,10 @@ class StructuralOperators {
   long regularizations() const { return regularizations_; }  // factorizations that needed ε I
 
   void solve_in_place(Vector& x) const;   // x ← A⁻¹ x
+  // A dense lumped World (no elastic body) keeps A⁻¹ (dense_inverse.h): then dense_columns gives
+  // G = A⁻¹ Hᵀ for Hᵀ given by its columns (n × m).
+  bool explicit_inverse() const { return explicit_inverse_; }
+  void dense_columns(const Matrix& Ht, Matrix& G) const;
   // A sparse finite-strain World refactors A at every Newton iterate, so A⁻¹ Hᵀ's columns are not
   // reused: its Delassus operator H A⁻¹ Hᵀ then comes from the forward substitution alone
   // (sparse_ldlt.h). H: rows × unknowns, dense storage.
@@ -50,12 +56,16 @@ class StructuralOperators {
  private:
   const World& world_;
   const Dynamics& dynamics_;
-  bool sparse_, has_stiffness_, has_damping_, constant_, nonlinear_ = false;
+  bool sparse_, has_stiffness_, has_damping_, constant_, nonlinear_ = false;  // constant_: K does not depend on q
+  bool explicit_inverse_;  // a dense lumped World: A⁻¹ kept (dense_inverse_), else dense_factor_
   bool factored_ = false;
   double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;
   long factorizations_ = 0, regularizations_ = 0;
-  Matrix dense_mass_, dense_stiffness_, dense_damping_;
+  std::vector<double> factored_coordinates_;  // the springs' orientation coordinates A was factored at
+  Matrix dense_mass_, dense_stiffness_, dense_damping_, dense_iteration_;
+  Matrix dense_inverse_, dense_scratch_;  // A⁻¹, and the Cholesky factor it is computed from
   Eigen::LDLT<Matrix> dense_factor_;
+  mutable Vector dense_solution_;          // solve_in_place's product (one thread per stepper, as the run)
   // M and C are Dynamics'. body_stiffness_: the bodies' K (a finite-strain body's tangent at q), dropped
   // by a sparse constant K with springs once their sum sparse_stiffness_ is formed; K is the one that
   // stiffness() names. A large FE body's K-sized matrices are thus held once here, not three times.
@@ -66,6 +76,8 @@ class StructuralOperators {
   SparseLdlt sparse_factor_;
 
   const SparseMatrix& stiffness() const { return dynamics_.has_springs() ? sparse_stiffness_ : body_stiffness_; }
+  bool factored_for(const Vector& q, double h, double theta) const;
+  void factor_dense(const Matrix& A);
   void factor_regularized(const SparseMatrix& A);
   template <class PositiveDefiniteWith>
   void regularize(double largest, PositiveDefiniteWith&& positive_definite_with);

@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(g++ cmake make libeigen3-dev libfcl-dev libccd-dev libsundials-dev libsuitesparse-dev libgtest-dev libyaml-cpp-dev libcli11-dev zlib1g-dev gnuplot-nox python3 python3-vtk9)
+packages=(g++ cmake make libeigen3-dev libfcl-dev libccd-dev libsundials-dev libsuitesparse-dev libgtest-dev libyaml-cpp-dev libcli11-dev zlib1g-dev gnuplot-nox python3 python3-vtk9 libbullet-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

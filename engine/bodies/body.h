@@ -44,10 +44,12 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 // (all six components of a rigid body, the two or three of a finite-element node), so that a contact
 // or a spring on a body of 50 000 unknowns still costs a handful of numbers.
 struct PointJacobian {
+  PointJacobian() {}  // user-provided: `return {}` (a fixed body's point) fills nothing either
   int count = 0;
-  // At most six for a rigid body, nine for a point of an elastic body's boundary triangle.
-  std::array<int, 9> index{};                                         // body velocity components
-  Eigen::Matrix<double, 3, 9> column = Eigen::Matrix<double, 3, 9>::Zero();  // m/s per unit component
+  // At most six for a rigid body, nine for a point of an elastic body's boundary triangle. Only the
+  // first `count` are set (a Jacobian is made in every step, a dozen times: no fill of the rest).
+  std::array<int, 9> index;                                           // body velocity components
+  Eigen::Matrix<double, 3, 9> column;                                 // m/s per unit component
   void add(int component, const Eigen::Vector3d& direction) {
     index[count] = component;
     column.col(count++) = direction;

@@ -1,5 +1,7 @@
 #include "engine/bodies/rigid_body_2d.h"
 
+#include <cmath>
+
 namespace csim {
 
 void RigidBody2d::add_mass(int offset, Triplets& mass) const {
@@ -8,16 +10,32 @@ void RigidBody2d::add_mass(int offset, Triplets& mass) const {
   mass.emplace_back(offset + 2, offset + 2, inertia_);
 }
 
+// A step asks for the same angle's rotation a dozen times (poses, points, Jacobians of springs, loads
+// and contacts): its cosine and sine are kept for the last angle asked.
+void RigidBody2d::cos_sin(double angle, double& c, double& s) const {
+  if (angle != cached_angle_) {
+    cached_angle_ = angle;
+    cached_cos_ = std::cos(angle);
+    cached_sin_ = std::sin(angle);
+  }
+  c = cached_cos_;
+  s = cached_sin_;
+}
+
+// The rotation by φ about e_z, entry for entry as Eigen's AngleAxis::toRotationMatrix builds it.
 Eigen::Isometry3d RigidBody2d::pose(const ConstVectorRef& q) const {
+  double c, s;
+  cos_sin(q(2), c, s);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() << q(0), q(1), 0.0;
-  pose.linear() = Eigen::AngleAxisd(q(2), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.linear() << c, -s, 0.0, s, c, 0.0, 0.0, 0.0, (1.0 - c) + c;
   return pose;
 }
 
 // v_point = v + ω e_z × (R r): the rotation column is e_z × (R r) = (−(Rr)_y, (Rr)_x, 0).
 PointJacobian RigidBody2d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
-  const double c = std::cos(q(2)), s = std::sin(q(2));
+  double c, s;
+  cos_sin(q(2), c, s);
   const double rx = c * local.x() - s * local.y();
   const double ry = s * local.x() + c * local.y();
   PointJacobian J;

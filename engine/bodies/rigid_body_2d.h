@@ -25,8 +25,12 @@ class RigidBody2d final : public Body {
   }
 
  private:
+  void cos_sin(double angle, double& c, double& s) const;
+
   double mass_;     // kg
   double inertia_;  // kg·m²
+  // cos and sin of the last angle asked (rad), a pure function's memo: one thread per body, as the run.
+  mutable double cached_angle_ = 0.0, cached_cos_ = 1.0, cached_sin_ = 0.0;
 };
 
 }  // namespace csim

@@ -22,9 +22,12 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
 }
 
 std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
-                           double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c) {
+                           double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c,
+                           std::vector<ContactStatus>* status_scratch) {
   if (problem.size() == 0) return "";
-  std::vector<ContactStatus> status;
+  std::vector<ContactStatus> own_status;
+  std::vector<ContactStatus>& status = status_scratch ? *status_scratch : own_status;
+  status.clear();
   const PgsStatistics stats = pgs.solve(problem, r, &status);
   ++c.solves;
   c.total_iterations += stats.iterations;

@@ -19,9 +19,11 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
 // Solves, accounts in state.counters, and copies the impulses and statuses back into `active`.
 // Returns "" or, for a solve left above the failure threshold, the message that stops the run; the
 // caller throws it (Moreau–Jean at once; the quasi-static stepper only if it is the solve of the
-// Newton iterate it accepts). t_next: the time the step reaches (s).
+// Newton iterate it accepts). t_next: the time the step reaches (s). status_scratch, when given,
+// holds the solver's statuses (a stepper's own, so that a step allocates nothing).
 [[nodiscard]] std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem,
                                          double failure_residual, double t_next, Vector& r,
-                                         std::vector<ActiveContact>& active, SolverCounters& counters);
+                                         std::vector<ActiveContact>& active, SolverCounters& counters,
+                                         std::vector<ContactStatus>* status_scratch = nullptr);
 
 }  // namespace csim

@@ -1,5 +1,6 @@
 #include "engine/steppers/moreau_jean.h"
 
+#include "engine/small_dense_products.h"
 #include "engine/steppers/contact_solve.h"
 #include "fem/mesh.h"
 
@@ -238,6 +239,21 @@ void MoreauJean::gather_columns() {
   }
 }
 
+// A lumped World keeps A⁻¹ (structural_operators.h): G = A⁻¹ Hᵀ and W = H G, symmetric, are small
+// products (small_dense_products.h), with Hᵀ's columns the problem's rows. No solve.
+void MoreauJean::dense_delassus() {
+  const int n = world_.velocity_size;
+  const int contact_rows = static_cast<int>(rows_.size());
+  const int ne = static_cast<int>(equalities_.rows.rows());
+  const int m = contact_rows + equality_count();
+  problem_columns_.setZero(n, m);  // Hᵀ
+  for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(1.0, problem_columns_.col(a));
+  if (ne > 0) problem_columns_.middleCols(contact_rows, ne) = equalities_.rows.transpose();
+  for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(1.0, problem_columns_.col(contact_rows + ne + i));
+  operators_.dense_columns(problem_columns_, dense_columns_);
+  small_symmetric_gram(problem_columns_, dense_columns_, problem_.W);
+}
+
 // A sparse linear World: every row of the problem in the Delassus cache, its slot in delassus_slots_.
 void MoreauJean::gather_delassus() {
   const int d = contact_dimension_;
@@ -295,6 +311,8 @@ void MoreauJean::assemble(const State& state) {
     if (ne > 0) problem_rows_.middleRows(d * nc, ne) = equalities_.rows;
     for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(1.0, problem_rows_.row(d * nc + ne + i));
     operators_.delassus(problem_rows_, problem_.W);
+  } else if (operators_.explicit_inverse()) {
+    dense_delassus();
   } else if (operators_.sparse()) {
     gather_delassus();
     for (int a = 0; a < m; ++a)
@@ -354,7 +372,8 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
     warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
   const double t_next = state.t + parameters_.step;
   if (const std::string failure =
-          solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, state.counters);
+          solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, state.counters,
+                         &statuses_);
       !failure.empty())
     throw RunError(t_next, failure);
 }
@@ -383,6 +402,10 @@ void MoreauJean::update(State& state) {
     for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(r_(contact_rows + ne + i), work_);
     operators_.solve_in_place(work_);
     v_next_ += work_;
+  } else if (operators_.explicit_inverse()) {
+    // G r column by column, in the rows' order: a resting contact's velocity then cancels exactly, as
+    // with the factored path's columns.
+    for (int a = 0; a < rows; ++a) v_next_ += r_(a) * dense_columns_.col(a);
   } else {
     for (int a = 0; a < rows; ++a) v_next_ += r_(a) * *columns_[a];
   }

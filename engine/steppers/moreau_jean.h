@@ -100,6 +100,7 @@ class MoreauJean final : public Stepper {
   void gather_columns();
   void gather_delassus();
   void assemble(const State& state);
+  void dense_delassus();  // W and G = A⁻¹ Hᵀ of a lumped World
   void solve(State& state, bool warm_from_state = true);
   void update(State& state);
   void integrate_positions(const Vector& q, const Vector& v_theta, Vector& out) const;
@@ -123,6 +124,7 @@ class MoreauJean final : public Stepper {
   SecantRelaxation relaxation_;       // Newton: the length of its step (secant_relaxation.h)
   PhaseClock clock_;                  // State::timers (phase_clock.h)
   Vector f_loads_, f_total_, v_free_, v_predicted_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
+  std::vector<ContactStatus> statuses_;  // the contact solve's, kept to avoid allocation
   std::vector<ActiveContact> candidates_;
   std::vector<ActiveContact> active_;
   std::vector<SparseRow> candidate_rows_;  // rows of every candidate contact (dimension each)
@@ -131,7 +133,7 @@ class MoreauJean final : public Stepper {
   // Small dense systems: A⁻¹ hᵀ for each row of the problem, the contacts' recomputed each step, the
   // constraints' once per factorization.
   std::vector<Vector> constraint_columns_;
-  std::vector<Vector> direct_columns_;
+  std::vector<Vector> direct_columns_;  // small elastic systems: recomputed each step, no cache
   long cache_factorization_ = -1;
   std::vector<const Vector*> columns_;                      // contact/constraint rows (m × n) and A⁻¹ Hᵀ
   // A sparse linear World: W kept by row identity (delassus_cache.h); each row's slot in it, and the
@@ -147,6 +149,7 @@ class MoreauJean final : public Stepper {
   TieRows ties_;
   std::vector<Vector> tie_columns_;
   Matrix problem_rows_;  // the problem's rows H (m × n), for a direct Delassus operator (structural_operators.h)
+  Matrix problem_columns_, dense_columns_;  // a lumped World's Hᵀ and G = A⁻¹ Hᵀ (n × m each)
   Vector tie_targets_, q_tie_rows_;
 };
 

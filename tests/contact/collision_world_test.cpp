@@ -571,6 +571,32 @@ TEST(CollisionWorld, FallingSphereContactAppearsOnlyWithinMargin) {
   }
 }
 
+TEST(CollisionWorld, LoneObjectOverAHalfspaceThenASecondOneAdded) {
+  // One object in the tree: its update and query are skipped (collision_world.cpp); the halfspace pair
+  // still follows the moves, and an object added later meets the first where it has moved to.
+  CollisionWorld world(false);
+  world.add_object(0, Halfspace{}, true);
+  const int ball = world.add_object(1, Sphere{0.1}, false);
+  std::vector<ContactPoint> contacts;
+  for (const double height : {1.0, 0.12, 0.5}) {
+    world.set_pose(ball, translation(3.0, 0.0, height));
+    world.update(0.05);
+    world.find_contacts(contacts);
+    ASSERT_EQ(contacts.size(), height - 0.1 <= 0.05 ? 1u : 0u) << "height " << height;
+  }
+  const int other = world.add_object(2, Sphere{0.1}, false);
+  world.set_pose(other, translation(3.0, 0.0, 0.8));  // 0.1 above the ball (at 0.5): beyond the margin
+  world.update(0.05);
+  world.find_contacts(contacts);
+  EXPECT_EQ(contacts.size(), 0u);
+  world.set_pose(other, translation(3.0, 0.0, 0.74));  // 0.04 above it
+  world.update(0.05);
+  world.find_contacts(contacts);
+  ASSERT_EQ(contacts.size(), 1u);
+  EXPECT_EQ(contacts[0].key.object_a, ball);
+  EXPECT_NEAR(contacts[0].gap, 0.04, kExact);
+}
+
 TEST(CollisionWorld, BroadPhaseFollowsMovesAndMargin) {
   CollisionWorld world(false);
   const int a = world.add_object(0, Box{{0.5, 0.5, 0.5}}, false);

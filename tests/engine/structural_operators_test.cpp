@@ -3,6 +3,7 @@
 // (an FE body), against the dense matrices of Dynamics.
 #include "engine/structural_operators.h"
 #include "engine/bodies/fe_body.h"
+#include "engine/bodies/rigid_body_2d.h"
 #include "engine/dynamics.h"
 #include "fem/mesh_generators.h"
 #include "tests/engine/test_worlds.h"
@@ -142,6 +143,60 @@ TEST(StructuralOperators, SparseOperatorsAreTheAssembledMatrices) {
     EXPECT_LT((A * solved - b).norm(), 1e-12 * b.norm()) << "h = " << h;
   }
   EXPECT_EQ(operators.factorizations(), 2);
+}
+
+// A plane rigid body (q = x, y, φ) held by a spring at the corner (0.5, 0.5): K depends on φ alone.
+World turning_body() {
+  World world;
+  world.dimension = 2;
+  BodyInstance b;
+  b.name = "shoe";
+  b.body = std::make_unique<RigidBody2d>(7.0, 0.5);
+  b.reference_position = Eigen::Vector3d::Zero();
+  b.initial_position = b.reference_position;
+  b.initial_velocity = Eigen::Vector3d::Zero();
+  world.bodies.push_back(std::move(b));
+  Spring spring;
+  spring.body_a = 0;
+  spring.point_a = Eigen::Vector3d(0.5, 0.5, 0.0);
+  spring.stiffness = 1e4;
+  world.springs.push_back(spring);
+  world.finalize_layout();
+  return world;
+}
+
+// The factorization is kept while the spring's orientation coordinate, h and θ are the same, and is
+// redone when any of them changes, A then being the one a fresh factorization gives.
+TEST(StructuralOperators, RefactorsWhenTheStiffnessOrTheStepChanges) {
+  const World world = turning_body();
+  const Dynamics dynamics(world);
+  EXPECT_EQ(dynamics.spring_stiffness_coordinates(), std::vector<int>{2});
+  StructuralOperators operators(dynamics);
+  Vector q = Eigen::Vector3d(0.0, 0.0, 0.0);
+  const double h = 1e-2, theta = 0.5;
+  operators.update(q, h, theta);
+  EXPECT_EQ(operators.factorizations(), 1);
+  q.head<2>() << 0.3, -0.2;  // a translation leaves K as it is
+  operators.update(q, h, theta);
+  EXPECT_EQ(operators.factorizations(), 1);
+  auto agrees_with_fresh = [&](const Vector& at, double step, double weight) {
+    StructuralOperators fresh(dynamics);
+    fresh.update(at, step, weight);
+    Vector x = Eigen::Vector3d(1.0, -2.0, 0.5), y = x;
+    operators.solve_in_place(x);
+    fresh.solve_in_place(y);
+    return x == y;
+  };
+  q(2) = 0.1;  // a turn changes K
+  operators.update(q, h, theta);
+  EXPECT_EQ(operators.factorizations(), 2);
+  EXPECT_TRUE(agrees_with_fresh(q, h, theta));
+  operators.update(q, 2 * h, theta);  // so does a new step
+  EXPECT_EQ(operators.factorizations(), 3);
+  EXPECT_TRUE(agrees_with_fresh(q, 2 * h, theta));
+  operators.update(q, 2 * h, 0.7);  // and a new θ
+  EXPECT_EQ(operators.factorizations(), 4);
+  EXPECT_TRUE(agrees_with_fresh(q, 2 * h, 0.7));
 }
 
 }  // namespace

@@ -1,0 +1,76 @@
+// The dense products of a lumped step (n ≤ StructuralOperators::kDenseLimit unknowns, a dozen contact
+// rows), with the common sizes of n (3: a plane rigid body or a point; 6: a rigid body in space)
+// compiled for that size: Eigen's dynamic-size kernels cost more in set-up than these products'
+// arithmetic, and a fixed size lets a column be unrolled and vectorized.
+#pragma once
+
+#include "engine/bodies/body.h"
+
+namespace csim {
+
+namespace small_dense_detail {
+
+template <int N>
+using Column = Eigen::Matrix<double, N, 1>;
+
+template <int N>
+void multiply(const Matrix& A, const Vector& x, Vector& out) {
+  const Eigen::Index n = A.rows();
+  out.resize(n);
+  Eigen::Map<Column<N>> y(out.data(), n);
+  y.setZero();
+  for (Eigen::Index j = 0; j < n; ++j) y += x(j) * Eigen::Map<const Column<N>>(A.col(j).data(), n);
+}
+
+template <int N>
+void combine_columns(const Matrix& A, const Matrix& X, Matrix& G) {
+  const Eigen::Index n = A.rows(), m = X.cols();
+  G.resize(n, m);
+  for (Eigen::Index a = 0; a < m; ++a) {
+    Eigen::Map<Column<N>> g(G.col(a).data(), n);
+    g.setZero();
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (X(j, a) != 0.0) g += X(j, a) * Eigen::Map<const Column<N>>(A.col(j).data(), n);
+  }
+}
+
+template <int N>
+void symmetric_gram(const Matrix& X, const Matrix& G, Matrix& W) {
+  const Eigen::Index n = X.rows(), m = X.cols();
+  W.resize(m, m);
+  for (Eigen::Index b = 0; b < m; ++b) {
+    const Eigen::Map<const Column<N>> g(G.col(b).data(), n);
+    for (Eigen::Index a = 0; a <= b; ++a) W(a, b) = W(b, a) = Eigen::Map<const Column<N>>(X.col(a).data(), n).dot(g);
+  }
+}
+
+// f<N>(...) for N = n when n is one of the compiled sizes, else f<Eigen::Dynamic>.
+template <class Kernel>
+void dispatch(Eigen::Index n, Kernel&& kernel) {
+  switch (n) {
+    case 3: kernel(std::integral_constant<int, 3>{}); break;
+    case 6: kernel(std::integral_constant<int, 6>{}); break;
+    default: kernel(std::integral_constant<int, Eigen::Dynamic>{}); break;
+  }
+}
+
+}  // namespace small_dense_detail
+
+// out = A x (A square).
+inline void small_multiply(const Matrix& A, const Vector& x, Vector& out) {
+  small_dense_detail::dispatch(A.rows(), [&](auto N) { small_dense_detail::multiply<N()>(A, x, out); });
+}
+
+// G = A X, column a of G the combination of A's columns weighted by column a of X's nonzero entries
+// (X = Hᵀ: a contact row has a handful).
+inline void small_combine_columns(const Matrix& A, const Matrix& X, Matrix& G) {
+  small_dense_detail::dispatch(A.rows(), [&](auto N) { small_dense_detail::combine_columns<N()>(A, X, G); });
+}
+
+// W = Xᵀ G when it is known to be symmetric (the Delassus operator H A⁻¹ Hᵀ, X = Hᵀ, G = A⁻¹ Hᵀ):
+// one triangle computed, mirrored.
+inline void small_symmetric_gram(const Matrix& X, const Matrix& G, Matrix& W) {
+  small_dense_detail::dispatch(X.rows(), [&](auto N) { small_dense_detail::symmetric_gram<N()>(X, G, W); });
+}
+
+}  // namespace csim

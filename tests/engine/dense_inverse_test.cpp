@@ -1,0 +1,62 @@
+// The explicit inverse of a lumped World's iteration matrix, and the small products built on it.
+#include "engine/dense_inverse.h"
+#include "engine/small_dense_products.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace csim {
+namespace {
+
+Matrix spd(int n) {  // a mass-dominated, coupled symmetric positive definite matrix
+  Matrix B = Matrix::Zero(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) B(i, j) = std::sin(1.0 + i + 2.0 * j);
+  Matrix A = B * B.transpose();
+  A.diagonal().array() += n;
+  return A;
+}
+
+TEST(DenseInverse, IsTheInverseAndExactlySymmetric) {
+  for (int n : {1, 3, 6, 10}) {
+    const Matrix A = spd(n);
+    Matrix factor, inverse;
+    ASSERT_TRUE(invert_positive_definite(A, factor, inverse)) << n;
+    EXPECT_LT((A * inverse - Matrix::Identity(n, n)).cwiseAbs().maxCoeff(), 1e-13) << n;
+    EXPECT_TRUE(inverse == inverse.transpose()) << n;
+  }
+}
+
+TEST(DenseInverse, RefusesAMatrixThatIsNotPositiveDefinite) {
+  Matrix A = spd(3);
+  A(1, 1) = -A(1, 1);
+  Matrix factor, inverse;
+  EXPECT_FALSE(invert_positive_definite(A, factor, inverse));
+}
+
+// The fixed sizes (3, 6) and the dynamic one agree with Eigen's products.
+TEST(SmallDenseProducts, AgreeWithEigensProducts) {
+  for (int n : {2, 3, 6, 7}) {
+    const Matrix A = spd(n);
+    const Vector x = Vector::LinSpaced(n, -1.0, 2.0);
+    Vector y;
+    small_multiply(A, x, y);
+    EXPECT_LT((y - A * x).cwiseAbs().maxCoeff(), 1e-13) << n;
+    Matrix X = Matrix::Zero(n, 4);  // sparse columns, as the problem's rows
+    X(0, 0) = 1.0;
+    X(n - 1, 1) = -2.0;
+    X(n / 2, 2) = 0.5;
+    X(0, 3) = 3.0;
+    X(n - 1, 3) = 1.0;
+    Matrix G, W;
+    small_combine_columns(A, X, G);
+    EXPECT_LT((G - A * X).cwiseAbs().maxCoeff(), 1e-13) << n;
+    small_symmetric_gram(X, G, W);
+    EXPECT_LT((W - X.transpose() * A * X).cwiseAbs().maxCoeff(), 1e-12) << n;
+    EXPECT_TRUE(W == W.transpose()) << n;
+  }
+}
+
+}  // namespace
+}  // namespace csim
