@@ -65,6 +65,19 @@ double MoreauJean::equality_dot(int e, const Vector& v) const {
   return e < nw ? equalities_.rows.row(e).dot(v) : ties_.rows()[e - nw].dot(v);
 }
 
+template <class Dense>
+void MoreauJean::add_problem_row(int a, double scale, Dense&& out) const {
+  const int contact_rows = static_cast<int>(rows_.size());
+  const int ne = static_cast<int>(equalities_.rows.rows());
+  if (a < contact_rows) {
+    rows_[a].scatter(scale, out);
+  } else if (a < contact_rows + ne) {
+    for (int j = 0; j < equalities_.rows.cols(); ++j) out(j) += scale * equalities_.rows(a - contact_rows, j);
+  } else {
+    ties_.rows()[a - contact_rows - ne].scatter(scale, out);
+  }
+}
+
 MoreauJean::~MoreauJean() = default;
 
 void MoreauJean::summarize_settings(SummaryEntries& out) const {
@@ -242,14 +255,9 @@ void MoreauJean::gather_columns() {
 // A lumped World keeps A⁻¹ (structural_operators.h): G = A⁻¹ Hᵀ and W = H G, symmetric, are small
 // products (small_dense_products.h), with Hᵀ's columns the problem's rows. No solve.
 void MoreauJean::dense_delassus() {
-  const int n = world_.velocity_size;
-  const int contact_rows = static_cast<int>(rows_.size());
-  const int ne = static_cast<int>(equalities_.rows.rows());
-  const int m = contact_rows + equality_count();
-  problem_columns_.setZero(n, m);  // Hᵀ
-  for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(1.0, problem_columns_.col(a));
-  if (ne > 0) problem_columns_.middleCols(contact_rows, ne) = equalities_.rows.transpose();
-  for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(1.0, problem_columns_.col(contact_rows + ne + i));
+  const int m = static_cast<int>(rows_.size()) + equality_count();
+  problem_columns_.setZero(world_.velocity_size, m);  // Hᵀ
+  for (int a = 0; a < m; ++a) add_problem_row(a, 1.0, problem_columns_.col(a));
   operators_.dense_columns(problem_columns_, dense_columns_);
   small_symmetric_gram(problem_columns_, dense_columns_, problem_.W);
 }
@@ -307,9 +315,7 @@ void MoreauJean::assemble(const State& state) {
   problem_.b.resize(m);
   if (operators_.direct_delassus()) {  // no columns: update() takes one solve with Hᵀ r
     problem_rows_.setZero(m, world_.velocity_size);
-    for (int a = 0; a < d * nc; ++a) rows_[a].scatter(1.0, problem_rows_.row(a));
-    if (ne > 0) problem_rows_.middleRows(d * nc, ne) = equalities_.rows;
-    for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(1.0, problem_rows_.row(d * nc + ne + i));
+    for (int a = 0; a < m; ++a) add_problem_row(a, 1.0, problem_rows_.row(a));
     operators_.delassus(problem_rows_, problem_.W);
   } else if (operators_.explicit_inverse()) {
     dense_delassus();
@@ -382,7 +388,6 @@ void MoreauJean::update(State& state) {
   const double theta = parameters_.theta;
   v_next_ = v_free_;
   const int rows = static_cast<int>(r_.size());
-  const int contact_rows = static_cast<int>(rows_.size());
   if (rows > 0 && operators_.sparse() && !operators_.direct_delassus()) {
     // A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r): the forward columns kept for W, then a backward substitution alone.
     const SparseLdlt& factor = operators_.sparse_factor();
@@ -396,10 +401,7 @@ void MoreauJean::update(State& state) {
   } else if (rows > 0 && operators_.sparse()) {
     // One solve A⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
     work_.setZero(world_.velocity_size);
-    for (int a = 0; a < contact_rows; ++a) rows_[a].scatter(r_(a), work_);
-    const int ne = static_cast<int>(equalities_.rows.rows());
-    for (int e = 0; e < ne; ++e) work_ += r_(contact_rows + e) * equalities_.rows.row(e).transpose();
-    for (int i = 0; i < ties_.size(); ++i) ties_.rows()[i].scatter(r_(contact_rows + ne + i), work_);
+    for (int a = 0; a < rows; ++a) add_problem_row(a, r_(a), work_);
     operators_.solve_in_place(work_);
     v_next_ += work_;
   } else if (operators_.explicit_inverse()) {

@@ -97,6 +97,9 @@ class MoreauJean final : public Stepper {
   void detect(const State& state);
   bool closes(std::size_t k, const Vector& v, double time) const;  // candidate k, predicted gap
   int activate_missed_contacts(double h);
+  // out += scale · (row a of the problem)ᵀ: the contacts' rows, then the equalities', then the ties'.
+  template <class Dense>
+  void add_problem_row(int a, double scale, Dense&& out) const;
   void gather_columns();
   void gather_delassus();
   void assemble(const State& state);
