@@ -40,7 +40,6 @@ Dynamics::Dynamics(const World& world) : world_(world) {
     }
     const bool offset_a = rotates(*a.body) && !s.point_a.isZero();
     const bool offset_b = s.body_b >= 0 && rotates(*world.bodies[s.body_b].body) && !s.point_b.isZero();
-    if (offset_a || offset_b) constant_stiffness_ = false;
     if (offset_a) add_orientation_coordinates(a);
     if (offset_b) add_orientation_coordinates(world.bodies[s.body_b]);
   }

@@ -98,11 +98,11 @@ class Dynamics {
   bool nonlinear() const { return nonlinear_; }  // a body's internal force is nonlinear in q
   // True when K does not depend on q (springs only on translating points, linear bodies), so that an
   // iteration matrix can be factored once.
-  bool constant_stiffness() const { return constant_stiffness_ && !nonlinear_; }
+  bool constant_stiffness() const { return constant_spring_stiffness() && !nonlinear_; }
   // The same for the springs alone (a World of linear bodies may still have springs on rotating points).
-  bool constant_spring_stiffness() const { return constant_stiffness_; }
+  bool constant_spring_stiffness() const { return spring_stiffness_coordinates_.empty(); }
   // The indices in q that the springs' K depends on: the orientation coordinates of the bodies with a
-  // spring attached off their origin (none when constant_spring_stiffness()). K is a function of these
+  // spring attached off their origin (none: the springs' K is constant). K is a function of these
   // alone, so that equal values give the same K to the bit.
   const std::vector<int>& spring_stiffness_coordinates() const { return spring_stiffness_coordinates_; }
 
@@ -115,7 +115,6 @@ class Dynamics {
   std::vector<int> position_of_velocity_;
   std::vector<int> spring_stiffness_coordinates_;
   SparseMatrix mass_, damping_;
-  bool constant_stiffness_ = true;
   bool has_elastic_bodies_ = false;
   bool nonlinear_ = false;
   bool gyroscopic_ = false;  // a body has inertial forces

@@ -50,7 +50,6 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
   has_stiffness_ = dynamics.has_stiffness();
   nonlinear_ = dynamics.nonlinear();
   has_damping_ = dynamics.has_damping();
-  constant_ = dynamics.constant_stiffness();
   explicit_inverse_ = !sparse_ && !dynamics.has_elastic_bodies();
   factored_coordinates_.resize(dynamics.spring_stiffness_coordinates().size());
   if (sparse_ && nonlinear_) body_stiffness_.resize(n, n);  // the tangent, at each update
@@ -84,13 +83,13 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     if (!sparse_) dense_stiffness_ = Matrix(body_stiffness_);
   }
   if (sparse_) {
-    if (dynamics_.has_springs() && !(constant_ && factored_)) {  // a constant sum is formed once
+    if (dynamics_.has_springs() && !(dynamics_.constant_stiffness() && factored_)) {  // a constant sum is formed once
       Triplets springs;
       dynamics_.add_spring_stiffness(q, springs);
       SparseMatrix spring_matrix(world_.velocity_size, world_.velocity_size);
       spring_matrix.setFromTriplets(springs.begin(), springs.end());
       evaluate_sized(body_stiffness_ + spring_matrix, false).swap(sparse_stiffness_);
-      if (constant_) SparseMatrix().swap(body_stiffness_);  // freed (an assignment keeps the storage)
+      if (dynamics_.constant_stiffness()) SparseMatrix().swap(body_stiffness_);  // freed (an assignment keeps the storage)
     }
     // CHOLMOD reads A's lower triangle only (sparse_ldlt.h): the upper one is not formed.
     const SparseMatrix A =

@@ -56,7 +56,7 @@ class StructuralOperators {
  private:
   const World& world_;
   const Dynamics& dynamics_;
-  bool sparse_, has_stiffness_, has_damping_, constant_, nonlinear_ = false;  // constant_: K does not depend on q
+  bool sparse_, has_stiffness_, has_damping_, nonlinear_ = false;
   bool explicit_inverse_;  // a dense lumped World: A⁻¹ kept (dense_inverse_), else dense_factor_
   bool factored_ = false;
   double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;
