@@ -1,9 +1,15 @@
 #include "engine/sparse_assembly.h"
 
 #include <algorithm>
-#include <cstring>
 
 namespace csim {
+
+bool same_pattern(const SparseMatrix& a, const SparseMatrix& b) {
+  return a.isCompressed() && b.isCompressed() && a.rows() == b.rows() && a.cols() == b.cols() &&
+         a.nonZeros() == b.nonZeros() &&
+         std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.cols() + 1, b.outerIndexPtr()) &&
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+}
 
 void SparseAssembly::record(int row, int column, double value) {
   replay_ = false;  // the entries before count_ are still the stream's: they are kept
@@ -70,11 +76,7 @@ bool SparseAssembly::finish(int rows, int columns, SparseMatrix& matrix) {
   if (rebuilt) build_pattern(rows, columns);
   // matrix keeps the pattern unless someone changed it since (then it gets it again).
   const Eigen::Index nonzeros = pattern_.nonZeros();
-  const bool same = matrix.isCompressed() && matrix.rows() == rows && matrix.cols() == columns &&
-                    matrix.nonZeros() == nonzeros &&
-                    std::memcmp(matrix.outerIndexPtr(), pattern_.outerIndexPtr(), sizeof(int) * (columns + 1)) == 0 &&
-                    std::memcmp(matrix.innerIndexPtr(), pattern_.innerIndexPtr(), sizeof(int) * nonzeros) == 0;
-  if (!same) matrix = pattern_;
+  if (!same_pattern(matrix, pattern_)) matrix = pattern_;
   double* values = matrix.valuePtr();
   std::fill(values, values + nonzeros, 0.0);
   for (std::size_t k = 0; k < count_; ++k) values[slot_[k]] += value_[k];

@@ -18,6 +18,9 @@
 
 namespace csim {
 
+// Whether a and b are compressed with the same pattern (sizes, column starts, rows).
+bool same_pattern(const SparseMatrix& a, const SparseMatrix& b);
+
 class SparseAssembly {
  public:
   // A new assembly: the entries follow with add, then finish.

@@ -1,5 +1,6 @@
 #include "engine/steppers/quasi_static.h"
 
+#include "engine/sparse_assembly.h"
 #include "engine/steppers/contact_solve.h"
 #include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
@@ -18,14 +19,6 @@ constexpr double kFirstHeld = 1e-4;    // the held rows' first ρ / max diag(K_z
 constexpr int kHeldRounds = 4;         // solves again after dropping let-go rows, at most
 constexpr int kCompliancePasses = 20;  // penalty friction: solves again at the new normal forces, at most
 constexpr double kComplianceTolerance = 1e-8;  // … until they change by less (over the largest)
-
-// Whether a and b are compressed with the same pattern.
-bool same_pattern(const SparseMatrix& a, const SparseMatrix& b) {
-  return a.isCompressed() && b.isCompressed() && a.rows() == b.rows() && a.cols() == b.cols() &&
-         a.nonZeros() == b.nonZeros() &&
-         std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.cols() + 1, b.outerIndexPtr()) &&
-         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
-}
 
 // values ← S's entries at their places in pattern's values array (zero elsewhere); false when an entry
 // of S falls outside pattern (compressed, rows sorted in each column, as setFromTriplets leaves them).
@@ -166,27 +159,23 @@ bool QuasiStatic::factor_stiffness() {
     // K_z + G + ρ HᵀH on K_z's own pattern, value by value, when G and HᵀH fall inside it (a node
     // contact's rows sit in its node's block and the hub's columns): the same sums as the sparse ones
     // below, without merging patterns at every ρ.
-    if (values_in_pattern(K_z_, HtH, held_values_) && (!geometric || values_in_pattern(K_z_, G, geometric_values_))) {
+    const bool in_pattern =
+        values_in_pattern(K_z_, HtH, held_values_) && (!geometric || values_in_pattern(K_z_, G, geometric_values_));
+    SparseMatrix base;  // K_z + G, summed sparse when G or HᵀH leave K_z's pattern
+    if (in_pattern) {
       if (!same_pattern(held_matrix_, K_z_)) held_matrix_ = K_z_;
-      const Eigen::Index nonzeros = K_z_.nonZeros();
-      const Eigen::Map<const Vector> stiffness(K_z_.valuePtr(), nonzeros);
-      Eigen::Map<Vector> held(held_matrix_.valuePtr(), nonzeros);
+      const Eigen::Map<const Vector> stiffness(K_z_.valuePtr(), K_z_.nonZeros());
       base_values_ = geometric ? Vector(stiffness + geometric_values_) : Vector(stiffness);
-      for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
-        held = base_values_ + rho * held_values_;
-        if (factor_.factor_positive_definite(held_matrix_)) {
-          f_aug_ = f_z_ - rho * load;
-          return true;
-        }
-      }
     } else {
-      SparseMatrix base = K_z_;
+      base = K_z_;
       if (geometric) base += G;
-      for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
-        if (factor_.factor_positive_definite(base + rho * HtH)) {
-          f_aug_ = f_z_ - rho * load;
-          return true;
-        }
+    }
+    for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
+      if (in_pattern) Eigen::Map<Vector>(held_matrix_.valuePtr(), held_matrix_.nonZeros()) = base_values_ + rho * held_values_;
+      else held_matrix_ = base + rho * HtH;
+      if (factor_.factor_positive_definite(held_matrix_)) {
+        f_aug_ = f_z_ - rho * load;
+        return true;
       }
     }
   }

@@ -131,7 +131,7 @@ class QuasiStatic final : public Stepper {
   SparseLdlt factor_;
   SparseRowMatrix T_;
   SparseMatrix K_z_;
-  SparseMatrix held_matrix_;   // K_z + G + ρ HᵀH on K_z's pattern (factor_stiffness)
+  SparseMatrix held_matrix_;   // K_z + G + ρ HᵀH, on K_z's pattern when it holds them (factor_stiffness)
   Vector held_values_, geometric_values_, base_values_;  // HᵀH, G and K_z + G over K_z's values
   Triplets triplets_;  // the bodies' tangents (finite-strain floating ones first, in their hub's frame), then the springs'
   double contact_distance_, length_;
