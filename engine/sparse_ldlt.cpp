@@ -236,17 +236,15 @@ void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
   if (m == 0) return;
   // Y = L⁻¹ P Hᵀ, column by column from H's nonzeros.
   Y_.setZero(n, m);
-  std::vector<int> index;
-  std::vector<double> value;
   for (int a = 0; a < m; ++a) {
-    index.clear();
-    value.clear();
+    row_index_.clear();
+    row_value_.clear();
     for (int k = 0; k < n; ++k)
       if (H(a, k) != 0.0) {
-        index.push_back(k);
-        value.push_back(H(a, k));
+        row_index_.push_back(k);
+        row_value_.push_back(H(a, k));
       }
-    forward(index.data(), value.data(), static_cast<int>(index.size()), column_);
+    forward(row_index_.data(), row_value_.data(), static_cast<int>(row_index_.size()), column_);
     for (std::size_t k = 0; k < column_.index.size(); ++k) Y_(column_.index[k], a) = column_.value[k];
   }
   // The columns that reach each row of Y, gathered along Y's columns (two passes in storage order, not

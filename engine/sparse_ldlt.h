@@ -75,6 +75,8 @@ class SparseLdlt {
   mutable Vector work_;                    // forward's dense work vector, zero between calls
   Matrix Y_, compact_;                     // delassus' work space
   std::vector<int> rows_, row_start_, row_columns_, fill_;
+  std::vector<int> row_index_;             // a row of H's nonzeros, for forward
+  std::vector<double> row_value_;
   ForwardColumn column_;
   void prepare_tree() const;
 };

@@ -96,7 +96,7 @@ ParaviewSeries::~ParaviewSeries() {
   const std::filesystem::path folder(directory_);
   for (const Series& s : series_) {
     for (const std::string& file : s.written) std::filesystem::remove(folder / file, ignored);
-    std::filesystem::remove(folder / (frame_name(s.stem, s.written.size()) + ".tmp"), ignored);  // one cut short
+    std::filesystem::remove(folder / (frame_name(s.stem, s.written.size()) + kTemporarySuffix), ignored);  // one cut short
     std::filesystem::remove(folder / (s.stem + ".pvd"), ignored);  // finish() may have written some
   }
   std::filesystem::remove(directory_, ignored);
