@@ -62,20 +62,21 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
 }
 
 // K(q) of a linear World is a function of the springs' orientation coordinates alone
-// (Dynamics::spring_stiffness_coordinates): when they, h and θ are what A was factored with, A is
-// the same to the bit and is kept (a shoe that slides without turning keeps its factorization).
-bool StructuralOperators::factored_for(const Vector& q, double h, double theta) const {
-  if (!factored_ || nonlinear_ || h != factored_h_ || theta != factored_theta_) return false;
+// (Dynamics::spring_stiffness_coordinates): when they and A's coefficients are what A was factored
+// with, A is the same to the bit and is kept (a shoe that slides without turning keeps its factorization).
+bool StructuralOperators::factored_for(const Vector& q, double damping_coefficient, double stiffness_coefficient) const {
+  if (!factored_ || nonlinear_ || damping_coefficient != factored_damping_ || stiffness_coefficient != factored_stiffness_)
+    return false;
   const std::vector<int>& coordinates = dynamics_.spring_stiffness_coordinates();
   for (std::size_t i = 0; i < coordinates.size(); ++i)
     if (q(coordinates[i]) != factored_coordinates_[i]) return false;
   return true;
 }
 
-void StructuralOperators::update(const Vector& q, double h, double theta) {
-  if (factored_for(q, h, theta)) return;
+void StructuralOperators::update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient) {
+  if (factored_for(q, damping_coefficient, stiffness_coefficient)) return;
   const auto start = std::chrono::steady_clock::now();
-  const double scale = h * h * theta * theta;
+  const double scale = stiffness_coefficient;
   if (nonlinear_) {  // the bodies' tangent at q (a linear body's K is its tangent)
     Triplets tangent;
     dynamics_.add_body_stiffness(q, tangent);
@@ -93,7 +94,7 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     }
     // CHOLMOD reads A's lower triangle only (sparse_ldlt.h): the upper one is not formed.
     const SparseMatrix A =
-        evaluate_sized(dynamics_.mass() + (h * theta) * dynamics_.damping() + scale * stiffness(), true);
+        evaluate_sized(dynamics_.mass() + damping_coefficient * dynamics_.damping() + scale * stiffness(), true);
     // The symbolic analysis depends only on the pattern, which K's refresh keeps (sparse_ldlt.h).
     if (nonlinear_) factor_regularized(A);
     else sparse_factor_.factor_positive_definite(A);
@@ -104,7 +105,7 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     }
     Matrix& A = dense_iteration_;  // a member: no allocation once sized
     A = dense_mass_;
-    if (has_damping_) A += (h * theta) * dense_damping_;
+    if (has_damping_) A += damping_coefficient * dense_damping_;
     A += scale * dense_stiffness_;
     factor_dense(A);
   }
@@ -112,8 +113,8 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
   for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
     factored_coordinates_[i] = q(dynamics_.spring_stiffness_coordinates()[i]);
   ++factorizations_;
-  factored_h_ = h;
-  factored_theta_ = theta;
+  factored_damping_ = damping_coefficient;
+  factored_stiffness_ = stiffness_coefficient;
   factorization_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

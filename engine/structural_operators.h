@@ -27,7 +27,10 @@ class StructuralOperators {
   explicit StructuralOperators(const Dynamics& dynamics);
 
   // Refreshes K at q and refactors A when needed (always the first time).
-  void update(const Vector& q, double h, double theta);
+  void update(const Vector& q, double h, double theta) { update_coefficients(q, h * theta, h * h * theta * theta); }
+  // The same for A = M + c_C C + c_K K with the coefficients of another scheme (c_C in s, c_K in s²;
+  // the generalized-α iteration matrix of generalized_alpha.h).
+  void update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient);
   bool nonlinear() const { return nonlinear_; }  // a body's K depends on q (a finite-strain body)
   bool has_stiffness() const { return has_stiffness_; }
   bool has_damping() const { return has_damping_; }
@@ -59,7 +62,7 @@ class StructuralOperators {
   bool sparse_, has_stiffness_, has_damping_, nonlinear_ = false;
   bool explicit_inverse_;  // a dense lumped World: A⁻¹ kept (dense_inverse_), else dense_factor_
   bool factored_ = false;
-  double factored_h_ = 0.0, factored_theta_ = 0.0, factorization_seconds_ = 0.0;
+  double factored_damping_ = 0.0, factored_stiffness_ = 0.0, factorization_seconds_ = 0.0;
   long factorizations_ = 0, regularizations_ = 0;
   std::vector<double> factored_coordinates_;  // the springs' orientation coordinates A was factored at
   Matrix dense_mass_, dense_stiffness_, dense_damping_, dense_iteration_;
@@ -76,7 +79,7 @@ class StructuralOperators {
   SparseLdlt sparse_factor_;
 
   const SparseMatrix& stiffness() const { return dynamics_.has_springs() ? sparse_stiffness_ : body_stiffness_; }
-  bool factored_for(const Vector& q, double h, double theta) const;
+  bool factored_for(const Vector& q, double damping_coefficient, double stiffness_coefficient) const;
   void factor_dense(const Matrix& A);
   void factor_regularized(const SparseMatrix& A);
   template <class PositiveDefiniteWith>
