@@ -81,9 +81,9 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   CLI::App* compare = app.add_subcommand("compare", "the work-precision study: error against wall time per integrator");
   add_scene(*compare, a);
   add_overrides(*compare, a);
-  add_list(*compare, "--integrators", a.integrators, "integrators to compare: moreau-jean, ida, ida-events")
+  add_list(*compare, "--integrators", a.integrators, "integrators to compare: moreau-jean, generalized-alpha, ida, ida-events")
       ->required();
-  add_list(*compare, "--steps", a.steps, "time steps of the moreau-jean runs (s)")->check(kPositive);
+  add_list(*compare, "--steps", a.steps, "time steps of the moreau-jean and generalized-alpha runs (s)")->check(kPositive);
   add_list(*compare, "--tolerances", a.tolerances, "rtol = atol of the ida and ida-events runs")
       ->check(kPositive);
   compare->add_option("--repeats", a.repeats, "runs per configuration, for the median wall time (default 3)")
@@ -93,7 +93,7 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
       ->type_name("auto|analytical|ida-events|moreau-jean")
       ->check(CLI::IsMember({"auto", "analytical", "ida-events", "moreau-jean"}));
   add_output(*compare, a, "out/<scene>-compare");
-  compare->footer("moreau-jean runs once per step, ida and ida-events once per tolerance, each N times; writes\n"
+  compare->footer("moreau-jean and generalized-alpha run once per step, ida and ida-events once per tolerance, each N times; writes\n"
                   "DIR/work_precision.csv, .gp and .png.\n"
                   "Exit status: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input;\n" +
                   std::string(kStopped));

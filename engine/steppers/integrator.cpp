@@ -8,6 +8,7 @@ std::string integrator_name(Integrator integrator) {
     case Integrator::quasi_static: return "quasi-static";
     case Integrator::ida: return "ida";
     case Integrator::ida_events: return "ida-events";
+    case Integrator::generalized_alpha: return "generalized-alpha";
   }
   return "unknown";
 }

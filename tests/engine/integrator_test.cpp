@@ -11,6 +11,7 @@ TEST(IntegratorNames, EachNameReadsBackAsItsIntegrator) {
   EXPECT_EQ(integrator_name(Integrator::quasi_static), "quasi-static");
   EXPECT_EQ(integrator_name(Integrator::ida), "ida");
   EXPECT_EQ(integrator_name(Integrator::ida_events), "ida-events");
+  EXPECT_EQ(integrator_name(Integrator::generalized_alpha), "generalized-alpha");
   for (Integrator integrator : kIntegrators) EXPECT_EQ(integrator_from_name(integrator_name(integrator)), integrator);
 }
 
@@ -21,11 +22,16 @@ TEST(IntegratorNames, UnknownNamesAreNothing) {
 }
 
 TEST(IntegratorNames, ListForMessagesAndIdaFamily) {
-  EXPECT_EQ(integrator_names(), "moreau-jean, quasi-static, ida, ida-events");
+  EXPECT_EQ(integrator_names(), "moreau-jean, quasi-static, ida, ida-events, generalized-alpha");
   EXPECT_TRUE(is_ida(Integrator::ida));
   EXPECT_TRUE(is_ida(Integrator::ida_events));
   EXPECT_FALSE(is_ida(Integrator::moreau_jean));
   EXPECT_FALSE(is_ida(Integrator::quasi_static));
+  EXPECT_FALSE(is_ida(Integrator::generalized_alpha));
+  EXPECT_TRUE(is_time_stepping(Integrator::moreau_jean));
+  EXPECT_TRUE(is_time_stepping(Integrator::generalized_alpha));
+  EXPECT_FALSE(is_time_stepping(Integrator::ida));
+  EXPECT_FALSE(is_time_stepping(Integrator::quasi_static));
 }
 
 }  // namespace

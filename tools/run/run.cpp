@@ -7,6 +7,7 @@
 #include "tools/run/probes.h"
 #include "tools/scene/scene_error.h"
 #include "tools/run/stop_request.h"
+#include "engine/steppers/generalized_alpha.h"
 #include "engine/steppers/ida_integrator.h"
 #include "engine/steppers/moreau_jean.h"
 #include "engine/steppers/quasi_static.h"
@@ -93,6 +94,8 @@ std::unique_ptr<Stepper> make_stepper(const World& world, const RunSettings& run
       case Integrator::ida:
       case Integrator::ida_events: return std::make_unique<IdaIntegrator>(world, ida_parameters(run));
       case Integrator::quasi_static: return std::make_unique<QuasiStatic>(world, quasi_static_parameters(run));
+      case Integrator::generalized_alpha:
+        return std::make_unique<GeneralizedAlpha>(world, generalized_alpha_parameters(run));
       case Integrator::moreau_jean: break;
     }
     return std::make_unique<MoreauJean>(world, moreau_jean_parameters(run));

@@ -28,6 +28,7 @@ const std::vector<KeyReaders>& key_table() {
       {"newton_max_iterations", {moreau_jean, quasi_static}},
       {"max_cutbacks", {quasi_static}},
       {"close_gaps", {moreau_jean}},
+      {"rho_infinity", {generalized_alpha}},
   };
   return table;
 }

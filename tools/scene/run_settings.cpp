@@ -24,6 +24,15 @@ MoreauJeanParameters moreau_jean_parameters(const RunSettings& run) {
   return parameters;
 }
 
+GeneralizedAlphaParameters generalized_alpha_parameters(const RunSettings& run) {
+  GeneralizedAlphaParameters parameters;
+  static_cast<GeneralizedAlphaOptions&>(parameters) = run.generalized_alpha;
+  parameters.step = run.step;
+  parameters.solver = run.contact_solver;
+  parameters.failure_residual = run.failure_residual;
+  return parameters;
+}
+
 IdaParameters ida_parameters(const RunSettings& run) {
   IdaParameters parameters;
   static_cast<IdaOptions&>(parameters) = run.ida;

@@ -7,6 +7,7 @@
 #include "contact/pgs_solver.h"
 #include "engine/steppers/ida_parameters.h"
 #include "engine/steppers/integrator.h"
+#include "engine/steppers/generalized_alpha_parameters.h"
 #include "engine/steppers/moreau_jean_parameters.h"
 #include "engine/steppers/quasi_static_parameters.h"
 #include "engine/world.h"
@@ -76,6 +77,7 @@ struct RunSettings {
   double failure_residual = 1e-6;  // contact_solver.failure_residual: a solve left above it stops the run
   NewtonSettings newton;
   MoreauJeanOptions moreau_jean;   // integrator.theta, close_gaps
+  GeneralizedAlphaOptions generalized_alpha;  // integrator.rho_infinity
   IdaOptions ida;                  // integrator.rtol, atol, penalty_*, epsilon, linear_solver, max_step(s)
   QuasiStaticOptions quasi_static; // integrator.contact_distance, max_cutbacks
   double output_rate = 0.0;  // s between rows of probes.csv; 0 = every step
@@ -87,6 +89,7 @@ struct RunSettings {
 
 // The parameters of each stepper, composed from the settings.
 MoreauJeanParameters moreau_jean_parameters(const RunSettings& run);
+GeneralizedAlphaParameters generalized_alpha_parameters(const RunSettings& run);
 IdaParameters ida_parameters(const RunSettings& run);
 QuasiStaticParameters quasi_static_parameters(const RunSettings& run);
 

@@ -3,6 +3,7 @@
 #include "tools/scene/scene.h"
 #include "tools/scene/integrator_keys.h"
 #include "tools/scene/scene_parts.h"
+#include "engine/steppers/generalized_alpha.h"
 #include "engine/steppers/ida_integrator.h"
 #include "engine/steppers/quasi_static.h"
 
@@ -83,6 +84,11 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
       integrator.fail_at("theta", "theta must lie in [0.5, 1]");
     run.moreau_jean.close_gaps = integrator.boolean("close_gaps", true);
   }
+  if (reads("rho_infinity")) {
+    run.generalized_alpha.rho_infinity = integrator.number("rho_infinity", 0.95);
+    if (!(run.generalized_alpha.rho_infinity >= 0.0 && run.generalized_alpha.rho_infinity <= 1.0))
+      integrator.fail_at("rho_infinity", "rho_infinity must lie in [0, 1]");
+  }
   if (reads("rtol")) {
     IdaOptions& ida = run.ida;
     ida.rtol = integrator.number("rtol", 1e-6);
@@ -141,12 +147,14 @@ void refuse_unsupported(const SceneNode& root, const Scene& scene) {
   const SceneNode integrator = root.section("integrator");
   const Integrator type = scene.run.integrator;
   std::string refusal;
-  if (is_ida(type)) {
+  if (is_ida(type) || type == Integrator::generalized_alpha) {
     if (scene.declared_integrator == integrator_name(Integrator::quasi_static))
       refusal = integrator_name(type) +
                 " integrates the inertia of a dynamic problem, and this scene is quasi-static (its file "
                 "sets integrator.type: quasi-static, its masses are placeholders); use quasi-static, or "
                 "moreau-jean with integrator.theta=1 for a damped transient";
+    else if (type == Integrator::generalized_alpha)
+      refusal = GeneralizedAlpha::unsupported(scene.world);
     else
       refusal = IdaIntegrator::unsupported(scene.world, ida_parameters(scene.run));
   } else if (type == Integrator::quasi_static) {

@@ -81,6 +81,7 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     if (run.integrator == Integrator::quasi_static && !stored)
       spec.fail("integrator.type quasi-static accounts only the stored energy (elastic, kinetic = 0, mechanical), not '" +
                 p.energy_term + "'; use moreau-jean or ida for this probe");
+
   } else if (kind == "contact_count") {
     spec.allow_only({"contact", "status"});
     p.kind = ProbeDefinition::Kind::contact_count;
@@ -125,6 +126,13 @@ CheckDefinition read_check(const std::string& name, const SceneNode& node, const
   for (std::size_t i = 0; i < run.probes.size(); ++i)
     if (run.probes[i].name == probe) c.probe = static_cast<int>(i);
   if (c.probe < 0) node.fail_at("probe", "no probe named '" + probe + "'");
+  // The generalized-α stepper's numerical dissipation is what closes its balance (generalized_alpha.h),
+  // so a check of the balance could not fail: it is reported as not evaluated, never as passed.
+  const ProbeDefinition& judged = run.probes[c.probe];
+  if (run.integrator == Integrator::generalized_alpha && judged.kind == ProbeDefinition::Kind::energy &&
+      judged.energy_term == "balance")
+    c.unjudgeable = "integrator.type generalized-alpha keeps no independent energy balance (its numerical "
+                    "dissipation is what closes it); judge the balance with moreau-jean or ida";
 
   int modes = 0;
   auto index_of = [&](const char* key) { return static_cast<int>(node.whole_number(key, std::nullopt, 1)); };

@@ -22,10 +22,18 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// moreau-jean is refined by its time step; the IDA integrators by their tolerances, their time.step
-// being only the sampling interval of the probes.
+// moreau-jean and generalized-alpha are refined by their time step; the IDA integrators by their
+// tolerances, their time.step being only the sampling interval of the probes.
 bool refined_by_step(const std::string& integrator) {
-  return integrator_from_name(integrator) == Integrator::moreau_jean;
+  const std::optional<Integrator> known = integrator_from_name(integrator);
+  return known && is_time_stepping(*known);
+}
+
+// "moreau-jean, generalized-alpha, ida, ida-events", for messages.
+std::string comparable_names() {
+  std::string names;
+  for (const std::string& name : comparable_integrators()) names += (names.empty() ? "" : ", ") + name;
+  return names;
 }
 
 // The shortest text that reads back as the same double, so that an override sets exactly the value asked.
@@ -43,7 +51,7 @@ void validate(const CompareOptions& options) {
   if (options.integrators.empty()) fail("--integrators", "no integrator given");
   for (const std::string& name : options.integrators) {
     if (std::find(known.begin(), known.end(), name) == known.end())
-      fail("--integrators", "unknown integrator '" + name + "' (known: moreau-jean, ida, ida-events)");
+      fail("--integrators", "unknown integrator '" + name + "' (known: " + comparable_names() + ")");
     if (std::count(options.integrators.begin(), options.integrators.end(), name) > 1)
       fail("--integrators", "'" + name + "' is listed twice");
   }
@@ -159,8 +167,9 @@ RunReport run_configuration(const CompareOptions& options, std::vector<ComparedC
 }  // namespace
 
 const std::vector<std::string>& comparable_integrators() {
-  static const std::vector<std::string> names{integrator_name(Integrator::moreau_jean), integrator_name(Integrator::ida),
-                                              integrator_name(Integrator::ida_events)};
+  static const std::vector<std::string> names{integrator_name(Integrator::moreau_jean),
+                                              integrator_name(Integrator::generalized_alpha),
+                                              integrator_name(Integrator::ida), integrator_name(Integrator::ida_events)};
   return names;
 }
 
