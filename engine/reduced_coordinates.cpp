@@ -389,20 +389,34 @@ void ReducedCoordinates::reduce_stiffness(const Vector& q, const Vector& f, cons
     reaches_hub_column_.assign(n, 0);
   }
   // Sᵀ K' S as it is; K' C and Cᵀ K' (kept apart: K' need not be symmetric).
-  auto visit = [&](const Eigen::Triplet<double>& t) {
-    const int i = t.row(), j = t.col();
-    if (selected_[i] >= 0 && selected_[j] >= 0) assembly_.add(selected_[i], selected_[j], t.value());
-    if (hubs == 0) return;
+  auto hub_part = [&](int i, int j, double value) {
     if (floating_of_[j] >= 0) {
-      for (int h = 0; h < hubs; ++h) KC_(i, h) += t.value() * C_(j, h);
+      for (int h = 0; h < hubs; ++h) KC_(i, h) += value * C_(j, h);
       reaches_hub_row_[i] = 1;
     }
     if (floating_of_[i] >= 0) {
-      for (int h = 0; h < hubs; ++h) CK_(j, h) += t.value() * C_(i, h);
+      for (int h = 0; h < hubs; ++h) CK_(j, h) += value * C_(i, h);
       reaches_hub_column_[j] = 1;
     }
   };
-  for (std::size_t t = 0; t < world_from; ++t) visit(K[t]);
+  auto visit = [&](const Eigen::Triplet<double>& t) {
+    const int i = t.row(), j = t.col();
+    if (selected_[i] >= 0 && selected_[j] >= 0) assembly_.add(selected_[i], selected_[j], t.value());
+    if (hubs > 0) hub_part(i, j, t.value());
+  };
+  // The frame entries, K's head: at the positions of the last iterate, summed straight into K_z's slots.
+  const bool planned = world_from > 0 && same_frame_positions(K, world_from);
+  if (planned) {
+    frame_sums_.assign(assembly_.nonzeros(), 0.0);
+    for (std::size_t t = 0; t < world_from; ++t) {
+      const double value = K[t].value();
+      if (frame_slot_[t] >= 0) frame_sums_[frame_slot_[t]] += value;
+      if (hubs > 0) hub_part(K[t].row(), K[t].col(), value);
+    }
+    assembly_.resume(frame_entries_, frame_sums_);
+  } else {
+    for (std::size_t t = 0; t < world_from; ++t) visit(K[t]);
+  }
   for (const auto& t : turned_) visit(t);
   // Sᵀ K' C, Cᵀ K' S and Cᵀ K' C; every entry that K's pattern reaches, zero or not, so that K_z's
   // pattern stays that of K (sparse_ldlt.h analyses it again when it changes).
@@ -421,7 +435,28 @@ void ReducedCoordinates::reduce_stiffness(const Vector& q, const Vector& f, cons
   geometric_.clear();
   add_geometric_stiffness(q, f, geometric_);
   assembly_.add(geometric_);
-  assembly_.finish(unknown_count_, unknown_count_, K_z);
+  if (assembly_.finish(unknown_count_, unknown_count_, K_z) || !planned) plan_frame(K, world_from);
+}
+
+bool ReducedCoordinates::same_frame_positions(const Triplets& K, std::size_t world_from) const {
+  if (!frame_planned_ || frame_position_.size() != world_from) return false;
+  for (std::size_t t = 0; t < world_from; ++t)
+    if (frame_position_[t][0] != K[t].row() || frame_position_[t][1] != K[t].col()) return false;
+  return true;
+}
+
+// After an assembly that added every frame entry (or built a new pattern): their positions and slots.
+void ReducedCoordinates::plan_frame(const Triplets& K, std::size_t world_from) {
+  frame_position_.resize(world_from);
+  frame_slot_.resize(world_from);
+  std::size_t k = 0;  // the entry's place in the assembly's stream
+  for (std::size_t t = 0; t < world_from; ++t) {
+    const int i = K[t].row(), j = K[t].col();
+    frame_position_[t] = {i, j};
+    frame_slot_[t] = selected_[i] >= 0 && selected_[j] >= 0 ? assembly_.slot(k++) : -1;
+  }
+  frame_entries_ = k;
+  frame_planned_ = true;
 }
 
 bool ReducedCoordinates::geometric_stiffness(const Vector& q, const Vector& f, SparseMatrix& G) const {

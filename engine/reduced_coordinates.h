@@ -154,6 +154,17 @@ class ReducedCoordinates final : public BodyFrames {
   std::vector<int> selected_;  // S: per velocity component, its unknown in T̃ (a floating node's w), or −1
   // reduce_stiffness' work space: K_z's entries come in the same order at every iterate
   SparseAssembly assembly_;
+  // The frame entries (K's head, before world_from) of the last iterate: their positions, and each one's
+  // slot in K_z's values (−1 off the unknowns); frame_entries_ of them head K_z's stream. While they come
+  // at the same positions, their values go straight to their slots (SparseAssembly::resume): K's largest
+  // part (a 68 × 10 ring's 43 520 entries) skips the unknowns' look-ups and the assembly's copy.
+  std::vector<std::array<int, 2>> frame_position_;
+  std::vector<int> frame_slot_;
+  std::size_t frame_entries_ = 0;
+  bool frame_planned_ = false;
+  std::vector<double> frame_sums_;
+  bool same_frame_positions(const Triplets& K, std::size_t world_from) const;
+  void plan_frame(const Triplets& K, std::size_t world_from);
   Triplets turned_, geometric_;
   Matrix C_, KC_, CK_;  // C, K' C and (Cᵀ K')ᵀ
   std::vector<char> reaches_hub_row_, reaches_hub_column_;

@@ -1,6 +1,7 @@
 #include "engine/sparse_assembly.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace csim {
 
@@ -71,15 +72,35 @@ void SparseAssembly::build_pattern(int rows, int columns) {
   ++patterns_;
 }
 
+void SparseAssembly::resume(std::size_t count, const std::vector<double>& sums) {
+  if (!patterned_ || count_ != 0 || count > row_.size() || sums.size() != nonzeros())
+    throw std::logic_error("SparseAssembly::resume without the last assembly's pattern");
+  count_ = count;
+  leading_count_ = count;
+  leading_ = &sums;
+}
+
 bool SparseAssembly::finish(int rows, int columns, SparseMatrix& matrix) {
   const bool rebuilt = !replay_ || count_ != row_.size() || rows != rows_ || columns != columns_;
+  // The resumed entries' sums are by their slot in the last pattern: kept to move them to the new one.
+  if (rebuilt && leading_count_ > 0) leading_slot_.assign(slot_.begin(), slot_.begin() + leading_count_);
   if (rebuilt) build_pattern(rows, columns);
   // matrix keeps the pattern unless someone changed it since (then it gets it again).
   const Eigen::Index nonzeros = pattern_.nonZeros();
   if (!same_pattern(matrix, pattern_)) matrix = pattern_;
   double* values = matrix.valuePtr();
-  std::fill(values, values + nonzeros, 0.0);
-  for (std::size_t k = 0; k < count_; ++k) values[slot_[k]] += value_[k];
+  std::size_t k = 0;
+  if (leading_count_ > 0 && !rebuilt) {
+    std::copy(leading_->begin(), leading_->end(), values);
+    k = leading_count_;
+  } else {
+    std::fill(values, values + nonzeros, 0.0);
+    // Each slot's resumed entries precede its others in the stream: its sum first, then theirs.
+    for (; k < leading_count_; ++k) values[slot_[k]] = (*leading_)[leading_slot_[k]];
+  }
+  for (; k < count_; ++k) values[slot_[k]] += value_[k];
+  leading_count_ = 0;
+  leading_ = nullptr;
   return rebuilt;
 }
 

@@ -26,8 +26,18 @@ class SparseAssembly {
   // A new assembly: the entries follow with add, then finish.
   void begin() {
     count_ = 0;
+    leading_count_ = 0;
     replay_ = patterned_;
   }
+  // After begin, when the stream's first count entries come at the positions they came at in the last
+  // assembly (the caller has checked them): their values arrive summed, in stream order, by slot of the
+  // last pattern (slot(k)), in sums (the values array's size, zero where none of them falls), so that
+  // a caller with a long repeating head of the stream does the scatter itself. add continues at entry
+  // count; the result is the same as if each had been added (a pattern built again keeps their sums).
+  void resume(std::size_t count, const std::vector<double>& sums);
+  // The index in the values array of the stream's k-th entry, from the last finish.
+  int slot(std::size_t k) const { return slot_[k]; }
+  std::size_t nonzeros() const { return static_cast<std::size_t>(pattern_.nonZeros()); }
   void add(int row, int column, double value) {
     if (replay_ && count_ < row_.size() && row_[count_] == row && column_[count_] == column) {
       value_[count_++] = value;
@@ -54,6 +64,9 @@ class SparseAssembly {
   std::size_t count_ = 0;          // entries since begin
   bool patterned_ = false;         // slot_ is the pattern of row_, column_ (and rows_ × columns_)
   bool replay_ = false;            // every entry since begin came where it came before
+  std::size_t leading_count_ = 0;  // resume: the first entries, summed by the caller into *leading_
+  const std::vector<double>* leading_ = nullptr;
+  std::vector<int> leading_slot_;  // their slots in the last pattern, when finish builds a new one
   int rows_ = 0, columns_ = 0;
   SparseMatrix pattern_;           // the pattern (values unused), to check and restore matrix's
   long patterns_ = 0;

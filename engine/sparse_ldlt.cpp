@@ -15,14 +15,19 @@ struct SparseLdlt::Cholmod {
   cholmod_dense* x = nullptr;
   cholmod_dense* y = nullptr;
   cholmod_dense* e = nullptr;
-  std::vector<int> inverse;  // position in the factor's order of each unknown
+  std::vector<int> permutation;  // the unknown at each position of the factor's order (P)
+  std::vector<int> inverse;      // position in the factor's order of each unknown
+  // triu(P A Pᵀ), compressed by columns, rows sorted: what the factorization reads as it is. slot[p] is
+  // the place in upper_value of A's p-th stored entry, −1 for an entry above A's diagonal (not read).
+  std::vector<int> upper_start, upper_row, slot;
+  std::vector<double> upper_value;
+  Vector permuted;  // a right-hand side in the factor's order, for solves
 
   Cholmod() {
     cholmod_start(&common);
     common.supernodal = CHOLMOD_SIMPLICIAL;
     common.final_asis = 1;  // keep LDLᵀ: D's pivots say whether A > 0
     common.nmethods = 1;
-    common.method[0].ordering = CHOLMOD_AMD;
     common.print = 1;  // errors only: a non-positive pivot is an answer here, not a warning
   }
   ~Cholmod() {
@@ -40,16 +45,17 @@ struct SparseLdlt::Cholmod {
 
 namespace {
 
-// A's lower triangle as CHOLMOD reads it, without a copy (A compressed).
-cholmod_sparse view_lower(const SparseMatrix& A) {
+// A compressed symmetric matrix as CHOLMOD reads it, without a copy: its lower triangle (stype −1) or
+// its upper one (stype +1).
+cholmod_sparse view_triangle(int n, const int* start, const int* row, const double* value, int stype) {
   cholmod_sparse view{};
-  view.nrow = static_cast<std::size_t>(A.rows());
-  view.ncol = static_cast<std::size_t>(A.cols());
-  view.nzmax = static_cast<std::size_t>(A.nonZeros());
-  view.p = const_cast<int*>(A.outerIndexPtr());
-  view.i = const_cast<int*>(A.innerIndexPtr());
-  view.x = const_cast<double*>(A.valuePtr());
-  view.stype = -1;
+  view.nrow = static_cast<std::size_t>(n);
+  view.ncol = static_cast<std::size_t>(n);
+  view.nzmax = static_cast<std::size_t>(start[n]);
+  view.p = const_cast<int*>(start);
+  view.i = const_cast<int*>(row);
+  view.x = const_cast<double*>(value);
+  view.stype = stype;
   view.itype = CHOLMOD_INT;
   view.xtype = CHOLMOD_REAL;
   view.dtype = CHOLMOD_DOUBLE;
@@ -73,6 +79,63 @@ double SparseLdlt::factor_nonzeros() const {
   return count;
 }
 
+// The ordering once per pattern: CHOLMOD's AMD on A's lower triangle, followed by its postorder of
+// the elimination tree. The factor itself is analysed, with the natural ordering, for triu(P A Pᵀ),
+// whose entries are A's at a map kept here: CHOLMOD then factors the matrix it is handed as it is,
+// where with its own P it would make P A Pᵀ by a transpose at every factorization. The factor and its
+// arithmetic are those of CHOLMOD's own permutation, which forms the same triu(P A Pᵀ).
+void SparseLdlt::analyse(const SparseMatrix& A) {
+  Cholmod& c = *cholmod_;
+  const int n = static_cast<int>(A.outerSize()), nnz = static_cast<int>(A.nonZeros());
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  if (c.factor) cholmod_free_factor(&c.factor, &c.common);
+  c.common.method[0].ordering = CHOLMOD_AMD;
+  c.common.postorder = 1;
+  cholmod_sparse lower = view_triangle(n, outer, inner, A.valuePtr(), -1);
+  cholmod_factor* ordering = cholmod_analyze(&lower, &c.common);
+  if (!ordering) throw std::runtime_error("CHOLMOD could not analyse the matrix (out of memory?)");
+  const int* permutation = static_cast<const int*>(ordering->Perm);
+  c.permutation.assign(permutation, permutation + n);
+  cholmod_free_factor(&ordering, &c.common);
+  c.inverse.resize(n);
+  for (int k = 0; k < n; ++k) c.inverse[c.permutation[k]] = k;
+  // A's entry (i, j), i ≥ j, goes to (min, max) of (P i, P j), in the order CHOLMOD's permuted transpose
+  // (cholmod_transpose_sym) lays them: the columns of P A Pᵀ in turn, each entry appended to its column
+  // of the upper triangle. The simplicial factorization's sums follow the order of a column's entries,
+  // so that this order, not only the values, gives CHOLMOD's factor bit for bit.
+  c.upper_start.assign(n + 1, 0);
+  for (int j = 0; j < n; ++j) {
+    const int old = c.permutation[j];
+    for (int p = outer[old]; p < outer[old + 1]; ++p)
+      if (inner[p] >= old) ++c.upper_start[std::max(c.inverse[inner[p]], j) + 1];
+  }
+  for (int j = 0; j < n; ++j) c.upper_start[j + 1] += c.upper_start[j];
+  std::vector<int> fill(c.upper_start.begin(), c.upper_start.end() - 1);
+  c.upper_row.resize(c.upper_start[n]);
+  c.upper_value.assign(c.upper_start[n], 0.0);
+  c.slot.assign(nnz, -1);  // above the diagonal: CHOLMOD reads the lower triangle only
+  for (int j = 0; j < n; ++j) {
+    const int old = c.permutation[j];
+    for (int p = outer[old]; p < outer[old + 1]; ++p) {
+      if (inner[p] < old) continue;
+      const int i = c.inverse[inner[p]];
+      const int position = fill[std::max(i, j)]++;
+      c.upper_row[position] = std::min(i, j);
+      c.slot[p] = position;
+    }
+  }
+  c.common.method[0].ordering = CHOLMOD_NATURAL;
+  c.common.postorder = 0;  // P is already postordered; the factor's order must stay triu(P A Pᵀ)'s
+  cholmod_sparse upper = view_triangle(n, c.upper_start.data(), c.upper_row.data(), c.upper_value.data(), 1);
+  c.factor = cholmod_analyze(&upper, &c.common);
+  if (!c.factor) throw std::runtime_error("CHOLMOD could not analyse the matrix (out of memory?)");
+  if (c.factor->ordering != CHOLMOD_NATURAL) throw std::logic_error("SparseLdlt: CHOLMOD reordered a permuted matrix");
+  outer_.assign(outer, outer + n + 1);
+  inner_.assign(inner, inner + nnz);
+  ++analyses_;
+}
+
 bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
   if (!A.isCompressed()) {  // a coeffRef that inserted an entry
     SparseMatrix compressed = A;
@@ -84,20 +147,13 @@ bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
   const bool same = c.factor && static_cast<int>(outer_.size()) == n + 1 && static_cast<int>(inner_.size()) == nnz &&
                     std::equal(outer_.begin(), outer_.end(), A.outerIndexPtr()) &&
                     std::equal(inner_.begin(), inner_.end(), A.innerIndexPtr());
-  cholmod_sparse view = view_lower(A);
-  if (!same) {
-    if (c.factor) cholmod_free_factor(&c.factor, &c.common);
-    c.factor = cholmod_analyze(&view, &c.common);
-    if (!c.factor) throw std::runtime_error("CHOLMOD could not analyse the matrix (out of memory?)");
-    outer_.assign(A.outerIndexPtr(), A.outerIndexPtr() + n + 1);
-    inner_.assign(A.innerIndexPtr(), A.innerIndexPtr() + nnz);
-    c.inverse.resize(n);
-    const int* permutation = static_cast<const int*>(c.factor->Perm);
-    for (int k = 0; k < n; ++k) c.inverse[permutation[k]] = k;
-    ++analyses_;
-  }
+  if (!same) analyse(A);
+  const double* value = A.valuePtr();
+  for (int p = 0; p < nnz; ++p)
+    if (c.slot[p] >= 0) c.upper_value[c.slot[p]] = value[p];
+  cholmod_sparse upper = view_triangle(n, c.upper_start.data(), c.upper_row.data(), c.upper_value.data(), 1);
   double no_shift[2] = {0.0, 0.0};
-  cholmod_factorize_p(&view, no_shift, nullptr, 0, c.factor, &c.common);
+  cholmod_factorize_p(&upper, no_shift, nullptr, 0, c.factor, &c.common);
   ++factorizations_;
   tree_ready_ = false;
   if (c.common.status < CHOLMOD_OK) throw std::runtime_error("CHOLMOD could not factor the matrix (out of memory?)");
@@ -109,19 +165,24 @@ bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
   return true;
 }
 
+// x ← Pᵀ (L D Lᵀ)⁻¹ P x: the factor is of P A Pᵀ.
 void SparseLdlt::solve_in_place(Vector& b) const {
   Cholmod& c = *cholmod_;
+  const int n = static_cast<int>(b.size());
+  c.permuted.resize(n);
+  for (int k = 0; k < n; ++k) c.permuted(k) = b(c.permutation[k]);
   cholmod_dense rhs{};
-  rhs.nrow = static_cast<std::size_t>(b.size());
+  rhs.nrow = static_cast<std::size_t>(n);
   rhs.ncol = 1;
   rhs.nzmax = rhs.nrow;
   rhs.d = rhs.nrow;
-  rhs.x = b.data();
+  rhs.x = c.permuted.data();
   rhs.xtype = CHOLMOD_REAL;
   rhs.dtype = CHOLMOD_DOUBLE;
   if (!cholmod_solve2(CHOLMOD_A, c.factor, &rhs, nullptr, &c.x, nullptr, &c.y, &c.e, &c.common))
     throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
-  std::copy_n(static_cast<const double*>(c.x->x), b.size(), b.data());
+  const double* x = static_cast<const double*>(c.x->x);
+  for (int k = 0; k < n; ++k) b(c.permutation[k]) = x[k];
 }
 
 Vector SparseLdlt::solve(const Vector& b) const {
@@ -216,8 +277,7 @@ void SparseLdlt::back_substitute(Vector& z, Vector& x) const {
     z(j) = sum;
   }
   x.resize(n);
-  const int* permutation = static_cast<const int*>(c.factor->Perm);
-  for (int k = 0; k < n; ++k) x(permutation[k]) = z(k);
+  for (int k = 0; k < n; ++k) x(c.permutation[k]) = z(k);
 }
 
 void SparseLdlt::scatter_scaled(const ForwardColumn& y, Vector& x) const {

@@ -7,7 +7,8 @@
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
 // iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
 // that couple nodes not yet coupled, such as a smoothed surface's, change it); they are recomputed
-// when the pattern changes, not at every factorization.
+// when the pattern changes, not at every factorization, with the map that writes A's lower triangle
+// into triu(P A Pᵀ), the matrix CHOLMOD's factorization reads (no transpose at each factorization).
 //
 // Delassus operator W = H A⁻¹ Hᵀ of rows H (m × n, each row touching a few unknowns), without A⁻¹ Hᵀ:
 //   Y = L⁻¹ P Hᵀ,   W = Yᵀ D⁻¹ Y.
@@ -78,6 +79,7 @@ class SparseLdlt {
   std::vector<int> row_index_;             // a row of H's nonzeros, for forward
   std::vector<double> row_value_;
   ForwardColumn column_;
+  void analyse(const SparseMatrix& A);  // the ordering and symbolic factor of A's pattern
   void prepare_tree() const;
 };
 

@@ -120,6 +120,46 @@ TEST(SparseAssembly, RestoresAPatternTheCallerChanged) {
   expect_identical(matrix, from_triplets(n, n, entries));
 }
 
+// The stream's head summed by the caller into the last pattern's slots (resume), as ReducedCoordinates
+// does with a tangent's frame entries: the same bits as every entry added, with the tail repeating, with
+// an entry more in the tail (the pattern built again keeps the head's sums), and with the tail shorter.
+TEST(SparseAssembly, ResumeAfterAHeadSummedByTheCaller) {
+  const int n = 20;
+  const Triplets head = random_entries(n, 400, 4);
+  Triplets tail = random_entries(n, 100, 5);
+  SparseAssembly assembly;
+  SparseMatrix matrix;
+  assembly.begin();
+  assembly.add(head);
+  assembly.add(tail);
+  assembly.finish(n, n, matrix);
+  auto resumed = [&](const Triplets& new_tail, double scale, bool* rebuilt) {
+    Triplets entries = head;
+    for (auto& e : entries) e = Eigen::Triplet<double>(e.row(), e.col(), scale * e.value());
+    std::vector<double> sums(assembly.nonzeros(), 0.0);
+    for (std::size_t k = 0; k < entries.size(); ++k) sums[assembly.slot(k)] += entries[k].value();
+    assembly.begin();
+    assembly.resume(entries.size(), sums);
+    assembly.add(new_tail);
+    *rebuilt = assembly.finish(n, n, matrix);
+    entries.insert(entries.end(), new_tail.begin(), new_tail.end());
+    return from_triplets(n, n, entries);
+  };
+  bool rebuilt = true;
+  expect_identical(matrix, resumed(tail, 0.5, &rebuilt));
+  EXPECT_FALSE(rebuilt);
+  tail.emplace_back(n - 1, 0, 7.0);
+  tail.emplace_back(0, n - 1, -7.0);
+  expect_identical(matrix, resumed(tail, 3.0, &rebuilt));
+  EXPECT_TRUE(rebuilt);
+  tail.resize(10);
+  expect_identical(matrix, resumed(tail, -2.0, &rebuilt));
+  EXPECT_TRUE(rebuilt);
+  expect_identical(matrix, resumed(tail, 1.5, &rebuilt));
+  EXPECT_FALSE(rebuilt);
+  EXPECT_EQ(assembly.patterns(), 3);
+}
+
 TEST(SparseAssembly, EmptyStream) {
   SparseAssembly assembly;
   SparseMatrix matrix;
