@@ -30,9 +30,10 @@ std::string GeneralizedAlpha::unsupported(const World& world) {
     if (b.body->fixed()) continue;
     if (b.body->position_size() != b.body->velocity_size())
       return "generalized-alpha does not integrate the rotations of 3D rigid bodies (body '" + b.name + "')" + instead;
+    if (b.body->nonlinear())
+      return "generalized-alpha does not take finite-strain bodies (body '" + b.name + "': its step needs Newton's loop)" +
+             instead;
   }
-  if (Dynamics(world).nonlinear())
-    return "generalized-alpha does not take finite-strain bodies (their step needs Newton's loop)" + instead;
   if (!world.constraints.empty()) return "generalized-alpha does not take linear constraints ('constraints')" + instead;
   if (!world.prescribed.empty()) return "generalized-alpha does not take prescribed motions ('prescribed')" + instead;
   if (!world.ties.empty()) return "generalized-alpha does not take ties ('tie')" + instead;
@@ -90,8 +91,7 @@ void GeneralizedAlpha::free_step(const State& state) {
   a_star_ = (k.alpha_f * acceleration_ - k.alpha_m * recursion_) / (1.0 - k.alpha_m);
   v_hat_ = state.v + (h * (1.0 - k.gamma)) * recursion_ + (h * k.gamma) * a_star_;
   q_hat_ = state.q + h * state.v + (h * h * (0.5 - k.beta)) * recursion_ + (h * h * k.beta) * a_star_;
-  dynamics_.external(state.q, state.t, f_loads_start_);
-  dynamics_.add_inertial_forces(state.v, f_loads_start_);
+  dynamics_.external(state.q, state.t, f_loads_start_);  // for the work of loads (no gyroscopic body here)
   dynamics_.external(state.q, state.t + h, f_loads_end_);
   f_total_ = f_loads_end_;
   dynamics_.add_internal_forces(state.q, f_total_);

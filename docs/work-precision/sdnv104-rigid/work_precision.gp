@@ -2,25 +2,32 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.00034084 0.013760056 "h=0.1"
-0.002798765 0.0022703788 "h=0.01"
-0.015014646 0.00022298218 "h=0.001"
-0.14103777 1.5682213e-05 "h=0.0001"
-1.4352867 1.2098353e-06 "h=1e-05"
+0.000416268 0.013760056 "h=0.1"
+0.011142699 0.0022703788 "h=0.01"
+0.027416643 0.00022298218 "h=0.001"
+0.24727799 1.5682213e-05 "h=0.0001"
+2.6293777 1.2098353e-06 "h=1e-05"
+EOD
+$generalized_alpha << EOD
+0.000370261 0.019654009 "h=0.1"
+0.007920751 0.0022704576 "h=0.01"
+0.036958403 0.00022298341 "h=0.001"
+0.33146799 1.5682214e-05 "h=0.0001"
+3.4846689 1.2098353e-06 "h=1e-05"
 EOD
 $ida << EOD
-0.13279746 0.063101049 "tol=0.01"
-0.19112215 0.012840639 "tol=0.0001"
-0.16772092 0.00028000199 "tol=1e-06"
-0.021260984 5.2509846e-05 "tol=1e-08"
-0.02560063 5.3505106e-05 "tol=1e-10"
+0.31333136 0.063101049 "tol=0.01"
+0.49811749 0.012840639 "tol=0.0001"
+0.43911861 0.00028000199 "tol=1e-06"
+0.060623963 5.2509846e-05 "tol=1e-08"
+0.072427863 5.3505106e-05 "tol=1e-10"
 EOD
 $ida_events << EOD
-0.064044205 2.8041519e-09 "tol=0.01"
-0.063004261 2.8041672e-09 "tol=0.0001"
-0.062770701 3.0098014e-09 "tol=1e-06"
-0.06333713 1.4509905e-09 "tol=1e-08"
-0.066029109 3.5400254e-11 "tol=1e-10"
+0.24270737 2.8041519e-09 "tol=0.01"
+0.23244745 2.8041672e-09 "tol=0.0001"
+0.22777528 3.0098014e-09 "tol=1e-06"
+0.23601118 1.7188385e-09 "tol=1e-08"
+0.23394937 3.54e-11 "tol=1e-10"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"
@@ -39,7 +46,9 @@ set key top right
 set offsets graph 0.05, graph 0.15, graph 0.1, graph 0.1
 plot $moreau_jean using 1:2 with linespoints linecolor 1 pointtype 7 title "moreau-jean", \
      $moreau_jean using 1:2:3 with labels offset char 1,0.6 left textcolor lt 1 notitle, \
-     $ida using 1:2 with linespoints linecolor 2 pointtype 7 title "ida", \
-     $ida using 1:2:3 with labels offset char 1,0.6 left textcolor lt 2 notitle, \
-     $ida_events using 1:2 with linespoints linecolor 3 pointtype 7 title "ida-events", \
-     $ida_events using 1:2:3 with labels offset char 1,0.6 left textcolor lt 3 notitle
+     $generalized_alpha using 1:2 with linespoints linecolor 2 pointtype 7 title "generalized-alpha", \
+     $generalized_alpha using 1:2:3 with labels offset char 1,0.6 left textcolor lt 2 notitle, \
+     $ida using 1:2 with linespoints linecolor 3 pointtype 7 title "ida", \
+     $ida using 1:2:3 with labels offset char 1,0.6 left textcolor lt 3 notitle, \
+     $ida_events using 1:2 with linespoints linecolor 4 pointtype 7 title "ida-events", \
+     $ida_events using 1:2:3 with labels offset char 1,0.6 left textcolor lt 4 notitle
