@@ -11,7 +11,7 @@ struct GeneralizedAlphaOptions {
   // ρ∞ ∈ [0, 1]: the spectral radius of the scheme at ωh → ∞. 1 keeps every mode (the trapezoidal
   // rule: Newmark's average acceleration); smaller values damp the modes the step does not resolve,
   // and leave the resolved ones to O((ωh)³) a step.
-  double rho_infinity = 0.95;
+  double rho_infinity = 0.8;
 };
 
 struct GeneralizedAlphaParameters : GeneralizedAlphaOptions {

@@ -85,7 +85,7 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
     run.moreau_jean.close_gaps = integrator.boolean("close_gaps", true);
   }
   if (reads("rho_infinity")) {
-    run.generalized_alpha.rho_infinity = integrator.number("rho_infinity", 0.95);
+    run.generalized_alpha.rho_infinity = integrator.number("rho_infinity", 0.8);
     if (!(run.generalized_alpha.rho_infinity >= 0.0 && run.generalized_alpha.rho_infinity <= 1.0))
       integrator.fail_at("rho_infinity", "rho_infinity must lie in [0, 1]");
   }

@@ -2,14 +2,19 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.006410327 0.0022099571 "h=0.01"
-0.056277844 0.00021840196 "h=0.001"
-0.42814151 2.2242545e-05 "h=0.0001"
+0.022366548 0.002209954 "h=0.01"
+0.18112931 0.00021840173 "h=0.001"
+1.5317041 2.2242651e-05 "h=0.0001"
+EOD
+$generalized_alpha << EOD
+0.024900724 3.4933262e-05 "h=0.01"
+0.16811232 3.206764e-07 "h=0.001"
+1.3592463 3.2540704 "h=0.0001"
 EOD
 $ida << EOD
-2.0973451 5.2930355e-05 "tol=0.0001"
-9.0583255 2.1327934e-05 "tol=1e-06"
-13.458294 1.2341615e-06 "tol=1e-08"
+4.1079042 5.2930355e-05 "tol=0.0001"
+18.923763 2.1327934e-05 "tol=1e-06"
+17.517392 1.2341615e-06 "tol=1e-08"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"
@@ -28,5 +33,7 @@ set key top right
 set offsets graph 0.05, graph 0.15, graph 0.1, graph 0.1
 plot $moreau_jean using 1:2 with linespoints linecolor 1 pointtype 7 title "moreau-jean", \
      $moreau_jean using 1:2:3 with labels offset char 1,0.6 left textcolor lt 1 notitle, \
-     $ida using 1:2 with linespoints linecolor 2 pointtype 7 title "ida", \
-     $ida using 1:2:3 with labels offset char 1,0.6 left textcolor lt 2 notitle
+     $generalized_alpha using 1:2 with linespoints linecolor 2 pointtype 7 title "generalized-alpha", \
+     $generalized_alpha using 1:2:3 with labels offset char 1,0.6 left textcolor lt 2 notitle, \
+     $ida using 1:2 with linespoints linecolor 3 pointtype 7 title "ida", \
+     $ida using 1:2:3 with labels offset char 1,0.6 left textcolor lt 3 notitle
