@@ -112,6 +112,7 @@ class Dynamics {
 
   const World& world_;
   std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
+  std::vector<Eigen::Matrix3d> projectors_;  // each spring's P: d dᵀ along its direction, I without one
   std::vector<int> position_of_velocity_;
   std::vector<int> spring_stiffness_coordinates_;
   SparseMatrix mass_, damping_;
