@@ -312,6 +312,13 @@ void Dynamics::spring_stiffness(const Vector& q, Matrix& K) const {
   }
 }
 
+void Dynamics::spring_jacobian_columns(const Vector& q, std::vector<double>& columns) const {
+  columns.clear();
+  for (const Spring& s : world_.springs)
+    for (const Entry& e : entries_of(spring_ends(world_, s, q)))
+      columns.insert(columns.end(), e.column.data(), e.column.data() + 3);
+}
+
 double Dynamics::elastic_energy(const Vector& q) const {
   double energy = 0.0;
   for (const BodyInstance& b : world_.bodies)

@@ -74,6 +74,18 @@ bool StructuralOperators::factored_for(const Vector& q, double h, double theta) 
 
 void StructuralOperators::update(const Vector& q, double h, double theta) {
   if (factored_for(q, h, theta)) return;
+  // A is a function of K, h and θ, and the springs' K of their Jacobian columns: a body that turned by
+  // round-off alone (a shoe held flat by its contacts turns by 1e-25 rad) has the same columns to the
+  // bit, and a dense A and its inverse are kept.
+  const bool compare_columns = !sparse_ && !nonlinear_ && dynamics_.has_springs();
+  if (compare_columns) {
+    dynamics_.spring_jacobian_columns(q, spring_columns_);
+    if (factored_ && h == factored_h_ && theta == factored_theta_ && spring_columns_ == factored_spring_columns_) {
+      for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
+        factored_coordinates_[i] = q(dynamics_.spring_stiffness_coordinates()[i]);
+      return;
+    }
+  }
   const auto start = std::chrono::steady_clock::now();
   const double scale = h * h * theta * theta;
   if (nonlinear_) {  // the bodies' tangent at q (a linear body's K is its tangent)
@@ -109,6 +121,7 @@ void StructuralOperators::update(const Vector& q, double h, double theta) {
     factor_dense(A);
   }
   factored_ = true;
+  if (compare_columns) factored_spring_columns_.swap(spring_columns_);
   for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
     factored_coordinates_[i] = q(dynamics_.spring_stiffness_coordinates()[i]);
   ++factorizations_;
