@@ -226,9 +226,9 @@ SpringEnds spring_ends(const World& world, const Spring& s, const Vector& q) {
 
 // The (global index, column) entries of a spring's Jacobian, at most six per end: a fixed-size list,
 // because this runs in every step.
-struct Entry {
-  int index = 0;
-  Eigen::Vector3d column = Eigen::Vector3d::Zero();
+struct Entry {  // not initialized: only the first `count` of an Entries are written and read
+  int index;
+  Eigen::Vector3d column;
 };
 struct Entries {
   std::array<Entry, 12> entry;
@@ -313,10 +313,18 @@ void Dynamics::spring_stiffness(const Vector& q, Matrix& K) const {
 }
 
 void Dynamics::spring_jacobian_columns(const Vector& q, std::vector<double>& columns) const {
-  columns.clear();
-  for (const Spring& s : world_.springs)
-    for (const Entry& e : entries_of(spring_ends(world_, s, q)))
-      columns.insert(columns.end(), e.column.data(), e.column.data() + 3);
+  std::size_t size = 0;
+  for (const Spring& s : world_.springs) {
+    const SpringEnds ends = spring_ends(world_, s, q);
+    const PointJacobian* sides[2] = {&ends.a, &ends.b};
+    for (int side = 0; side < (ends.has_b ? 2 : 1); ++side) {
+      const PointJacobian& J = *sides[side];
+      if (columns.size() < size + 3 * J.count) columns.resize(size + 3 * J.count);
+      std::copy(J.column.data(), J.column.data() + 3 * J.count, columns.data() + size);
+      size += 3 * J.count;
+    }
+  }
+  columns.resize(size);
 }
 
 double Dynamics::elastic_energy(const Vector& q) const {
