@@ -456,22 +456,13 @@ PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const Pg
 // cancellation leaves about eps · cond(W_ee) of them (cond(W_ee) ≈ 2e4 on a ring tied to a light hub).
 constexpr double kCondensationRoundOff = 1e-11;
 
-// The bilateral rows condensed out (see the header): for given contact impulses r_c the equality rows
-// u_e = W_ec r_c + W_ee r_e + b_e = 0 give r_e = −W_ee⁺ (b_e + W_ec r_c), so the contacts see the Schur
-// complement W_cc − W_ce W_ee⁺ W_ec and the free velocity b_c − W_ce W_ee⁺ b_e. (W_ee⁺: the LDLT's
-// solve, which skips zero pivots, so redundant but consistent rows are allowed.)
-// The contact rows' problem with the equalities condensed out, into `condensed` (its arrays reused).
-void condense(const FrictionContactProblem& problem, PgsCondensation& condensed) {
+// condense()'s part that depends on W alone: W_ee's factorization, X and the condensed W.
+void condense_operator(const FrictionContactProblem& problem, PgsCondensation& condensed) {
   const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   const Eigen::Index m_e = problem.equalities;
   condensed.W_ee.compute(problem.W.bottomRightCorner(m_e, m_e));
   condensed.X = condensed.W_ee.solve(problem.W.bottomLeftCorner(m_e, m_c));
-  condensed.x_b = condensed.W_ee.solve(problem.b.tail(m_e));
   FrictionContactProblem& contacts = condensed.contacts;
-  contacts.dimension = problem.dimension;
-  contacts.contacts = problem.contacts;
-  contacts.equalities = 0;
-  contacts.mu = problem.mu;
   contacts.W = problem.W.topLeftCorner(m_c, m_c);
   contacts.W.noalias() -= problem.W.topRightCorner(m_c, m_e) * condensed.X;
   // Symmetric up to round-off; made exactly so, since the sweeps read the coupling from W's columns.
@@ -488,6 +479,30 @@ void condense(const FrictionContactProblem& problem, PgsCondensation& condensed)
     for (Eigen::Index i = 0; i < m_c; ++i)
       if (std::abs(contacts.W(i, j)) <= kCondensationRoundOff * full_scale(i) * full_scale(j))
         contacts.W(i, j) = 0.0;
+  condensed.W = problem.W;
+  condensed.dimension = problem.dimension;
+  condensed.contact_count = problem.contacts;
+  condensed.equalities = problem.equalities;
+}
+
+// The bilateral rows condensed out (see the header): for given contact impulses r_c the equality rows
+// u_e = W_ec r_c + W_ee r_e + b_e = 0 give r_e = −W_ee⁺ (b_e + W_ec r_c), so the contacts see the Schur
+// complement W_cc − W_ce W_ee⁺ W_ec and the free velocity b_c − W_ce W_ee⁺ b_e. (W_ee⁺: the LDLT's
+// solve, which skips zero pivots, so redundant but consistent rows are allowed.)
+// The contact rows' problem with the equalities condensed out, into `condensed` (its arrays reused).
+void condense(const FrictionContactProblem& problem, PgsCondensation& condensed) {
+  const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
+  const Eigen::Index m_e = problem.equalities;
+  FrictionContactProblem& contacts = condensed.contacts;
+  contacts.dimension = problem.dimension;
+  contacts.contacts = problem.contacts;
+  contacts.equalities = 0;
+  contacts.mu = problem.mu;
+  const bool formed = condensed.dimension == problem.dimension && condensed.contact_count == problem.contacts &&
+                      condensed.equalities == problem.equalities && condensed.W.rows() == problem.W.rows() &&
+                      condensed.W.cols() == problem.W.cols() && condensed.W == problem.W;
+  if (!formed) condense_operator(problem, condensed);
+  condensed.x_b = condensed.W_ee.solve(problem.b.tail(m_e));
   // Each product into its array, then combined: the same operations as on temporaries, to the bit.
   contacts.b.noalias() = problem.W.topRightCorner(m_c, m_e) * condensed.x_b;
   contacts.b = problem.b.head(m_c) - contacts.b;

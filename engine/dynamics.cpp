@@ -30,6 +30,7 @@ Dynamics::Dynamics(const World& world) : world_(world) {
       if (!translation[p]) spring_stiffness_coordinates_.push_back(b.position_offset + p);
   };
   for (const Spring& s : world.springs) {
+    projectors_.push_back(projector(s.direction));
     const BodyInstance& a = world.bodies[s.body_a];
     reference_points_a_.push_back(a.body->point_world(a.reference_position, s.point_a));
     if (s.body_b >= 0) {
@@ -225,9 +226,9 @@ SpringEnds spring_ends(const World& world, const Spring& s, const Vector& q) {
 
 // The (global index, column) entries of a spring's Jacobian, at most six per end: a fixed-size list,
 // because this runs in every step.
-struct Entry {
-  int index = 0;
-  Eigen::Vector3d column = Eigen::Vector3d::Zero();
+struct Entry {  // not initialized: only the first `count` of an Entries are written and read
+  int index;
+  Eigen::Vector3d column;
 };
 struct Entries {
   std::array<Entry, 12> entry;
@@ -248,7 +249,7 @@ Entries entries_of(const SpringEnds& ends) {
 
 void Dynamics::add_spring_stiffness(const Vector& q, Triplets& K) const {
   for (const Spring& s : world_.springs) {
-    const Eigen::Matrix3d P = projector(s.direction);
+    const Eigen::Matrix3d& P = projectors_[&s - world_.springs.data()];
     const Entries entries = entries_of(spring_ends(world_, s, q));
     for (const Entry& i : entries)
       for (const Entry& j : entries) {
@@ -290,19 +291,40 @@ Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) 
 
 void Dynamics::add_spring_forces(const Vector& q, Vector& f) const {
   for (const Spring& s : world_.springs) {
-    const Eigen::Vector3d force_on_a = -s.stiffness * (projector(s.direction) * spring_displacement(s, q));
+    const Eigen::Vector3d force_on_a = -s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q));
     for (const Entry& e : entries_of(spring_ends(world_, s, q))) f(e.index) += e.column.dot(force_on_a);
   }
 }
 
+// A lumped World's A is rebuilt from this whenever a body with a spring turns: P J_j is formed once
+// per column, not once per entry (the same products, so the same K to the bit).
 void Dynamics::spring_stiffness(const Vector& q, Matrix& K) const {
   K.setZero(world_.velocity_size, world_.velocity_size);
-  for (const Spring& s : world_.springs) {
-    const Eigen::Matrix3d P = projector(s.direction);
+  for (std::size_t k = 0; k < world_.springs.size(); ++k) {
+    const Spring& s = world_.springs[k];
+    const Eigen::Matrix3d& P = projectors_[k];
     const Entries entries = entries_of(spring_ends(world_, s, q));
+    std::array<Eigen::Vector3d, 12> projected;
+    for (int j = 0; j < entries.count; ++j) projected[j] = P * entries.entry[j].column;
     for (const Entry& i : entries)
-      for (const Entry& j : entries) K(i.index, j.index) += s.stiffness * i.column.dot(P * j.column);
+      for (int j = 0; j < entries.count; ++j)
+        K(i.index, entries.entry[j].index) += s.stiffness * i.column.dot(projected[j]);
   }
+}
+
+void Dynamics::spring_jacobian_columns(const Vector& q, std::vector<double>& columns) const {
+  std::size_t size = 0;
+  for (const Spring& s : world_.springs) {
+    const SpringEnds ends = spring_ends(world_, s, q);
+    const PointJacobian* sides[2] = {&ends.a, &ends.b};
+    for (int side = 0; side < (ends.has_b ? 2 : 1); ++side) {
+      const PointJacobian& J = *sides[side];
+      if (columns.size() < size + 3 * J.count) columns.resize(size + 3 * J.count);
+      std::copy(J.column.data(), J.column.data() + 3 * J.count, columns.data() + size);
+      size += 3 * J.count;
+    }
+  }
+  columns.resize(size);
 }
 
 double Dynamics::elastic_energy(const Vector& q) const {
@@ -310,7 +332,7 @@ double Dynamics::elastic_energy(const Vector& q) const {
   for (const BodyInstance& b : world_.bodies)
     if (b.body->elastic()) energy += b.body->strain_energy(b.positions(q));
   for (const Spring& s : world_.springs)
-    energy += 0.5 * s.stiffness * (projector(s.direction) * spring_displacement(s, q)).squaredNorm();
+    energy += 0.5 * s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q)).squaredNorm();
   return energy;
 }
 

@@ -105,6 +105,10 @@ class Dynamics {
   // spring attached off their origin (none: the springs' K is constant). K is a function of these
   // alone, so that equal values give the same K to the bit.
   const std::vector<int>& spring_stiffness_coordinates() const { return spring_stiffness_coordinates_; }
+  // The springs' K at q is a function of their ends' Jacobian columns alone (m per unit velocity
+  // component): columns gets them, end by end, so that equal values mean the same K to the bit even
+  // where an orientation coordinate moved (a body turned by round-off).
+  void spring_jacobian_columns(const Vector& q, std::vector<double>& columns) const;
 
  private:
   // Relative displacement d of a spring's two points from the reference configuration (m).
@@ -112,6 +116,7 @@ class Dynamics {
 
   const World& world_;
   std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
+  std::vector<Eigen::Matrix3d> projectors_;  // each spring's P: d dᵀ along its direction, I without one
   std::vector<int> position_of_velocity_;
   std::vector<int> spring_stiffness_coordinates_;
   SparseMatrix mass_, damping_;

@@ -66,6 +66,9 @@ class StructuralOperators {
   long factorizations_ = 0, regularizations_ = 0;
   std::vector<double> factored_coordinates_;  // the springs' orientation coordinates A was factored at
   Matrix dense_mass_, dense_stiffness_, dense_damping_, dense_iteration_;
+  // A dense linear World's springs' Jacobian columns (Dynamics::spring_jacobian_columns) where A was
+  // formed, and at the q of the last update.
+  std::vector<double> factored_spring_columns_, spring_columns_;
   Matrix dense_inverse_, dense_scratch_;  // A⁻¹, and the Cholesky factor it is computed from
   Eigen::LDLT<Matrix> dense_factor_;
   mutable Vector dense_solution_;          // solve_in_place's product (one thread per stepper, as the run)

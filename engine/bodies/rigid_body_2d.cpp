@@ -26,9 +26,12 @@ void RigidBody2d::cos_sin(double angle, double& c, double& s) const {
 Eigen::Isometry3d RigidBody2d::pose(const ConstVectorRef& q) const {
   double c, s;
   cos_sin(q(2), c, s);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() << q(0), q(1), 0.0;
-  pose.linear() << c, -s, 0.0, s, c, 0.0, 0.0, 0.0, (1.0 - c) + c;
+  Eigen::Isometry3d pose;  // written entry for entry (a pose is asked for at every step)
+  double* m = pose.matrix().data();  // column-major 4 × 4
+  m[0] = c, m[1] = s, m[2] = 0.0, m[3] = 0.0;
+  m[4] = -s, m[5] = c, m[6] = 0.0, m[7] = 0.0;
+  m[8] = 0.0, m[9] = 0.0, m[10] = (1.0 - c) + c, m[11] = 0.0;
+  m[12] = q(0), m[13] = q(1), m[14] = 0.0, m[15] = 1.0;
   return pose;
 }
 

@@ -1,5 +1,7 @@
 #include "engine/bodies/rigid_body_3d.h"
 
+#include <cstring>
+
 namespace csim {
 
 namespace {
@@ -13,16 +15,26 @@ void RigidBody3d::add_mass(int offset, Triplets& mass) const {
   for (int i = 0; i < 3; ++i) mass.emplace_back(offset + 3 + i, offset + 3 + i, inertia_(i));
 }
 
+const Eigen::Matrix3d& RigidBody3d::rotation(const ConstVectorRef& q) const {
+  const double quaternion[4] = {q(3), q(4), q(5), q(6)};
+  if (!rotation_cached_ || std::memcmp(quaternion, cached_quaternion_, sizeof quaternion) != 0) {
+    std::memcpy(cached_quaternion_, quaternion, sizeof quaternion);
+    cached_rotation_ = orientation(q).normalized().toRotationMatrix();
+    rotation_cached_ = true;
+  }
+  return cached_rotation_;
+}
+
 Eigen::Isometry3d RigidBody3d::pose(const ConstVectorRef& q) const {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = q.head<3>();
-  pose.linear() = orientation(q).normalized().toRotationMatrix();
+  pose.linear() = rotation(q);
   return pose;
 }
 
 // v_point = v + R(ω × r) = v − R [r]× ω.
 PointJacobian RigidBody3d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
-  const Eigen::Matrix3d R = orientation(q).normalized().toRotationMatrix();
+  const Eigen::Matrix3d& R = rotation(q);
   Eigen::Matrix3d r_cross;
   r_cross << 0, -local.z(), local.y(), local.z(), 0, -local.x(), -local.y(), local.x(), 0;
   const Eigen::Matrix3d rotation_columns = -R * r_cross;

@@ -38,6 +38,12 @@ class RigidBody3d final : public Body {
  private:
   double mass_;               // kg
   Eigen::Vector3d inertia_;   // kg·m², principal, body frame
+  // A step asks for the same orientation's rotation a dozen times (poses, Jacobians of contacts and
+  // loads): it is kept for the last quaternion asked, compared bit for bit.
+  const Eigen::Matrix3d& rotation(const ConstVectorRef& q) const;
+  mutable bool rotation_cached_ = false;
+  mutable double cached_quaternion_[4];
+  mutable Eigen::Matrix3d cached_rotation_;
 };
 
 }  // namespace csim

@@ -251,6 +251,35 @@ TEST(PgsSolver, ALightNodeTiedToAHeavyBodySlidesWithItInOneSweep) {
   EXPECT_NEAR(v(4), 0.0, 1e-9);
 }
 
+// A solver keeps its condensation of the equality rows while W is the same to the bit (a lumped
+// World's steps): a new b then reuses it, a new W forms it again, and either way the impulses are the
+// ones a fresh solver finds, to the bit (a stale condensation would give the last W's).
+TEST(PgsSolver, ReusedCondensationGivesAFreshSolversImpulses) {
+  Eigen::Matrix<double, 4, 3> H;
+  H << 0, 0, 1, 1, 0, 0, 0, 1, 0, 1, -1, 0;
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.contacts = 1;
+  problem.equalities = 1;
+  problem.W = H * H.transpose() / 3.0;
+  problem.b = H * Eigen::Vector3d(1.0, 1.5, -0.1);
+  problem.mu = {Eigen::Vector2d(0.1, 0.2)};
+  const PgsSolver kept;
+  auto same_as_fresh = [&] {
+    Eigen::VectorXd r, fresh;
+    kept.solve(problem, r);
+    PgsSolver().solve(problem, fresh);
+    return r == fresh;
+  };
+  EXPECT_TRUE(same_as_fresh());
+  problem.b = H * Eigen::Vector3d(-0.5, 2.0, -0.3);  // the same W
+  EXPECT_TRUE(same_as_fresh());
+  problem.W = H * H.transpose() / 7.0;  // a new W
+  EXPECT_TRUE(same_as_fresh());
+  problem.W(3, 3) *= 2.0;  // W_ee alone changes
+  EXPECT_TRUE(same_as_fresh());
+}
+
 TEST(PgsSolver, EqualitiesOnlyAreSolvedInOneSweep) {
   FrictionContactProblem problem;
   problem.dimension = 3;

@@ -165,7 +165,7 @@ World turning_body() {
   return world;
 }
 
-// The factorization is kept while the spring's orientation coordinate, h and θ are the same, and is
+// The factorization is kept while the spring's orientation coordinate (or K, to the bit), h and θ are the same, and is
 // redone when any of them changes, A then being the one a fresh factorization gives.
 TEST(StructuralOperators, RefactorsWhenTheStiffnessOrTheStepChanges) {
   const World world = turning_body();
@@ -187,6 +187,10 @@ TEST(StructuralOperators, RefactorsWhenTheStiffnessOrTheStepChanges) {
     fresh.solve_in_place(y);
     return x == y;
   };
+  q(2) = 1e-25;  // a turn by round-off leaves K the same to the bit: A is kept
+  operators.update(q, h, theta);
+  EXPECT_EQ(operators.factorizations(), 1);
+  EXPECT_TRUE(agrees_with_fresh(q, h, theta));
   q(2) = 0.1;  // a turn changes K
   operators.update(q, h, theta);
   EXPECT_EQ(operators.factorizations(), 2);

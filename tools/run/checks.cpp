@@ -90,7 +90,13 @@ void ExtremumTracker::finish() {
 
 CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& scope)
     : run_(run), scope_(scope), trackers_(run.probes.size()), windows_(run.probes.size()),
-      at_values_(run.checks.size()), mean_sums_(run.checks.size(), {0.0, 0.0}) {}
+      at_values_(run.checks.size()), mean_sums_(run.checks.size(), {0.0, 0.0}) {
+  // Listed once: add_sample runs at every step.
+  for (std::size_t c = 0; c < run.checks.size(); ++c) {
+    if (run.checks[c].mode == CheckDefinition::Mode::at) at_checks_.push_back(c);
+    if (run.checks[c].mode == CheckDefinition::Mode::mean) mean_checks_.push_back(c);
+  }
+}
 
 void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact) {
   for (std::size_t p = 0; p < values.size(); ++p) {
@@ -102,17 +108,17 @@ void CheckEvaluator::add_sample(double t, const std::vector<double>& values, boo
     w.value[2] = values[p];
     w.count = std::min(w.count + 1, 3);
   }
-  for (std::size_t c = 0; c < run_.checks.size(); ++c) {
+  for (const std::size_t c : at_checks_) {
     const CheckDefinition& check = run_.checks[c];
-    if (check.mode != CheckDefinition::Mode::at || at_values_[c]) continue;
+    if (at_values_[c]) continue;
     // The sample at or just past the requested time (within rounding of the step count).
     if (t < check.time - 1e-9 * run_.step) continue;
     const Window& w = windows_[check.probe];
     at_values_[c] = quadratic_at(w.t + (3 - w.count), w.value + (3 - w.count), w.count, check.time);
   }
-  for (std::size_t c = 0; c < run_.checks.size(); ++c) {
+  for (const std::size_t c : mean_checks_) {
     const CheckDefinition& check = run_.checks[c];
-    if (check.mode != CheckDefinition::Mode::mean || initial_values_.empty()) continue;
+    if (initial_values_.empty()) continue;
     if (t <= check.time || t >= check.time_end) continue;
     const double s = std::sin(M_PI * (t - check.time) / (check.time_end - check.time));
     const double weight = s * s * (t - last_time_);

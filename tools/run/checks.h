@@ -83,6 +83,7 @@ class CheckEvaluator {
   std::vector<Window> windows_;                         // last three samples per probe
   std::vector<std::optional<double>> at_values_;        // per check (Mode::at)
   std::vector<std::pair<double, double>> mean_sums_;    // per check (Mode::mean): Σ w·value, Σ w
+  std::vector<std::size_t> at_checks_, mean_checks_;   // the checks of Mode::at and Mode::mean
   double last_time_ = 0.0;
   std::vector<double> last_values_;
   std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`

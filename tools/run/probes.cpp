@@ -12,26 +12,39 @@ ProbeEvaluator::ProbeEvaluator(const World& world, const RunSettings& run) : wor
       reference = b.body->point_world(b.reference_position, p.point);
     }
     reference_points_.push_back(reference);
+    static const std::pair<const char*, Term> term_names[] = {
+        {"kinetic", Term::kinetic}, {"elastic", Term::elastic}, {"mechanical", Term::mechanical},
+        {"work", Term::work}, {"contact_dissipation", Term::contact_dissipation},
+        {"numerical_dissipation", Term::numerical_dissipation}, {"damping_dissipation", Term::damping_dissipation}};
+    Term term = Term::balance;
+    for (const auto& [name, t] : term_names)
+      if (p.energy_term == name) term = t;
+    terms_.push_back(term);
+    static const std::pair<const char*, Component> component_names[] = {
+        {"normal", Component::normal}, {"x", Component::x}, {"y", Component::y}, {"z", Component::z},
+        {"direction", Component::direction}, {"closed", Component::closed}, {"stick", Component::stick},
+        {"slip", Component::slip}};
+    Component component = Component::tangential;
+    for (const auto& [name, c] : component_names)
+      if (p.force_component == name) component = c;
+    components_.push_back(component);
   }
 }
 
 void ProbeEvaluator::evaluate(const State& state, std::vector<double>& values) const {
   values.resize(run_.probes.size());
-  for (std::size_t i = 0; i < run_.probes.size(); ++i) values[i] = evaluate(run_.probes[i], state);
+  for (std::size_t i = 0; i < run_.probes.size(); ++i) values[i] = run_.probes[i].scale * unscaled(i, state);
 }
 
-double ProbeEvaluator::evaluate(const ProbeDefinition& p, const State& state) const {
-  return p.scale * unscaled(p, state);
-}
-
-double ProbeEvaluator::unscaled(const ProbeDefinition& p, const State& state) const {
+double ProbeEvaluator::unscaled(std::size_t i, const State& state) const {
   using Kind = ProbeDefinition::Kind;
+  const ProbeDefinition& p = run_.probes[i];
   switch (p.kind) {
     case Kind::displacement:
     case Kind::position: {
       const BodyInstance& b = world_.bodies[p.body];
       Eigen::Vector3d x = b.body->point_world(b.positions(state.q), p.point);
-      if (p.kind == Kind::displacement) x -= reference_points_[&p - run_.probes.data()];
+      if (p.kind == Kind::displacement) x -= reference_points_[i];
       return p.direction.dot(x);
     }
     case Kind::velocity:
@@ -40,22 +53,25 @@ double ProbeEvaluator::unscaled(const ProbeDefinition& p, const State& state) co
       return state.reactions.size() > 0 ? state.reactions(p.velocity_index) : 0.0;
     case Kind::energy: {
       const EnergyBalance& e = state.energy;
-      if (p.energy_term == "kinetic") return e.kinetic;
-      if (p.energy_term == "elastic") return e.elastic;
-      if (p.energy_term == "mechanical") return e.kinetic + e.elastic;
-      if (p.energy_term == "work") return e.work_of_loads;
-      if (p.energy_term == "contact_dissipation") return e.contact_dissipation;
-      if (p.energy_term == "numerical_dissipation") return e.numerical_dissipation;
-      if (p.energy_term == "damping_dissipation") return e.damping_dissipation;
+      switch (terms_[i]) {
+        case Term::kinetic: return e.kinetic;
+        case Term::elastic: return e.elastic;
+        case Term::mechanical: return e.kinetic + e.elastic;
+        case Term::work: return e.work_of_loads;
+        case Term::contact_dissipation: return e.contact_dissipation;
+        case Term::numerical_dissipation: return e.numerical_dissipation;
+        case Term::damping_dissipation: return e.damping_dissipation;
+        case Term::balance: return e.residual();
+      }
       return e.residual();
     }
     case Kind::contact_force:
-      return contact_force(p, state);
+      return contact_force(i, state);
     case Kind::contact_count: {
       int count = 0;
       for (const ActiveContact& c : state.contacts) {
         if (c.law != p.contact_law || !(c.impulse(0) > 0.0)) continue;
-        if (p.force_component == "closed" || (p.force_component == "stick") == (c.status == ContactStatus::stick))
+        if (components_[i] == Component::closed || (components_[i] == Component::stick) == (c.status == ContactStatus::stick))
           ++count;
       }
       return count;
@@ -64,11 +80,19 @@ double ProbeEvaluator::unscaled(const ProbeDefinition& p, const State& state) co
   return 0.0;
 }
 
-double ProbeEvaluator::contact_force(const ProbeDefinition& p, const State& state) const {
+double ProbeEvaluator::contact_force(std::size_t i, const State& state) const {
+  const ProbeDefinition& p = run_.probes[i];
   const ContactLaw& law = world_.contact_laws[p.contact_law];
   const double h = run_.step;
+  const Component k = components_[i];
+  if (k == Component::normal) {  // the sum below, alone
+    double normal = 0.0;
+    for (const ActiveContact& c : state.contacts)
+      if (c.law == p.contact_law) normal += c.impulse(0) / h;
+    return normal;
+  }
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  // on the law's first body
-  double normal = 0.0, tangential_2d = 0.0;
+  double tangential_2d = 0.0;
   for (const ActiveContact& c : state.contacts) {
     if (c.law != p.contact_law) continue;
     // The impulse acts on the point's body B along +n; the law's first body may be A or B.
@@ -76,16 +100,13 @@ double ProbeEvaluator::contact_force(const ProbeDefinition& p, const State& stat
     const Eigen::Vector3d on_b =
         (c.impulse(0) * c.point.normal + c.impulse(1) * c.point.t1 + c.impulse(2) * c.point.t2) / h;
     force += sign * on_b;
-    normal += c.impulse(0) / h;
     const Eigen::Vector3d n_into_body = sign * c.point.normal;
     tangential_2d += sign * on_b.dot(Eigen::Vector3d::UnitZ().cross(n_into_body));
   }
-  const std::string& k = p.force_component;
-  if (k == "normal") return normal;
-  if (k == "x") return force.x();
-  if (k == "y") return force.y();
-  if (k == "z") return force.z();
-  if (k == "direction") return force.dot(p.direction);
+  if (k == Component::x) return force.x();
+  if (k == Component::y) return force.y();
+  if (k == Component::z) return force.z();
+  if (k == Component::direction) return force.dot(p.direction);
   if (world_.dimension == 2) return tangential_2d;
   // 3D: magnitude of the resultant's tangential part (about the mean normal).
   Eigen::Vector3d mean_normal = Eigen::Vector3d::Zero();

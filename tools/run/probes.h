@@ -31,13 +31,20 @@ class ProbeEvaluator {
   void evaluate(const State& state, std::vector<double>& values) const;
 
  private:
-  double evaluate(const ProbeDefinition& probe, const State& state) const;
-  double unscaled(const ProbeDefinition& probe, const State& state) const;
-  double contact_force(const ProbeDefinition& probe, const State& state) const;
+  // A probe's energy term or force component, resolved once from its name: a probe is evaluated at
+  // every step, so no string is compared there.
+  enum class Term { kinetic, elastic, mechanical, work, contact_dissipation, numerical_dissipation,
+                    damping_dissipation, balance };
+  enum class Component { normal, x, y, z, direction, tangential, closed, stick, slip };
+
+  double unscaled(std::size_t i, const State& state) const;
+  double contact_force(std::size_t i, const State& state) const;
 
   const World& world_;
   const RunSettings& run_;
   std::vector<Eigen::Vector3d> reference_points_;  // world position at q_ref of each probe's point
+  std::vector<Term> terms_;                        // each probe's, when it is an energy probe
+  std::vector<Component> components_;              // each probe's, when it is a contact probe
 };
 
 }  // namespace csim
