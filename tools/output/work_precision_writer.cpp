@@ -31,11 +31,11 @@ void write_comment_header(std::ostringstream& csv, const Comparison& comparison)
   csv << "# overrides:";
   if (comparison.overrides.empty()) csv << " none";
   for (const std::string& o : comparison.overrides) csv << " --set " << o;
-  csv << "\n# each run also gets integrator.type=INTEGRATOR, then time.step=VALUE (moreau-jean) or "
+  csv << "\n# each run also gets integrator.type=INTEGRATOR, then time.step=VALUE (moreau-jean, generalized-alpha) or "
          "integrator.rtol=integrator.atol=VALUE (ida, ida-events; time.step stays the probes' sampling interval)\n"
          "# wall times: s, of the time loop, one per repeat (';'-separated); wall_time_median is their median\n"
-         "# steps: moreau-jean: time steps; ida, ida-events: IDA's internal steps\n"
-         "# solver_iterations: moreau-jean: projected Gauss-Seidel sweeps summed over the run; ida, ida-events: "
+         "# steps: moreau-jean, generalized-alpha: time steps; ida, ida-events: IDA's internal steps\n"
+         "# solver_iterations: moreau-jean, generalized-alpha: projected Gauss-Seidel sweeps summed over the run; ida, ida-events: "
          "IDA's residual evaluations\n"
          "# C_error = |value - reference|, C_rel_error = C_error / |reference| (empty when the reference is 0, the run "
          "failed or could not evaluate C); max_rel_error = largest C_rel_error over the analytical checks "

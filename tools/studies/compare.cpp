@@ -142,7 +142,7 @@ RunReport run_configuration(const CompareOptions& options, std::vector<ComparedC
       row.wall_times.push_back(report.wall_time);
     }
     row.ok = true;
-    // moreau-jean: time steps and PGS sweeps over the run; ida, ida-events: IDA's internal steps and
+    // moreau-jean, generalized-alpha: time steps and PGS sweeps over the run; ida, ida-events: IDA's internal steps and
     // residual evaluations (its work unit: each Newton iteration costs one).
     const bool ida = !refined_by_step(row.integrator);
     row.steps = ida ? report.state.ida.steps : report.state.counters.steps;
