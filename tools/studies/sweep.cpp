@@ -6,6 +6,7 @@
 #include "tools/run/stop_request.h"
 #include "tools/scene/scene.h"
 #include "tools/scene/scene_error.h"
+#include "tools/scene/scene_node.h"
 #include "tools/studies/case_record.h"
 #include "tools/studies/stability_sweep.h"
 #include "engine/steppers/stepper.h"
@@ -82,6 +83,31 @@ std::vector<SweepCase> cases_from_lists(const SweepOptions& options) {
       }
     cases = std::move(next);
   }
+  return cases;
+}
+
+// KEY=VALUE items of a list in a sweeps file.
+std::vector<std::string> settings_of(const SceneNode& list) {
+  std::vector<std::string> out;
+  for (const SceneNode& item : list.items()) {
+    const std::string text = item.as_string();
+    if (text.find('=') == std::string::npos || text.front() == '=') item.fail("expected KEY=VALUE (got '" + text + "')");
+    out.push_back(text);
+  }
+  return out;
+}
+
+// A file of explicit cases: `baseline: [KEY=VALUE, ...]` (optional) and `cases: [[KEY=VALUE, ...], ...]`.
+std::vector<SweepCase> cases_from_file(const std::string& file, std::vector<std::string>* baseline) {
+  SceneDocument document = load_scene_document(file);
+  const SceneNode root(document.root, "", &document);
+  root.allow_only({"baseline", "cases"});
+  if (const auto list = root.optional_child("baseline"))
+    if (baseline) *baseline = settings_of(*list);
+  std::vector<SweepCase> cases;
+  const SceneNode list = root.child("cases");
+  for (const SceneNode& item : list.items()) cases.push_back({settings_of(item)});
+  if (cases.empty()) list.fail("needs at least one case");
   return cases;
 }
 
@@ -180,6 +206,7 @@ std::vector<SweepCase> sweep_cases(const SweepOptions& options, std::vector<std:
   if (!lists && options.sweeps_file.empty())
     throw SceneError(options.scene_file, 0, "--set-list", "no cases: give --set-list, --grid or --sweeps");
   if (lists) return cases_from_lists(options);
+  if (load_scene_document(options.sweeps_file).root["cases"].IsDefined()) return cases_from_file(options.sweeps_file, baseline);
   const StabilityPlan plan = read_stability_plan(options.sweeps_file);
   if (baseline) *baseline = plan.baseline;
   std::vector<SweepCase> cases;

@@ -2,9 +2,11 @@
 // set of KEY=VALUE overrides, each run exactly as `csim run --set ...` would run it. The cases come from
 //   --set-list KEY=V1,V2,...   lists taken together: case i sets the i-th value of every list;
 //   --grid KEY=V1,V2,...       every combination, the first grid key varying slowest;
-// (lists and grids together: every list case with every grid combination), or from a sweeps file in the
-// format of `csim stress` (stability_sweep.h): its baseline for every case, then each sweep's key and
-// value with each of its integrators. A failed case is a row with its message; the study goes on.
+// (lists and grids together: every list case with every grid combination), or from a sweeps file: in the
+// format of `csim stress` (stability_sweep.h), its baseline for every case, then each sweep's key and
+// value with each of its integrators; or a list of explicit cases, each its own KEY=VALUE list:
+//   baseline: [output.rate=0]                       # optional, every case
+//   cases: [[parameters.mu=0.02, parameters.element=quad4], [parameters.mu=0.2]] A failed case is a row with its message; the study goes on.
 #pragma once
 
 #include "tools/output/sweep_writer.h"
