@@ -5,16 +5,18 @@ Reference values: Abaqus Benchmarks Manual 6.6, section 1.5.1, Table 2 (seeds/SP
 Faria's values from L. O. Faria, Tire Modeling by Finite Elements, PhD thesis, UT Austin, 1989.
 Each row runs on the benchmark's meshes (34 x 5 quad4, 18 x 3 quad8) and on meshes twice as fine in
 both directions (the mesh-convergence columns), with node and smoothed contact on quad4, and on quad4
-four times as fine (136 x 20) with node contact. The script
+four times as fine (136 x 20) with node contact. Every run is a case of one `csim sweep` (under
+`mpirun -np RANKS --bind-to core`, docs/scaling-out.md). The script
 replaces only the block between the generated markers of docs/rolling.md. Usage:
-    python3 bench/rolling_table.py [--csim build/tools/csim] [--out docs/rolling.md] [--rows 1,5,...] [--jobs 2]
+    python3 bench/rolling_table.py [--csim build/tools/csim] [--out docs/rolling.md] [--rows 1,5,...]
+                                   [--configs 1,3,...] [--no-studies] [--ranks N]
 """
-import concurrent.futures
 import os
 import sys
+import time
 
 from generated_block import replace_block
-from rolling_run import bench_arguments, rolling_run
+from rolling_run import bench_arguments, rolling_run, rolling_runs
 
 # material, indentation, inner radius, mu, Faria, Abaqus, Abaqus's % difference (Table 2)
 ROWS = [
@@ -59,21 +61,34 @@ STUDIES = [
     (ROWS[12], "St Venant-Kirchhoff", ["--set", "parameters.elastic_law=saint-venant-kirchhoff"]),
     (ROWS[12], "step 0.005", ["--set", "parameters.step=0.005"]),
 ]
-def scene_command(csim, row, config):
-    """csim's command line for one row of the table on one configuration (without --out)."""
+def settings(row, config):
+    """The overrides of scenes/rolling-ring for one row of the table on one configuration."""
     material, delta, r_i, mu, faria = row[:5]
     _, element, circumferential, radial, surface = config
-    return [csim, "run", "scenes/rolling-ring", "--quiet",
-            "--set", f"parameters.material={material}", "--set", f"parameters.indentation={delta}",
-            "--set", f"parameters.inner_radius={r_i}", "--set", f"parameters.mu={mu}",
-            "--set", f"parameters.reference_spin={faria}", "--set", f"parameters.element={element}",
-            "--set", f"parameters.divisions_circumferential={circumferential}",
-            "--set", f"parameters.divisions_radial={radial}",
-            "--set", f"parameters.contact_surface={surface}"]
+    return [f"parameters.material={material}", f"parameters.indentation={delta}",
+            f"parameters.inner_radius={r_i}", f"parameters.mu={mu}", f"parameters.reference_spin={faria}",
+            f"parameters.element={element}", f"parameters.divisions_circumferential={circumferential}",
+            f"parameters.divisions_radial={radial}", f"parameters.contact_surface={surface}"]
+
+
+def scene_command(csim, row, config):
+    """csim's `run` line for one row on one configuration (without --out), for rolling_bulk.py."""
+    return [csim, "run", "scenes/rolling-ring", "--quiet"] + [w for s in settings(row, config) for w in ("--set", s)]
 
 
 def run(csim, row, config, extra):
     return rolling_run(scene_command(csim, row, config) + extra)
+
+
+def extra_settings(extra):
+    """["--set", "K=V", ...] as ["K=V", ...]."""
+    return [item for item in extra if item != "--set"]
+
+
+def runs(args, jobs):
+    """rolling_runs of scenes/rolling-ring for (row, config, extra) jobs, in order."""
+    return rolling_runs(args, "scenes/rolling-ring",
+                        [settings(row, config) + extra_settings(extra) for row, config, extra in jobs])
 
 
 def percent(value, reference):
@@ -114,24 +129,29 @@ BEGIN, END = "<!-- generated: begin -->", "<!-- generated: end -->"
 def main():
     parser = bench_arguments()
     parser.add_argument("--rows", default="")
+    parser.add_argument("--configs", default="", help="1-based indices into CONFIGS (default: all)")
+    parser.add_argument("--no-studies", action="store_true", help="leave out the sensitivity studies")
     args = parser.parse_args()
     rows = ROWS if not args.rows else [ROWS[int(i) - 1] for i in args.rows.split(",")]
-    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        futures = [[pool.submit(run, args.csim, row, config, []) for config in CONFIGS] for row in rows]
-        studies = [pool.submit(run, args.csim, row, CONFIGS[0], extra) for row, _, extra in STUDIES]
-        results = []
-        for row, row_futures in zip(rows, futures):
-            result = [f.result() for f in row_futures]
-            results.append((row, result))
-            print(row[:4], [r.get("spin", "failed") for r in result], file=sys.stderr, flush=True)
-        study_results = [f.result() for f in studies]
+    configs = CONFIGS if not args.configs else [CONFIGS[int(i) - 1] for i in args.configs.split(",")]
+    studies = [] if args.no_studies else STUDIES
+    jobs = [(row, config, []) for row in rows for config in configs]
+    jobs += [(row, CONFIGS[0], extra) for row, _, extra in studies]
+    start = time.perf_counter()
+    done = runs(args, jobs)
+    elapsed = time.perf_counter() - start
+    results = [(row, done[i * len(configs):(i + 1) * len(configs)]) for i, row in enumerate(rows)]
+    study_results = done[len(rows) * len(configs):]
+    for row, result in results:
+        print(row[:4], [r.get("spin", "failed") for r in result], file=sys.stderr, flush=True)
+    print(f"{len(jobs)} runs in {elapsed:.1f} s on {args.ranks or 'no'} MPI ranks", file=sys.stderr)
 
     lines = []
-    lines.append(f"Generated by `python3 bench/rolling_table.py` ({args.jobs} runs at a time on this machine's "
-                 f"{os.cpu_count()} cores; wall times are per run).\n")
+    lines.append(f"Generated by `python3 bench/rolling_table.py` (`csim sweep` on {args.ranks or 1} MPI rank(s), one "
+                 f"per core, on this machine's {os.cpu_count()} cores; wall times are per run).\n")
     lines.append("| material | δ | r_i | μ | Faria | Abaqus (err %) | " +
-                 " | ".join(f"{c[0]} (err %)" for c in CONFIGS) + " |")
-    lines.append("|" + "---|" * (6 + len(CONFIGS)))
+                 " | ".join(f"{c[0]} (err %)" for c in configs) + " |")
+    lines.append("|" + "---|" * (6 + len(configs)))
     for row, result in results:
         material, delta, r_i, mu, faria, abaqus, abaqus_diff = row
         cells = [material, f"{delta:g}", f"{r_i:g}", f"{mu:g}", f"{faria:.5f}", f"{abaqus:.5f} ({abaqus_diff:.2f})"]
@@ -141,17 +161,17 @@ def main():
     if any(locked(r) for _, result in results for r in result):
         lines.append("² locked: the hub does not turn (|spin| < 1e-3 v/R); the ring slides without rolling "
                      "(\"Locked rows\" below).  ")
-    failures = [(row, config, r["error"]) for row, result in results for config, r in zip(CONFIGS, result) if "error" in r]
+    failures = [(row, config, r["error"]) for row, result in results for config, r in zip(configs, result) if "error" in r]
     for row, config, error in failures:
         lines.append(f"¹ {row[0]} δ={row[1]:g} r_i={row[2]:g} μ={row[3]:g}, {config[0]}: `{error}`  ")
     lines.append("")
-    lines += cost_table(results, [c[0] for c in CONFIGS], ", per configuration")
+    lines += cost_table(results, [c[0] for c in configs], ", per configuration")
     lines.append("")
     lines.append("Sensitivity (q4 34×5 nodes):\n")
     lines.append("| row | setting | spin | change from the default |")
     lines.append("|---|---|---|---|")
-    base = {row[:4]: r.get("spin") for (row, _, extra), r in zip(STUDIES, study_results) if not extra}
-    for (row, label, extra), r in zip(STUDIES, study_results):
+    base = {row[:4]: r.get("spin") for (row, _, extra), r in zip(studies, study_results) if not extra}
+    for (row, label, extra), r in zip(studies, study_results):
         name = f"{row[0]} δ={row[1]:g} r_i={row[2]:g} μ={row[3]:g}"
         value = f"{r['spin']:.5f}" if "spin" in r else "failed"
         reference = base.get(row[:4])

@@ -13,26 +13,25 @@ every step sampled), and finds the zero of that mean torque T(w) by bisection on
 bracket of 0.02, then the Illinois variant of regula falsi (Dowell & Jarratt 1971) down to 1e-4.
 T rises with w (a hub turning faster than it rolls is braked) and saturates at -+mu N R where the whole
 patch slips, so it is steep near its zero and flat away from it: plain regula falsi would crawl.
-Usage:
+The search of one row stays sequential (each spin depends on the torques before it), but the searches
+of every row and mesh advance together: each round is one `csim sweep` of the next spin of every search
+still running (under mpirun, docs/scaling-out.md). Usage:
     python3 bench/rolling_zero_torque.py [--csim build/tools/csim] [--rows 2,6] [--configs "q4 34×5 nodes"]
-        [--out docs/rolling.md] [--check] [--jobs 2]
+        [--out docs/rolling.md] [--check] [--ranks N]
 --out replaces the block between the zero-torque markers of that file; --check exits with 1 when a
 result misses the issue's target (0.5 % from Faria for r_i 0.2 and 1.0, 3 % for r_i 1.7) or no zero
 is found.
 """
-import argparse
-import concurrent.futures
 import csv
 import json
 import math
 import os
-import subprocess
 import sys
-import tempfile
 import time
 
 from generated_block import replace_block
-from rolling_table import ROWS, percent, scene_command
+from rolling_run import bench_arguments, sweep
+from rolling_table import ROWS, percent, settings
 
 CONFIGS = [
     ("q4 34×5 nodes", "quad4", 34, 5, "nodes"),
@@ -59,46 +58,53 @@ def hann_mean(rows, column, t1, t2):
     return num / den
 
 
-def torque(csim, row, config, spin):
-    """Hann mean of the axle torque over the last window, in units of mu N R (N: the mean normal force)."""
-    mu = row[3]
-    with tempfile.TemporaryDirectory() as out:
-        command = scene_command(csim, row, config) + ["--out", out,
-            "--set", f"parameters.imposed_spin={spin!r}", "--set", "output.rate=0"]
-        process = subprocess.run(command, capture_output=True, text=True)
-        summary_file = os.path.join(out, "summary.json")
+def torque_settings(row, config, spin):
+    return settings(row, config) + [f"parameters.imposed_spin={spin!r}", "output.rate=0"]
+
+
+def read_torque(mu):
+    """Reads a case of the sweep: the Hann mean of the axle torque over the last window and over the one
+    before, in units of mu N R (N: the mean normal force), and the Newton iterations; or the error."""
+    def read(folder, row):
         # With a spin imposed, the scene's checks (the free-rolling spin) are excluded, so the run is not
         # judged (exit 1); only a refusal or a numerical failure (exit 2) leaves no torque to read.
-        if process.returncode not in (0, 1) or not os.path.exists(summary_file):
-            raise RuntimeError((process.stderr or process.stdout).strip().splitlines()[-1])
+        summary_file = os.path.join(folder, "summary.json")
+        if row["exit_status"] not in ("0", "1") or not os.path.exists(summary_file):
+            return RuntimeError(row["message"] or row["status"])
         summary = json.load(open(summary_file))
-        samples = list(csv.DictReader(open(os.path.join(out, "probes.csv"))))
-    end = summary["end_time"]
-    window = 1.0  # parameters.window
-    mean = hann_mean(samples, "hub_torque", end - window, end)
-    normal = hann_mean(samples, "normal_force", end - window, end)
-    earlier = hann_mean(samples, "hub_torque", end - 2 * window, end - window)
-    scale = mu * normal * 2.0  # mu N R, R = 2
-    return mean / scale, earlier / scale, summary["newton"]["iterations"]
+        samples = list(csv.DictReader(open(os.path.join(folder, "probes.csv"))))
+        end = summary["end_time"]
+        window = 1.0  # parameters.window
+        mean = hann_mean(samples, "hub_torque", end - window, end)
+        normal = hann_mean(samples, "normal_force", end - window, end)
+        earlier = hann_mean(samples, "hub_torque", end - 2 * window, end - window)
+        scale = mu * normal * 2.0  # mu N R, R = 2
+        return mean / scale, earlier / scale, summary["newton"]["iterations"]
+    return read
 
 
-def zero_torque_spin(csim, row, config):
+def zero_torque_search():
+    """The search of one row as a generator: it yields the next spin to evaluate and is sent back
+    (torque, earlier, newton) or a RuntimeError; it returns the row's result."""
     start = time.perf_counter()
     history = []
 
     def evaluate(w):
-        t, earlier, newton = torque(csim, row, config, w)
-        history.append((w, t, earlier, newton))
-        return t
+        result = yield w
+        if isinstance(result, RuntimeError):
+            raise result
+        history.append((w,) + tuple(result))
+        return result[0]
 
     try:
         lo, hi = BRACKET
-        t_lo, t_hi = evaluate(lo), evaluate(hi)
+        t_lo = yield from evaluate(lo)
+        t_hi = yield from evaluate(hi)
         if not (t_lo < 0.0 < t_hi):
             return {"error": f"no sign change of the torque on [{lo}, {hi}]: {t_lo:.3g}, {t_hi:.3g}"}
         while hi - lo > BISECT_TO:
             mid = 0.5 * (lo + hi)
-            t_mid = evaluate(mid)
+            t_mid = yield from evaluate(mid)
             if t_mid < 0.0:
                 lo, t_lo = mid, t_mid
             else:
@@ -107,7 +113,7 @@ def zero_torque_spin(csim, row, config):
         while hi - lo > SOLVE_TO and len(history) < MAX_RUNS:
             w = (lo * t_hi - hi * t_lo) / (t_hi - t_lo)
             w = min(max(w, lo + 0.05 * SOLVE_TO), hi - 0.05 * SOLVE_TO)
-            t = evaluate(w)
+            t = yield from evaluate(w)
             if t == 0.0:
                 lo = hi = w
                 break
@@ -133,34 +139,54 @@ def zero_torque_spin(csim, row, config):
             "converged": above[0] - below[0] <= SOLVE_TO}
 
 
+def zero_torque_spins(args, jobs):
+    """Runs the searches of (row, config) jobs together, one sweep per round; their results in order."""
+    searches = [zero_torque_search() for _ in jobs]
+    pending = {k: next(search) for k, search in enumerate(searches)}  # search -> the spin it waits for
+    results = [None] * len(jobs)
+    rounds = 0
+    while pending:
+        order = sorted(pending)
+        cases = [torque_settings(jobs[k][0], jobs[k][1], pending[k]) for k in order]
+        # case i of the sweep is search order[i]; its reading needs that row's mu
+        torques = sweep(args, "scenes/rolling-ring", cases,
+                        lambda folder, row: read_torque(jobs[order[int(row["case"]) - 1]][0][3])(folder, row))
+        rounds += 1
+        pending = {}
+        for k, value in zip(order, torques):
+            try:
+                pending[k] = searches[k].send(value)
+            except StopIteration as stop:
+                results[k] = stop.value
+    print(f"{rounds} rounds of sweeps", file=sys.stderr)
+    return results
+
+
 def target(row):
     return 3.0 if row[2] > 1.5 else 0.5
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--csim", default="build/tools/csim")
+    parser = bench_arguments()
+    parser.set_defaults(out="")
     parser.add_argument("--rows", default="")
     parser.add_argument("--configs", default="", help="comma-separated labels of CONFIGS")
-    parser.add_argument("--out", default="")
     parser.add_argument("--check", action="store_true")
-    parser.add_argument("--jobs", type=int, default=2)
     args = parser.parse_args()
     rows = ROWS if not args.rows else [ROWS[int(i) - 1] for i in args.rows.split(",")]
     configs = CONFIGS if not args.configs else [c for c in CONFIGS if c[0] in args.configs.split(",")]
     if not configs:
         sys.exit(f"no configuration among {[c[0] for c in CONFIGS]} in --configs '{args.configs}'")
-    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        futures = [[pool.submit(zero_torque_spin, args.csim, row, config) for config in configs] for row in rows]
-        results = []
-        for row, row_futures in zip(rows, futures):
-            result = [f.result() for f in row_futures]
-            results.append((row, result))
-            print(row[:4], [round(r["spin"], 5) if "spin" in r else r["error"] for r in result],
-                  file=sys.stderr, flush=True)
+    done = zero_torque_spins(args, [(row, config) for row in rows for config in configs])
+    results = []
+    for i, row in enumerate(rows):
+        result = done[i * len(configs):(i + 1) * len(configs)]
+        results.append((row, result))
+        print(row[:4], [round(r["spin"], 5) if "spin" in r else r["error"] for r in result],
+              file=sys.stderr, flush=True)
 
-    lines = [f"Generated by `python3 bench/rolling_zero_torque.py` ({args.jobs} searches at a time on this "
-             f"machine's {os.cpu_count()} cores). Spin of zero mean axle torque (err % from Faria); below it: "
+    lines = [f"Generated by `python3 bench/rolling_zero_torque.py` (the searches advance together, each round one "
+             f"`csim sweep` on {args.ranks or 1} MPI rank(s), one per core, on this machine's {os.cpu_count()} cores). Spin of zero mean axle torque (err % from Faria); below it: "
              "runs of the search, largest change of the mean torque from the window before (in μNR) at the "
              "two spins that bracket the zero, and the search's wall time.\n"]
     lines.append("| material | δ | r_i | μ | Faria | Abaqus (err %) | " + " | ".join(c[0] for c in configs) + " |")

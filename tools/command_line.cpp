@@ -9,7 +9,7 @@ namespace csim::cli {
 
 namespace {
 
-const std::vector<std::string> kCommands{"run", "validate", "dump-config", "compare", "stress", "help"};
+const std::vector<std::string> kCommands{"run", "validate", "dump-config", "compare", "stress", "sweep", "help"};
 
 void add_scene(CLI::App& command, Arguments& a) {
   command.add_option("SCENE", a.scene, "a scene folder (holding scene.yaml) or a scene file")->required();
@@ -19,6 +19,15 @@ void add_overrides(CLI::App& command, Arguments& a) {
   // One value per --set: a vector option would otherwise take the SCENE that follows as a second one.
   command.add_option("--set", a.overrides, "override one value of the scene; repeatable (--set time.end=2)")
       ->type_name("KEY=VALUE")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+// KEY=V1,V2,...: one list per use, the option repeatable (the commas are the study's to read).
+void add_value_lists(CLI::App& command, const std::string& name, std::vector<std::string>& lists, const std::string& help) {
+  command.add_option(name, lists, help)
+      ->type_name("KEY=V1,V2,...")
       ->expected(1)
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
@@ -109,6 +118,21 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
                  "Exit status: 0 no run violated an invariant (failed checks and IDA stops are only reported),\n"
                  "1 some run did, 2 bad input (sweeps file, --only, --set); " + std::string(kStopped));
 
+  CLI::App* sweep = app.add_subcommand("sweep", "a parameter study: the scene once per case, one CSV row per case");
+  add_scene(*sweep, a);
+  add_overrides(*sweep, a);
+  add_value_lists(*sweep, "--set-list", a.set_lists,
+                  "lists taken together: case i sets the i-th value of each; repeatable");
+  add_value_lists(*sweep, "--grid", a.grids, "every combination with the other grids (the first varies slowest); repeatable");
+  sweep->add_option("--sweeps", a.sweeps_file, "the cases from a sweeps file in the format of csim stress")
+      ->type_name("FILE");
+  sweep->add_flag("--no-case-outputs", a.no_case_outputs, "write no case-NNNN/ folders, only sweep.csv");
+  add_output(*sweep, a, "out/<scene>-sweep");
+  sweep->footer("Writes DIR/sweep.csv and, per case, what csim run writes into DIR/case-NNNN/ (NNNN: the case's row).\n"
+                "Under mpirun or srun the cases are spread over the ranks (docs/scaling-out.md).\n"
+                "Exit status: 0 every case passed its checks, 1 some case did not (recorded in its row),\n"
+                "2 bad input (lists, sweeps file, --set); " + std::string(kStopped));
+
   CLI::App* help = app.add_subcommand("help", "print the help of csim or of one command");
   help->add_option("COMMAND", help_topic, "the command to explain");
 }
@@ -131,7 +155,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Arguments& argument
   if (argc >= 2 && argv[1][0] != '-' &&
       std::find(kCommands.begin(), kCommands.end(), argv[1]) == kCommands.end())
     return bad_argument("", "unknown command '" + std::string(argv[1]) +
-                                "' (commands: run, validate, dump-config, compare, stress, help)");
+                                "' (commands: run, validate, dump-config, compare, stress, sweep, help)");
   // CLI11 drops the empty items of a delimited list: `--steps 1e-2,,1e-3` would quietly run two steps.
   for (int i = 2; i < argc; ++i) {
     const std::string word = argv[i];
@@ -158,7 +182,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Arguments& argument
     return kSuccess;
   } catch (const CLI::ParseError& e) {
     const auto selected = app.get_subcommands();
-    if (argc < 2) return bad_argument("", "missing command (run, validate, dump-config, compare, stress, help)");
+    if (argc < 2) return bad_argument("", "missing command (run, validate, dump-config, compare, stress, sweep, help)");
     return bad_argument(selected.empty() ? "" : " " + selected.front()->get_name(), e.what());
   }
   arguments.command = app.get_subcommands().front()->get_name();
@@ -169,7 +193,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Arguments& argument
   }
   if (std::find(kCommands.begin(), kCommands.end(), help_topic) == kCommands.end())
     return bad_argument("", "help: no command '" + help_topic +
-                                "' (commands: run, validate, dump-config, compare, stress)");
+                                "' (commands: run, validate, dump-config, compare, stress, sweep)");
   std::cout << command_help(app, help_topic);
   return kSuccess;
 }

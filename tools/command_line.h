@@ -21,9 +21,12 @@ struct Arguments {
   std::vector<double> steps, tolerances;  // s; dimensionless
   int repeats = 3;
   std::string reference = "auto";
-  // stress
+  // stress, sweep
   std::string sweeps_file;
   std::vector<std::string> only;
+  // sweep
+  std::vector<std::string> set_lists, grids;  // KEY=V1,V2,..., in the order given
+  bool no_case_outputs = false;
 };
 
 // Reads argv into `arguments`. Returns the exit status when csim must stop here: 0 once help is printed

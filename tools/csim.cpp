@@ -5,6 +5,8 @@
 //   csim compare SCENE [--set KEY=VALUE]... --integrators LIST [--steps LIST] [--tolerances LIST]
 //                [--repeats N] [--reference auto|analytical|ida-events|moreau-jean] [--out DIR]
 //   csim stress SCENE [--set KEY=VALUE]... [--sweeps FILE] [--out DIR] [--only SWEEP[,SWEEP...]]
+//   csim sweep SCENE [--set KEY=VALUE]... (--set-list KEY=V1,V2...|--grid KEY=V1,V2...)... | --sweeps FILE
+//              [--out DIR] [--no-case-outputs]
 //   csim help [COMMAND], csim [COMMAND] --help: help on stdout, exit 0; a bad argument: one line, exit 2.
 // SCENE is a scene folder (holding scene.yaml) or a YAML file.
 // run, compare and stress write into a temporary folder beside DIR and swap it in whole when they end
@@ -15,6 +17,10 @@
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
 // Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
 // 1 some run did, 2 bad input (sweeps file, --only, --set).
+// Exit status of sweep: 0 every case passed its checks, 1 some case did not (recorded in its row), 2 bad input.
+// compare, stress and sweep run their cases through a study runner (tools/studies/study_runner.h): serially,
+// or spread over the ranks when started by mpirun or srun, rank 0 alone printing and writing; the other
+// ranks leave quietly, with status 0 once the study is done or 2 when it could not start.
 #include "tools/studies/compare.h"
 #include "tools/output/output_folder.h"
 #include "tools/run/run.h"
@@ -22,6 +28,8 @@
 #include "engine/steppers/stepper.h"
 #include "tools/run/stop_request.h"
 #include "tools/studies/stability_sweep.h"
+#include "tools/studies/mpi_study_runner.h"
+#include "tools/studies/sweep.h"
 #include "tools/command_line.h"
 #include "tools/scene_argument.h"
 #include "tools/stop_signals.h"
@@ -33,6 +41,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +53,29 @@ constexpr int kSomeRunFailed = 1;  // compare
 constexpr int kInvariantViolated = 1;  // stress
 
 using csim::cli::Arguments;
+
+// Thrown on the ranks other than 0 when rank 0 could not start the study: rank 0 says why.
+struct RankLeaves {};
+
+// Rank 0 opens the output folder of a study and every rank learns its temporary path, where the cases
+// write their own outputs. The path shared is empty when rank 0 failed: it throws its error, the others
+// RankLeaves, so that no rank waits for a study that will not start.
+std::string open_study_folder(csim::StudyRunner& runner, const std::string& destination,
+                              std::optional<csim::OutputFolder>& folder) {
+  std::string path;
+  if (runner.is_root()) {
+    try {
+      folder.emplace(destination);
+      path = folder->path();
+    } catch (...) {
+      runner.share("");
+      throw;
+    }
+  }
+  path = runner.share(path);
+  if (path.empty()) throw RankLeaves{};
+  return path;
+}
 
 // The output folder of a command: --out, or out/<scene name><suffix>.
 std::string output_destination(const Arguments& arguments, const std::string& file, const std::string& suffix) {
@@ -170,7 +202,7 @@ void print_compare_row(const csim::CompareRow& row) {
   std::fflush(stdout);  // the table is the progress report of a long study
 }
 
-int run_compare(const Arguments& arguments, const std::string& file) {
+int run_compare(const Arguments& arguments, const std::string& file, csim::StudyRunner& runner) {
   csim::CompareOptions options;
   options.scene_file = file;
   options.overrides = arguments.overrides;
@@ -180,20 +212,22 @@ int run_compare(const Arguments& arguments, const std::string& file) {
   options.repeats = arguments.repeats;
   options.reference = arguments.reference;
   options.output_directory = output_destination(arguments, file, "-compare");
-  csim::OutputFolder folder(options.output_directory);
+  std::optional<csim::OutputFolder> folder;
+  open_study_folder(runner, options.output_directory, folder);
   bool header_printed = false;  // not before the options and the scene are known to be good
   const csim::Comparison comparison = csim::run_comparison(options, [&](const csim::CompareRow& row) {
     if (!header_printed) print_compare_header();
     header_printed = true;
     print_compare_row(row);
-  });
+  }, runner);
+  if (!runner.is_root()) return kPassed;
   const std::string& directory = options.output_directory;
-  csim::write_work_precision_csv(comparison, folder.path());
-  csim::write_gnuplot_script(comparison, folder.path());
-  const csim::PlotOutcome plot = csim::plot_work_precision(comparison, folder.path());
+  csim::write_work_precision_csv(comparison, folder->path());
+  csim::write_gnuplot_script(comparison, folder->path());
+  const csim::PlotOutcome plot = csim::plot_work_precision(comparison, folder->path());
   if (!plot.produced) std::cerr << "csim: warning: no work_precision.png: " << plot.message << "\n";
   csim::honour_stop_request();
-  folder.commit();
+  folder->commit();
   const auto failed = std::count_if(comparison.rows.begin(), comparison.rows.end(),
                                     [](const csim::CompareRow& r) { return !r.ok; });
   std::printf("%s: %zu configurations, %s (outputs in %s)\n", comparison.scene_name.c_str(), comparison.rows.size(),
@@ -215,24 +249,26 @@ void print_stress_row(const csim::StabilityRow& row) {
   std::fflush(stdout);  // the table is the progress report of a long study
 }
 
-int run_stability_command(const Arguments& arguments, const std::string& file) {
+int run_stability_command(const Arguments& arguments, const std::string& file, csim::StudyRunner& runner) {
   csim::StabilityOptions options;
   options.scene_file = file;
   options.sweeps_file = arguments.sweeps_file;
   options.overrides = arguments.overrides;
   options.only = arguments.only;
   const std::string directory = output_destination(arguments, file, "-stress");
-  csim::OutputFolder folder(directory);
+  std::optional<csim::OutputFolder> folder;
+  open_study_folder(runner, directory, folder);
   bool header_printed = false;  // not before the sweeps file and the scene are known to be good
   const csim::StabilityStudy study = csim::run_stability_sweep(options, [&](const csim::StabilityRow& row) {
     if (!header_printed) print_stress_header();
     header_printed = true;
     print_stress_row(row);
-  });
-  csim::write_stability_markdown(study, folder.path());
-  csim::write_stability_csv(study, folder.path());
+  }, runner);
+  if (!runner.is_root()) return kPassed;
+  csim::write_stability_markdown(study, folder->path());
+  csim::write_stability_csv(study, folder->path());
   csim::honour_stop_request();
-  folder.commit();
+  folder->commit();
   const auto violations = std::count_if(study.rows.begin(), study.rows.end(),
                                         [](const csim::StabilityRow& r) { return r.violates_invariant(); });
   std::printf("%s: %zu runs in %.1f s, %s (outputs in %s)\n", study.scene_name.c_str(), study.rows.size(),
@@ -242,18 +278,70 @@ int run_stability_command(const Arguments& arguments, const std::string& file) {
   return violations == 0 ? kPassed : kInvariantViolated;
 }
 
+void print_sweep_row(std::size_t index, const csim::SweepRow& row) {
+  std::string settings;
+  for (const std::string& s : row.settings) settings += (settings.empty() ? "" : " ") + s;
+  char wall[32];
+  std::snprintf(wall, sizeof wall, "%.3g", row.wall_time);
+  std::printf("%5zu  %-50s %-17s %9s %9s  %s\n", index + 1, settings.c_str(), row.status.c_str(),
+              row.steps >= 0 ? std::to_string(row.steps).c_str() : "-", wall, row.message.c_str());
+  std::fflush(stdout);  // the table is the progress report of a long study
+}
+
+int run_sweep_command(const Arguments& arguments, const std::string& file, csim::StudyRunner& runner) {
+  csim::SweepOptions options;
+  options.scene_file = file;
+  options.overrides = arguments.overrides;
+  options.set_lists = arguments.set_lists;
+  options.grids = arguments.grids;
+  options.sweeps_file = arguments.sweeps_file;
+  const std::string directory = output_destination(arguments, file, "-sweep");
+  std::optional<csim::OutputFolder> folder;
+  const std::string path = open_study_folder(runner, directory, folder);
+  if (!arguments.no_case_outputs) options.case_directory = path;
+  std::size_t printed = 0;  // the header not before the cases are known to be good
+  const csim::SweepStudy study = csim::run_sweep(options, [&](const csim::SweepRow& row) {
+    if (printed == 0)
+      std::printf("%5s  %-50s %-17s %9s %9s  %s\n", "case", "settings", "status", "steps", "wall (s)", "message");
+    print_sweep_row(printed++, row);
+  }, runner);
+  if (!runner.is_root()) return kPassed;
+  csim::write_sweep_csv(study, folder->path());
+  csim::honour_stop_request();
+  folder->commit();
+  const auto not_passed = std::count_if(study.rows.begin(), study.rows.end(),
+                                        [](const csim::SweepRow& r) { return r.exit_status != 0; });
+  std::printf("%s: %zu cases in %.1f s, %s (%s; outputs in %s)\n", study.scene_name.c_str(), study.rows.size(),
+              study.total_wall_time,
+              not_passed == 0 ? "all passed" : (std::to_string(not_passed) + " NOT PASSED").c_str(),
+              study.placement.c_str(), directory.c_str());
+  return not_passed == 0 ? kPassed : kSomeRunFailed;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   Arguments arguments;
   if (const std::optional<int> status = csim::cli::parse_command_line(argc, argv, arguments)) return *status;
   std::string file = arguments.scene;
-  if (arguments.command == "run" || arguments.command == "compare" || arguments.command == "stress")
-    csim::cli::install_stop_handlers();
+  const bool study = arguments.command == "compare" || arguments.command == "stress" || arguments.command == "sweep";
+  if (arguments.command == "run" || study) csim::cli::install_stop_handlers();
+  // Lives as long as the command: MPI is finalized when main returns (mpi_study_runner.h).
+  std::unique_ptr<csim::StudyRunner> mpi_runner;
+  bool speaks = true;  // rank 0, or the only process: the one that prints errors
+  try {
+    if (study) mpi_runner = csim::make_mpi_runner(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "csim: " << e.what() << "\n";
+    return kBadInput;
+  }
+  csim::StudyRunner& runner = mpi_runner ? *mpi_runner : csim::serial_runner();
+  speaks = runner.is_root();
   try {
     file = csim::cli::scene_file(arguments.scene);
-    if (arguments.command == "compare") return run_compare(arguments, file);
-    if (arguments.command == "stress") return run_stability_command(arguments, file);
+    if (arguments.command == "compare") return run_compare(arguments, file, runner);
+    if (arguments.command == "stress") return run_stability_command(arguments, file, runner);
+    if (arguments.command == "sweep") return run_sweep_command(arguments, file, runner);
     const auto scene = csim::load_scene(file, arguments.overrides);
     if (arguments.command == "validate") {
       csim::make_stepper(scene->world, scene->run);  // what the stepper refuses at its construction, as run would
@@ -276,18 +364,20 @@ int main(int argc, char** argv) {
     std::printf("%s: %s (outputs in %s)\n", scene->name.c_str(), verdict(report.counts()).c_str(),
                 options.output_directory.c_str());
     return report.passed() ? kPassed : kCheckFailed;
+  } catch (const RankLeaves&) {
   } catch (const csim::StopRequested& stop) {
-    std::cerr << "csim: stopped by " << csim::cli::signal_name(stop.signal)
-              << " before the end; the output folder is left as it was\n";
+    if (speaks)
+      std::cerr << "csim: stopped by " << csim::cli::signal_name(stop.signal)
+                << " before the end; the output folder is left as it was\n";
     return 128 + stop.signal;
   } catch (const csim::SceneError& e) {
-    std::cerr << "csim: error: " << e.what() << "\n";
+    if (speaks) std::cerr << "csim: error: " << e.what() << "\n";
   } catch (const csim::OutputFolderError& e) {
-    std::cerr << "csim: " << e.what() << "\n";
+    if (speaks) std::cerr << "csim: " << e.what() << "\n";
   } catch (const csim::RunError& e) {
-    std::cerr << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what() << "\n";
+    if (speaks) std::cerr << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what() << "\n";
   } catch (const std::exception& e) {
-    std::cerr << "csim: " << file << ": " << e.what() << "\n";
+    if (speaks) std::cerr << "csim: " << file << ": " << e.what() << "\n";
   }
   return kBadInput;
 }

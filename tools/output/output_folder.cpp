@@ -19,10 +19,12 @@ namespace {
 namespace fs = std::filesystem;
 
 // Every file a csim command writes in its output folder (run: summary.json, probes.csv, paraview/;
-// compare: work_precision.*; stress: stability.*). A writer of a new file adds its name here, or the next
+// compare: work_precision.*; stress: stability.*; sweep: sweep.csv, and each case's run outputs in a folder
+// case-NNNN). A writer of a new file adds its name here, or the next
 // command into that folder refuses the file as the user's.
 const char* const kOwnFiles[] = {"summary.json",       "probes.csv",   "work_precision.csv", "work_precision.gp",
-                                 "work_precision.png", "stability.md", "stability.csv"};
+                                 "work_precision.png", "stability.md", "stability.csv",
+                                 "sweep.csv"};
 const char* const kOwnFolder = "paraview";
 const char* const kOwnFolderExtensions[] = {".vtu", ".pvd"};
 
@@ -46,16 +48,25 @@ std::string foreign_paraview_entry(const fs::path& folder, const std::string& de
   return "";
 }
 
-// What in `folder` a csim command did not write: its top level by name, paraview/ by extension.
-std::string first_foreign_entry(const fs::path& folder, const std::string& destination) {
+// A case folder of `csim sweep`: case- and digits.
+bool case_folder(const std::string& name) {
+  return name.size() > 5 && name.rfind("case-", 0) == 0 &&
+         std::all_of(name.begin() + 5, name.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// What in `folder` a csim command did not write: its top level by name, paraview/ by extension, a sweep's
+// case folders as the folder of a run.
+std::string first_foreign_entry(const fs::path& folder, const std::string& destination, bool top = true) {
   std::error_code error;
   fs::directory_iterator entries(folder, error);
   for (; !error && entries != fs::directory_iterator(); entries.increment(error)) {
     const fs::directory_entry& entry = *entries;
     if (own_file(entry, std::begin(kOwnFiles), std::end(kOwnFiles), false)) continue;
     const std::string name = entry.path().filename().string();
-    if (name != kOwnFolder || entry.is_symlink(error) || !entry.is_directory(error)) return name;
-    const std::string inside = foreign_paraview_entry(entry.path(), destination);
+    const bool folder_of_ours = name == kOwnFolder || (top && case_folder(name));
+    if (!folder_of_ours || entry.is_symlink(error) || !entry.is_directory(error)) return name;
+    const std::string inside = name == kOwnFolder ? foreign_paraview_entry(entry.path(), destination)
+                                                  : first_foreign_entry(entry.path(), destination, false);
     if (!inside.empty()) return name + "/" + inside;
   }
   if (error) throw OutputFolderError(destination + ": cannot read the folder (" + error.message() + ")");

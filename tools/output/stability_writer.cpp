@@ -109,6 +109,7 @@ std::string stability_csv(const StabilityStudy& study) {
   csv << "# csim stress: stability study of scene " << study.scene_name << " (" << study.scene_file << ")\n"
       << "# sweeps: " << study.sweeps_file << "; baseline: " << (study.baseline.empty() ? "none" : join(study.baseline, " "))
       << "; overrides: " << (study.overrides.empty() ? "none" : join(study.overrides, " ")) << "\n"
+      << "# placement: " << study.placement << "\n"
       << "# worst_error: relative (worst_error_kind rel) or absolute where the reference is 0 (abs), of worst_check; "
          "empty with a worst_check: not evaluated\n"
          "# energy (J, final state): judged for moreau-jean only; scale = max(|W_loads|, E_kin + E_el, initial sum)\n"

@@ -46,6 +46,7 @@ struct StabilityRow {
 struct StabilityStudy {
   std::string scene_name, scene_file, sweeps_file, description;
   std::vector<std::string> overrides, baseline;
+  std::string placement = "serial (1 process)";  // how the runs were placed (study_runner.h: Placement)
   std::vector<StabilityRow> rows;
   double total_wall_time = 0.0;         // s, the whole study as the clock on the wall saw it
   bool invariants_hold() const {

@@ -31,6 +31,7 @@ void write_comment_header(std::ostringstream& csv, const Comparison& comparison)
   csv << "# overrides:";
   if (comparison.overrides.empty()) csv << " none";
   for (const std::string& o : comparison.overrides) csv << " --set " << o;
+  csv << "\n# placement: " << comparison.placement << " (the wall times are only comparable with one run per core)";
   csv << "\n# each run also gets integrator.type=INTEGRATOR, then time.step=VALUE (moreau-jean, generalized-alpha) or "
          "integrator.rtol=integrator.atol=VALUE (ida, ida-events; time.step stays the probes' sampling interval)\n"
          "# wall times: s, of the time loop, one per repeat (';'-separated); wall_time_median is their median\n"

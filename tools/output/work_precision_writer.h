@@ -39,6 +39,7 @@ struct Comparison {
   std::string reference;                // what the errors are measured against, in words (the CSV says it)
   bool trajectory_reference = false;    // errors are deviations of the probe histories from a reference run
   std::vector<std::string> overrides;
+  std::string placement = "serial (1 process)";  // how the runs were placed (study_runner.h: Placement)
   std::vector<ComparedCheck> checks;
   std::vector<CompareRow> rows;
   bool all_ok() const {

@@ -8,9 +8,11 @@
 #include "tools/scene/scene_error.h"
 #include "engine/steppers/stepper.h"
 #include "tools/run/stop_request.h"
+#include "tools/studies/case_record.h"
 
 #include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -244,9 +246,50 @@ bool reference_run(const CompareOptions& options, const std::string& kind, Traje
   }
 }
 
+// A configuration's row and the reference values its run evaluated, as the study runner carries them.
+std::string configuration_record(const CompareRow& row, const std::vector<ComparedCheck>& checks) {
+  RecordWriter out;
+  out.text(row.integrator).text(row.parameter).number(row.value).numbers(row.wall_times).number(row.wall_time_median);
+  out.integer(row.steps).integer(row.solver_iterations).flag(row.ok).text(row.failure).number(row.max_rel_error);
+  out.numbers(row.errors).numbers(row.relative_errors).texts(row.not_evaluated);
+  out.integer(static_cast<std::int64_t>(checks.size()));
+  for (const ComparedCheck& check : checks) out.flag(check.reference_known).number(check.reference_value);
+  return out.bytes();
+}
+
+CompareRow read_configuration(const std::string& record, std::vector<ComparedCheck>& checks) {
+  RecordReader in(record);
+  CompareRow row;
+  row.integrator = in.text();
+  row.parameter = in.text();
+  row.value = in.number();
+  row.wall_times = in.numbers();
+  row.wall_time_median = in.number();
+  row.steps = in.integer();
+  row.solver_iterations = in.integer();
+  row.ok = in.flag();
+  row.failure = in.text();
+  row.max_rel_error = in.number();
+  row.errors = in.numbers();
+  row.relative_errors = in.numbers();
+  row.not_evaluated = in.texts();
+  const std::int64_t count = in.integer();
+  for (std::int64_t k = 0; k < count; ++k) {
+    const bool known = in.flag();
+    const double value = in.number();
+    ComparedCheck& check = checks.at(static_cast<std::size_t>(k));
+    if (known && !check.reference_known) {
+      check.reference_value = value;
+      check.reference_known = true;
+    }
+  }
+  return row;
+}
+
 }  // namespace
 
-Comparison run_comparison(const CompareOptions& options, const std::function<void(const CompareRow&)>& on_row) {
+Comparison run_comparison(const CompareOptions& options, const std::function<void(const CompareRow&)>& on_row,
+                          StudyRunner& runner) {
   validate(options);
   // A bad --set is bad input for the whole study, not a failure of each run.
   const auto scene = load_scene(options.scene_file, options.overrides);
@@ -255,6 +298,7 @@ Comparison run_comparison(const CompareOptions& options, const std::function<voi
   comparison.scene_file = options.scene_file;
   comparison.description = scene->description;
   comparison.overrides = options.overrides;
+  comparison.placement = runner.placement().text();
   comparison.checks = compared_checks(*scene);
 
   Trajectory reference;
@@ -274,6 +318,7 @@ Comparison run_comparison(const CompareOptions& options, const std::function<voi
     comparison.trajectory_reference = true;
   }
 
+  std::vector<CompareRow> configurations;
   for (const std::string& integrator : options.integrators) {
     const bool by_step = refined_by_step(integrator);
     for (double value : by_step ? options.steps : options.tolerances) {
@@ -281,12 +326,23 @@ Comparison run_comparison(const CompareOptions& options, const std::function<voi
       row.integrator = integrator;
       row.parameter = by_step ? "time.step" : "integrator.rtol";
       row.value = value;
-      const RunReport report = run_configuration(options, comparison.checks, row);
-      if (comparison.trajectory_reference && row.ok) row.max_rel_error = trajectory_error(report, reference);
-      if (on_row) on_row(row);
-      comparison.rows.push_back(std::move(row));
+      configurations.push_back(row);
     }
   }
+  auto run_one = [&](std::size_t index) {
+    CompareRow row = configurations[index];
+    std::vector<ComparedCheck> checks = comparison.checks;  // this run's own: which references it evaluated
+    const RunReport report = run_configuration(options, checks, row);
+    if (comparison.trajectory_reference && row.ok) row.max_rel_error = trajectory_error(report, reference);
+    return configuration_record(row, checks);
+  };
+  // A check's reference value is the one of the first run, in study order, that evaluated it.
+  auto take = [&](std::size_t, const std::string& record) {
+    CompareRow row = read_configuration(record, comparison.checks);
+    if (on_row) on_row(row);
+    comparison.rows.push_back(std::move(row));
+  };
+  runner.run(configurations.size(), run_one, take);
   return comparison;
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "tools/output/work_precision_writer.h"
+#include "tools/studies/study_runner.h"
 
 #include <functional>
 #include <string>
@@ -34,7 +35,10 @@ const std::vector<std::string>& comparable_integrators();
 // repeats < 1) or when the scene does not load with the user's overrides alone; every other failure
 // becomes a failed row. on_row is called after each configuration, in order, to report progress.
 // A stop request (stop_request.h) ends the study with StopRequested, between runs or at a step of one.
+// The configurations are the cases of `runner` (study_runner.h); every rank loads the scene and runs the
+// reference itself, and only the root's Comparison holds rows (and only there is on_row called).
 Comparison run_comparison(const CompareOptions& options,
-                          const std::function<void(const CompareRow&)>& on_row = {});
+                          const std::function<void(const CompareRow&)>& on_row = {},
+                          StudyRunner& runner = serial_runner());
 
 }  // namespace csim

@@ -12,6 +12,7 @@
 #include "tools/scene/scene_node.h"
 #include "engine/steppers/stepper.h"
 #include "tools/run/stop_request.h"
+#include "tools/studies/case_record.h"
 
 #include <algorithm>
 #include <chrono>
@@ -228,6 +229,44 @@ void check_sweep_keys(const StabilityPlan& plan, const std::vector<StabilitySwee
                            " (see csim dump-config)");
 }
 
+// A run's row as the study runner carries it (case_record.h).
+std::string row_record(const StabilityRow& row) {
+  RecordWriter out;
+  out.text(row.sweep).text(row.key).text(row.value).text(row.integrator).integer(static_cast<int>(row.outcome));
+  out.number(row.worst_error).flag(row.worst_error_relative).text(row.worst_check).texts(row.failed_checks);
+  out.flag(row.energy_judged).number(row.contact_dissipation).number(row.numerical_dissipation);
+  out.number(row.max_abs_residual).number(row.energy_scale).flag(row.creates_energy).flag(row.balance_open);
+  out.texts(row.non_finite).number(row.wall_time).integer(row.steps).number(row.stopped_at).text(row.message);
+  return out.bytes();
+}
+
+StabilityRow read_row(const std::string& record) {
+  RecordReader in(record);
+  StabilityRow row;
+  row.sweep = in.text();
+  row.key = in.text();
+  row.value = in.text();
+  row.integrator = in.text();
+  row.outcome = static_cast<StabilityOutcome>(in.integer());
+  row.worst_error = in.number();
+  row.worst_error_relative = in.flag();
+  row.worst_check = in.text();
+  row.failed_checks = in.texts();
+  row.energy_judged = in.flag();
+  row.contact_dissipation = in.number();
+  row.numerical_dissipation = in.number();
+  row.max_abs_residual = in.number();
+  row.energy_scale = in.number();
+  row.creates_energy = in.flag();
+  row.balance_open = in.flag();
+  row.non_finite = in.texts();
+  row.wall_time = in.number();
+  row.steps = in.integer();
+  row.stopped_at = in.number();
+  row.message = in.text();
+  return row;
+}
+
 }  // namespace
 
 const char* outcome_name(StabilityOutcome outcome) {
@@ -269,7 +308,8 @@ StabilityPlan read_stability_plan(const std::string& file) {
   return plan;
 }
 
-StabilityStudy run_stability_sweep(const StabilityOptions& options, const std::function<void(const StabilityRow&)>& on_row) {
+StabilityStudy run_stability_sweep(const StabilityOptions& options, const std::function<void(const StabilityRow&)>& on_row,
+                                   StudyRunner& runner) {
   const auto start = std::chrono::steady_clock::now();
   StabilityStudy study;
   study.scene_file = options.scene_file;
@@ -280,6 +320,7 @@ StabilityStudy run_stability_sweep(const StabilityOptions& options, const std::f
   const StabilityPlan plan = read_stability_plan(study.sweeps_file);
   const std::vector<StabilitySweep> sweeps = selected_sweeps(plan, options.only);
   study.overrides = options.overrides;
+  study.placement = runner.placement().text();
   study.baseline = plan.baseline;
   std::vector<std::string> common = options.overrides;
   common.insert(common.end(), plan.baseline.begin(), plan.baseline.end());
@@ -287,6 +328,8 @@ StabilityStudy run_stability_sweep(const StabilityOptions& options, const std::f
   check_sweep_keys(plan, sweeps, *scene);
   study.scene_name = scene->name;
   study.description = scene->description;
+  std::vector<StabilityRow> cases;
+  std::vector<std::vector<std::string>> case_overrides;
   for (const StabilitySweep& sweep : sweeps)
     for (const std::string& value : sweep.values)
       for (const std::string& integrator : sweep.integrators) {
@@ -298,11 +341,20 @@ StabilityStudy run_stability_sweep(const StabilityOptions& options, const std::f
         std::vector<std::string> overrides = common;
         overrides.push_back(sweep.key + "=" + value);
         overrides.push_back("integrator.type=" + integrator);
-        honour_stop_request();
-        run_case(overrides, options.scene_file, row);
-        if (on_row) on_row(row);
-        study.rows.push_back(std::move(row));
+        cases.push_back(std::move(row));
+        case_overrides.push_back(std::move(overrides));
       }
+  auto run_one = [&](std::size_t index) {
+    StabilityRow row = cases[index];
+    run_case(case_overrides[index], options.scene_file, row);
+    return row_record(row);
+  };
+  auto take = [&](std::size_t, const std::string& record) {
+    StabilityRow row = read_row(record);
+    if (on_row) on_row(row);
+    study.rows.push_back(std::move(row));
+  };
+  runner.run(cases.size(), run_one, take);
   study.total_wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return study;
 }

@@ -16,6 +16,7 @@
 #pragma once
 
 #include "tools/output/stability_writer.h"
+#include "tools/studies/study_runner.h"
 
 #include <functional>
 #include <string>
@@ -53,6 +54,8 @@ StabilityPlan read_stability_plan(const std::string& file);
 // have; every failure of one case (a value the scene rejects included) becomes its row.
 // on_row is called after each run, in order. A stop request (stop_request.h) ends the study with
 // StopRequested, between runs or at a step of one.
-StabilityStudy run_stability_sweep(const StabilityOptions& options, const std::function<void(const StabilityRow&)>& on_row = {});
+// The runs are the cases of `runner` (study_runner.h): only the root's study holds rows.
+StabilityStudy run_stability_sweep(const StabilityOptions& options, const std::function<void(const StabilityRow&)>& on_row = {},
+                                   StudyRunner& runner = serial_runner());
 
 }  // namespace csim

@@ -79,6 +79,28 @@ TEST(OutputFolder, AFolderHoldingTheUsersFilesIsRefusedUntouched) {
   EXPECT_TRUE(fs::exists(out / "paraview" / "notes.txt"));
 }
 
+// A sweep's case folders hold what a run writes; anything else in them, or a case folder nested in
+// another, is the user's.
+TEST(OutputFolder, ASweepsCaseFoldersAreOursButNotWhatTheUserPutInThem) {
+  const fs::path parent = fresh_directory("csim_output_folder_cases"), out = parent / "out";
+  fs::create_directories(out / "case-0001" / "paraview");
+  write(out / "sweep.csv", "case\n");
+  write(out / "case-0001" / "summary.json", "{}");
+  write(out / "case-0001" / "paraview" / "bar.pvd", "");
+  {
+    OutputFolder folder(out.string());
+    write(fs::path(folder.path()) / "sweep.csv", "case\n");
+    folder.commit();
+  }
+  EXPECT_EQ(entries(out), std::set<std::string>{"sweep.csv"});
+  for (const char* foreign : {"case-0002/notes.txt", "case-0003/case-0001/summary.json", "case-x/summary.json"}) {
+    fs::create_directories((out / foreign).parent_path());
+    write(out / foreign, "mine");
+    EXPECT_THROW(OutputFolder folder(out.string()), OutputFolderError) << foreign;
+    fs::remove_all(out / fs::path(foreign).begin()->string());
+  }
+}
+
 TEST(OutputFolder, FilesOfTheUsersAddedDuringTheRunStopTheSwap) {
   const fs::path parent = fresh_directory("csim_output_folder_late"), out = parent / "out";
   OutputFolder folder(out.string());
