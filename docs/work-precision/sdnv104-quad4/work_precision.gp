@@ -2,19 +2,19 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.022366548 0.002209954 "h=0.01"
-0.18112931 0.00021840173 "h=0.001"
-1.5317041 2.2242651e-05 "h=0.0001"
+0.00748938 0.002209954 "h=0.01"
+0.055764114 0.00021840173 "h=0.001"
+0.4097174 2.2242651e-05 "h=0.0001"
 EOD
 $generalized_alpha << EOD
-0.024900724 3.4933262e-05 "h=0.01"
-0.16811232 3.206764e-07 "h=0.001"
-1.3592463 3.2540704 "h=0.0001"
+0.004942875 8.0533649e-05 "h=0.01"
+0.04222486 4.2350079e-07 "h=0.001"
+0.36618151 4.0197395e-07 "h=0.0001"
 EOD
 $ida << EOD
-4.1079042 5.2930355e-05 "tol=0.0001"
-18.923763 2.1327934e-05 "tol=1e-06"
-17.517392 1.2341615e-06 "tol=1e-08"
+2.1613303 5.2930355e-05 "tol=0.0001"
+9.1771147 2.1327934e-05 "tol=1e-06"
+13.239143 1.2341615e-06 "tol=1e-08"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"

@@ -2,18 +2,18 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.023906237 0.0022100297 "h=0.01"
-0.22357123 0.00021845497 "h=0.001"
-1.876587 2.2310083e-05 "h=0.0001"
+0.015758418 0.0022100297 "h=0.01"
+0.14415326 0.00021845497 "h=0.001"
+1.171715 2.2310083e-05 "h=0.0001"
 EOD
 $generalized_alpha << EOD
-0.044037974 4.0589625e-05 "h=0.01"
-0.42516958 3.62153e-07 "h=0.001"
-3.5855267 3.8513619e-07 "h=0.0001"
+0.01291968 0.00012353215 "h=0.01"
+0.11446269 1.0747429e-06 "h=0.001"
+1.0009393 4.7045073e-07 "h=0.0001"
 EOD
 $ida << EOD
-35.03962 0.00062550511 "tol=0.0001"
-78.723558 1.5759859e-05 "tol=1e-06"
+7.9843927 0.00062550511 "tol=0.0001"
+26.007319 1.5759859e-05 "tol=1e-06"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"
