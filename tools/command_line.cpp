@@ -103,7 +103,8 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
       ->check(CLI::IsMember({"auto", "analytical", "ida-events", "moreau-jean"}));
   add_output(*compare, a, "out/<scene>-compare");
   compare->footer("moreau-jean and generalized-alpha run once per step, ida and ida-events once per tolerance, each N times; writes\n"
-                  "DIR/work_precision.csv, .gp and .png.\n"
+                  "DIR/work_precision.csv, .gp and .png. Under mpirun or srun the runs are spread over the ranks, one per\n"
+                  "core with --bind-to core (docs/scaling-out.md).\n"
                   "Exit status: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input;\n" +
                   std::string(kStopped));
 
@@ -114,7 +115,8 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
       ->type_name("FILE");
   add_list(*stress, "--only", a.only, "run only these sweeps of the file");
   add_output(*stress, a, "out/<scene>-stress");
-  stress->footer("Writes DIR/stability.md and DIR/stability.csv.\n"
+  stress->footer("Writes DIR/stability.md and DIR/stability.csv. Under mpirun or srun the cases are spread over the ranks\n"
+                 "(docs/scaling-out.md).\n"
                  "Exit status: 0 no run violated an invariant (failed checks and IDA stops are only reported),\n"
                  "1 some run did, 2 bad input (sweeps file, --only, --set); " + std::string(kStopped));
 
