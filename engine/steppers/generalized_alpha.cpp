@@ -182,6 +182,7 @@ void GeneralizedAlpha::assemble(const State& state) {
     for (int b = 0; b < a; ++b) problem_.W(a, b) = problem_.W(b, a) = 0.5 * (problem_.W(a, b) + problem_.W(b, a));
   problem_.b.resize(m);
   for (int a = 0; a < m; ++a) problem_.b(a) = rows_[a].dot(v_free_);
+  work_ = q_free_ - state.q;  // the free step's displacement, for the open gaps below
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
     const SparseRow& normal = rows_[d * i];
@@ -191,7 +192,6 @@ void GeneralizedAlpha::assemble(const State& state) {
     }
     // An inelastic contact still open by g closes it within the step: g(q_{n+1}) ≥ 0 with
     // q_{n+1} − q_free ≈ ½ h (v_{n+1} − v_free) along its normal (header).
-    work_ = q_free_ - state.q;
     const double opening = active_[i].point.gap + normal.dot(work_) - 0.5 * h * normal.dot(v_free_);
     if (opening > 0.0) problem_.b(d * i) += opening / (0.5 * h);
   }

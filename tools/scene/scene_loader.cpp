@@ -78,14 +78,16 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
 
   // Only the chosen integrator's keys are read (and their defaults written into the tree).
   const auto reads = [&](const char* key) { return integrator_reads(run.integrator, key); };
+  // The defaults are the options' own (moreau_jean_parameters.h, generalized_alpha_parameters.h).
   if (reads("theta")) {
-    run.moreau_jean.theta = integrator.number("theta", 0.5);
+    const MoreauJeanOptions defaults;
+    run.moreau_jean.theta = integrator.number("theta", defaults.theta);
     if (run.moreau_jean.theta < 0.5 || run.moreau_jean.theta > 1.0)
       integrator.fail_at("theta", "theta must lie in [0.5, 1]");
-    run.moreau_jean.close_gaps = integrator.boolean("close_gaps", true);
+    run.moreau_jean.close_gaps = integrator.boolean("close_gaps", defaults.close_gaps);
   }
   if (reads("rho_infinity")) {
-    run.generalized_alpha.rho_infinity = integrator.number("rho_infinity", 0.8);
+    run.generalized_alpha.rho_infinity = integrator.number("rho_infinity", GeneralizedAlphaOptions{}.rho_infinity);
     if (!(run.generalized_alpha.rho_infinity >= 0.0 && run.generalized_alpha.rho_infinity <= 1.0))
       integrator.fail_at("rho_infinity", "rho_infinity must lie in [0, 1]");
   }

@@ -31,12 +31,6 @@ bool refined_by_step(const std::string& integrator) {
   return known && is_time_stepping(*known);
 }
 
-// "moreau-jean, generalized-alpha, ida, ida-events", for messages.
-std::string comparable_names() {
-  std::string names;
-  for (const std::string& name : comparable_integrators()) names += (names.empty() ? "" : ", ") + name;
-  return names;
-}
 
 // The shortest text that reads back as the same double, so that an override sets exactly the value asked.
 std::string exact_text(double x) {
@@ -53,7 +47,7 @@ void validate(const CompareOptions& options) {
   if (options.integrators.empty()) fail("--integrators", "no integrator given");
   for (const std::string& name : options.integrators) {
     if (std::find(known.begin(), known.end(), name) == known.end())
-      fail("--integrators", "unknown integrator '" + name + "' (known: " + comparable_names() + ")");
+      fail("--integrators", "unknown integrator '" + name + "' (known: " + comparable_integrator_names() + ")");
     if (std::count(options.integrators.begin(), options.integrators.end(), name) > 1)
       fail("--integrators", "'" + name + "' is listed twice");
   }
@@ -172,6 +166,12 @@ const std::vector<std::string>& comparable_integrators() {
   static const std::vector<std::string> names{integrator_name(Integrator::moreau_jean),
                                               integrator_name(Integrator::generalized_alpha),
                                               integrator_name(Integrator::ida), integrator_name(Integrator::ida_events)};
+  return names;
+}
+
+std::string comparable_integrator_names() {
+  std::string names;
+  for (const std::string& name : comparable_integrators()) names += (names.empty() ? "" : ", ") + name;
   return names;
 }
 

@@ -30,6 +30,8 @@ struct CompareOptions {
 
 // The integrator names --integrators accepts.
 const std::vector<std::string>& comparable_integrators();
+// Their names in one line, "moreau-jean, generalized-alpha, ida, ida-events", for messages.
+std::string comparable_integrator_names();
 
 // Runs the study. Throws SceneError for bad options (unknown integrator, empty or non-positive lists,
 // repeats < 1) or when the scene does not load with the user's overrides alone; every other failure

@@ -47,7 +47,7 @@ std::vector<std::string> integrator_list(const SceneNode& list) {
   for (const SceneNode& item : list.items()) {
     const std::string name = item.as_string();
     if (std::find(known.begin(), known.end(), name) == known.end())
-      item.fail("unknown integrator '" + name + "' (known: moreau-jean, generalized-alpha, ida, ida-events)");
+      item.fail("unknown integrator '" + name + "' (known: " + comparable_integrator_names() + ")");
     if (std::find(out.begin(), out.end(), name) != out.end()) item.fail("'" + name + "' is listed twice");
     out.push_back(name);
   }
