@@ -52,8 +52,8 @@ class SparseLdlt {
   // y_aᵀ D⁻¹ y_b: the entry of W of the two rows whose forward columns these are.
   double delassus_entry(const ForwardColumn& a, const ForwardColumn& b) const;
   // x ← Pᵀ L⁻ᵀ D⁻¹ z, z in the factor's order (Σ r_a y_a of forward columns): the second half of a solve,
-  // so that A⁻¹ Hᵀ r costs a backward substitution once Y's columns are known. z is overwritten.
-  void back_substitute(Vector& z, Vector& x) const;
+  // so that A⁻¹ Hᵀ r costs a backward substitution once Y's columns are known.
+  void back_substitute(const Vector& z, Vector& x) const;
   // x(i) ← y(i) / D_i on y's rows (x dense, in the factor's order): then y_bᵀ D⁻¹ y = dot(y_b, x).
   void scatter_scaled(const ForwardColumn& y, Vector& x) const;
   static double dot(const ForwardColumn& y, const Vector& x);

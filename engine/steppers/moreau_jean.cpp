@@ -111,8 +111,8 @@ void MoreauJean::compute_free_velocity(const State& state) {
   f_total_ = f_loads_;
   if (operators_.has_stiffness()) {
     dynamics_.add_internal_forces(state.q, f_total_);
-    operators_.apply_stiffness(state.v, work_);
-    f_total_ -= (theta * h) * work_;
+    if (!stiffness_velocity_kept(state.v)) operators_.apply_stiffness(state.v, stiffness_velocity_);
+    f_total_ -= (theta * h) * stiffness_velocity_;
   }
   // −C v_θ = −C v_k − θ C (v_{k+1} − v_k), the latter in W
   dynamics_.add_damping_force(state.v, f_total_);
@@ -141,6 +141,15 @@ void MoreauJean::compute_newton_free_velocity(const State& state, const Vector& 
   operators_.solve_in_place(v_free_);
   v_free_ += v_iterate;
   check_free_velocity(v_free_, state.t + h);
+}
+
+bool MoreauJean::keeps_stiffness_velocity() const {
+  return operators_.sparse() && operators_.has_stiffness() && dynamics_.constant_stiffness();
+}
+
+bool MoreauJean::stiffness_velocity_kept(const Vector& v) const {
+  return keeps_stiffness_velocity() && kept_factorization_ == operators_.factorizations() &&
+         kept_velocity_.size() == v.size() && std::equal(v.data(), v.data() + v.size(), kept_velocity_.data());
 }
 
 void MoreauJean::check_free_velocity(const Vector& v_free, double t) const {
@@ -437,6 +446,11 @@ void MoreauJean::account_energy(State& state) {
   double numerical = dv_.dot(work_);
   if (operators_.nonlinear()) {  // −Δq·(f(q_{k+1}) − f(q_k)), f at Newton's last iterate (see the header)
     numerical -= h * v_theta_.dot(f_iterate_ - f_start_);
+  } else if (keeps_stiffness_velocity()) {
+    // K v_θ = (1−θ) K v_k + θ K v_{k+1}: K v_k is the free velocity's, K v_{k+1} the next step's.
+    operators_.apply_stiffness(v_next_, stiffness_velocity_next_);
+    work_ = (1.0 - theta) * stiffness_velocity_ + theta * stiffness_velocity_next_;
+    numerical += h * h * v_theta_.dot(work_);
   } else if (operators_.has_stiffness()) {
     operators_.apply_stiffness(v_theta_, work_);
     numerical += h * h * v_theta_.dot(work_);
@@ -584,6 +598,11 @@ void MoreauJean::step(State& state) {
       const PrescribedComponent& p = world_.prescribed[equalities_.prescriptions[i]];
       state.reactions(world_.bodies[p.body].velocity_offset + p.component) = r_(first + i) / parameters_.step;
     }
+  }
+  if (keeps_stiffness_velocity()) {  // K v_{k+1} for the next step, while K stays
+    stiffness_velocity_.swap(stiffness_velocity_next_);
+    kept_velocity_ = v_next_;
+    kept_factorization_ = operators_.factorizations();
   }
   state.q.swap(q_next_);
   state.v.swap(v_next_);

@@ -108,6 +108,10 @@ class MoreauJean final : public Stepper {
   void update(State& state);
   void integrate_positions(const Vector& q, const Vector& v_theta, Vector& out) const;
   void account_energy(State& state);
+  // A large World with a constant K: K v_{k+1}, which the energy balance forms, is the next step's
+  // K v_k, kept while v and K are the same to the bit (one product with K a step instead of two).
+  bool keeps_stiffness_velocity() const;
+  bool stiffness_velocity_kept(const Vector& v) const;
 
   const World& world_;
   MoreauJeanParameters parameters_;
@@ -126,6 +130,8 @@ class MoreauJean final : public Stepper {
   Vector newton_step_;                // Newton: v_{j+1} − v_j, before its relaxation
   SecantRelaxation relaxation_;       // Newton: the length of its step (secant_relaxation.h)
   PhaseClock clock_;                  // State::timers (phase_clock.h)
+  Vector stiffness_velocity_, stiffness_velocity_next_, kept_velocity_;  // K v_k, K v_{k+1}, the v_k kept
+  long kept_factorization_ = -1;      // operators_.factorizations() when K v was kept
   Vector f_loads_, f_total_, v_free_, v_predicted_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
   std::vector<ContactStatus> statuses_;  // the contact solve's, kept to avoid allocation
   std::vector<ActiveContact> candidates_;

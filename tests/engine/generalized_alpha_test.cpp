@@ -56,14 +56,17 @@ RunReport run(const std::string& scene, std::vector<std::string> overrides) {
 }
 
 // At ρ∞ = 1 the scheme is the trapezoidal rule, which Moreau–Jean θ = ½ is on a linear system: the
-// same extrema of the elastic shoe, and the bar's energy kept to round-off.
+// same extrema of the elastic shoe, and the bar's energy kept to round-off. The two order their
+// arithmetic differently, and θ = ½'s normal force rings undamped at this step
+// (docs/generalized-alpha.md), which carries a round-off difference of 1e-14 in the first steps to a
+// few 1e-9 in these errors; a different scheme (θ = 0.51) is 2e-3 away.
 TEST(GeneralizedAlpha, RhoOneIsMoreauJeanThetaOneHalf) {
   const std::vector<std::string> shoe{"time.step=0.01", "time.end=4", "parameters.divisions=5"};
   std::vector<std::string> alpha = shoe, theta = shoe;
   alpha.insert(alpha.end(), {"integrator.type=generalized-alpha", "integrator.rho_infinity=1"});
   theta.push_back("integrator.theta=0.5");
   const RunReport a = run("sdnv104-quad4", alpha), b = run("sdnv104-quad4", theta);
-  for (const char* check : {"x1", "x2"}) EXPECT_NEAR(relative_error(a, check), relative_error(b, check), 1e-9) << check;
+  for (const char* check : {"x1", "x2"}) EXPECT_NEAR(relative_error(a, check), relative_error(b, check), 2e-8) << check;
 
   const RunReport bar = run("fe-free-vibration", {"integrator.type=generalized-alpha", "integrator.rho_infinity=1"});
   const EnergyBalance& e = bar.state.energy;
