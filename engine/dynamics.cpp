@@ -57,6 +57,7 @@ Dynamics::Dynamics(const World& world) : world_(world) {
         position_of_velocity_[b.velocity_offset + c] = b.position_offset + coordinate;
     has_elastic_bodies_ = has_elastic_bodies_ || b.body->elastic();
     nonlinear_ = nonlinear_ || b.body->nonlinear();
+    has_linear_bodies_ = has_linear_bodies_ || (b.body->elastic() && !b.body->nonlinear());
     gyroscopic_ = gyroscopic_ || b.body->has_inertial_force();
     b.body->add_mass(b.velocity_offset, mass);
     b.body->add_damping(b.velocity_offset, damping);
@@ -194,10 +195,27 @@ double Dynamics::kinetic_energy(const Vector& v) const {
   return 0.5 * v.dot(work_);
 }
 
-void Dynamics::add_body_internal_forces(const Vector& q, Vector& f) const {
+const Vector& Dynamics::linear_body_products(const Vector& q) const {
+  if (products_kept_ && kept_positions_.size() == q.size() &&
+      std::equal(q.data(), q.data() + q.size(), kept_positions_.data()))
+    return kept_products_;
+  kept_products_.resize(size());
   for (const BodyInstance& b : world_.bodies)
-    if (b.body->elastic())
-      b.body->add_internal_force(b.positions(q), f.segment(b.velocity_offset, b.body->velocity_size()));
+    if (b.body->elastic() && !b.body->nonlinear())
+      b.body->stiffness_product(b.positions(q), kept_products_.segment(b.velocity_offset, b.body->velocity_size()));
+  kept_positions_ = q;
+  products_kept_ = true;
+  return kept_products_;
+}
+
+void Dynamics::add_body_internal_forces(const Vector& q, Vector& f) const {
+  const Vector* products = has_linear_bodies_ ? &linear_body_products(q) : nullptr;
+  for (const BodyInstance& b : world_.bodies) {
+    if (!b.body->elastic()) continue;
+    auto force = f.segment(b.velocity_offset, b.body->velocity_size());
+    if (b.body->nonlinear()) b.body->add_internal_force(b.positions(q), force);
+    else force -= products->segment(b.velocity_offset, b.body->velocity_size());
+  }
 }
 
 namespace {
@@ -329,8 +347,12 @@ void Dynamics::spring_jacobian_columns(const Vector& q, std::vector<double>& col
 
 double Dynamics::elastic_energy(const Vector& q) const {
   double energy = 0.0;
-  for (const BodyInstance& b : world_.bodies)
-    if (b.body->elastic()) energy += b.body->strain_energy(b.positions(q));
+  const Vector* products = has_linear_bodies_ ? &linear_body_products(q) : nullptr;
+  for (const BodyInstance& b : world_.bodies) {
+    if (!b.body->elastic()) continue;
+    if (b.body->nonlinear()) energy += b.body->strain_energy(b.positions(q));
+    else energy += 0.5 * b.positions(q).dot(products->segment(b.velocity_offset, b.body->velocity_size()));
+  }
   for (const Spring& s : world_.springs)
     energy += 0.5 * s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q)).squaredNorm();
   return energy;

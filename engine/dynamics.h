@@ -88,7 +88,9 @@ class Dynamics {
   // The index in q of the coordinate whose rate velocity component i is, or −1 (a 3D rotation's).
   int position_of_velocity(int i) const { return position_of_velocity_[i]; }
 
-  double elastic_energy(const Vector& q) const;  // J: springs and elastic bodies
+  // J: springs and elastic bodies. A linear body's is ½ uᵀ(K u), with the K u that its internal force
+  // at the same q (to the bit) then reuses (Body::stiffness_product).
+  double elastic_energy(const Vector& q) const;
   double kinetic_energy(const Vector& v) const;  // J: ½ vᵀ M v
 
   bool has_elastic_bodies() const { return has_elastic_bodies_; }
@@ -124,6 +126,12 @@ class Dynamics {
   bool nonlinear_ = false;
   bool gyroscopic_ = false;  // a body has inertial forces
   mutable Vector work_;
+  // The linear elastic bodies' K u (each in its velocity segment) at kept_positions_, for the next call
+  // at the same q: a step's strain energy at q_{k+1} and the next step's internal force share one product.
+  bool has_linear_bodies_ = false;
+  mutable Vector kept_positions_, kept_products_;
+  mutable bool products_kept_ = false;
+  const Vector& linear_body_products(const Vector& q) const;
 };
 
 }  // namespace csim

@@ -88,6 +88,10 @@ class Body {
   virtual void add_damping(int offset, Triplets& damping) const {}
   virtual void add_internal_force(const ConstVectorRef& q, VectorRef f) const {}
   virtual double strain_energy(const ConstVectorRef& q) const { return 0.0; }
+  // A linear elastic body's (elastic() and not nonlinear()) K u at positions q (N), of which its
+  // internal force is −K u and its strain energy ½ uᵀ(K u): Dynamics keeps the last product, which a
+  // Moreau–Jean step asks for twice (the strain energy at q_{k+1}, the next step's force there).
+  virtual void stiffness_product(const ConstVectorRef& q, VectorRef product) const {}
   virtual bool elastic() const { return false; }
   // Bodies whose internal force is nonlinear in q (finite-strain elements): the tangent stiffness
   // K_T(q) = −∂f_int/∂q (N/m) as triplets; linear bodies give their constant K.

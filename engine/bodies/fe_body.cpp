@@ -106,6 +106,10 @@ void FeBody::add_internal_force(const ConstVectorRef& q, VectorRef f) const {
   f -= restrict(force);
 }
 
+void FeBody::stiffness_product(const ConstVectorRef& q, VectorRef product) const {
+  product.noalias() = stiffness_ * q;
+}
+
 double FeBody::strain_energy(const ConstVectorRef& q) const {
   if (!finite_strain_) return 0.5 * q.dot(stiffness_ * q);
   return csim::strain_energy(finite_strain_model(), full_displacement(q));

@@ -47,6 +47,7 @@ class FeBody final : public Body {
   void add_damping(int offset, Triplets& damping) const override;
   void add_internal_force(const ConstVectorRef& q, VectorRef f) const override;
   double strain_energy(const ConstVectorRef& q) const override;
+  void stiffness_product(const ConstVectorRef& q, VectorRef product) const override;
   bool nonlinear() const override { return finite_strain_.has_value(); }
   void add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets& stiffness) const override;
   void add_internal_force_and_tangent(const ConstVectorRef& q, VectorRef f, int offset,
