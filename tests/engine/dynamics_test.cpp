@@ -207,5 +207,36 @@ TEST(Dynamics, IdaAndMoreauJeanFollowTheSameTrajectory) {
 
 }  // namespace every_force
 
+// A linear elastic body's K u is kept for the next call at the same q (Dynamics::elastic_energy then
+// add_internal_forces, as a Moreau–Jean step asks): the force and energy at any q are those of a fresh
+// Dynamics, whatever was asked before.
+TEST(Dynamics, KeptStiffnessProductFollowsThePositions) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml", {"parameters.divisions=6"});
+  const World& world = scene->world;
+  const Dynamics dynamics(world);
+  const Vector q0 = initial_state(world).q;
+  Vector q1 = q0, q2 = q0;
+  for (int i = 0; i < q1.size(); ++i) {
+    q1(i) += 1e-3 * std::sin(1.0 + i);
+    q2(i) += 1e-3 * std::cos(2.0 + i);
+  }
+  auto internal = [&](const Dynamics& d, const Vector& q) {
+    Vector f = Vector::Zero(d.size());
+    d.add_internal_forces(q, f);
+    return f;
+  };
+  const double energy1 = dynamics.elastic_energy(q1);
+  ASSERT_GT(energy1, 0.0);
+  const Vector f1 = internal(dynamics, q1);  // from the kept product
+  const Vector f2 = internal(dynamics, q2);  // another q: a new product
+  const double energy2 = dynamics.elastic_energy(q2);
+  const Dynamics fresh(world);
+  EXPECT_TRUE(f1 == internal(fresh, q1));
+  EXPECT_TRUE(f2 == internal(Dynamics(world), q2));
+  EXPECT_EQ(energy1, Dynamics(world).elastic_energy(q1));
+  EXPECT_EQ(energy2, Dynamics(world).elastic_energy(q2));
+  EXPECT_GT((f1 - f2).norm(), 1e-3 * f1.norm());
+}
+
 }  // namespace
 }  // namespace csim
