@@ -121,24 +121,52 @@ TEST(ContactDetector, ContactRowsAreThoseOfSparseRowAddToTheBit) {
                       (side == 0 ? -1.0 : 1.0) * axes[k]->dot(sides[side]->column.col(j)));
     return rows;
   };
+  const PointJacobian none, rigid = jacobian({0, 1, 2, 3, 4, 5}, 0.3), other = jacobian({0, 1, 2, 3, 4, 5}, 1.1),
+                      repeated = jacobian({0, 3, 0, 4}, 0.5);
   struct Case {
     int body_a, body_b;
-    PointJacobian a, b;
+    const PointJacobian *a, *b;
     int entries;  // per row
   };
   const std::vector<Case> cases = {
-      {block, slope, jacobian({0, 1, 2, 3, 4, 5}, 0.3), PointJacobian(), 6},
-      {slope, block, PointJacobian(), jacobian({0, 1, 2, 3, 4, 5}, 0.8), 6},
-      {block, block, jacobian({0, 1, 2, 3, 4, 5}, 0.3), jacobian({0, 1, 2, 3, 4, 5}, 1.1), 6},  // merged
-      {block, slope, jacobian({0, 3, 0, 4}, 0.5), PointJacobian(), 3},  // component 0 twice: merged
+      {block, slope, &rigid, &none, 6},
+      {slope, block, &none, &other, 6},
+      {block, block, &rigid, &other, 6},     // one body on both sides: merged
+      {block, slope, &repeated, &none, 3},  // component 0 twice: merged
   };
   for (const Case& test : cases) {
     std::vector<SparseRow> rows(3);
-    contact_rows(world, test.body_a, test.a, test.body_b, test.b, c, 3, rows.data());
-    const std::vector<SparseRow> expected = by_add(test.body_a, test.a, test.body_b, test.b);
+    contact_rows(world, test.body_a, *test.a, test.body_b, *test.b, c, 3, rows.data());
+    const std::vector<SparseRow> expected = by_add(test.body_a, *test.a, test.body_b, *test.b);
     for (int k = 0; k < 3; ++k) {
       EXPECT_EQ(rows[k].count, test.entries);
       EXPECT_TRUE(rows[k] == expected[k]) << "bodies " << test.body_a << ", " << test.body_b << ", row " << k;
+    }
+  }
+}
+
+// A detection forms each body's inverse pose once, at its first contact: the rows are those of
+// side_jacobian (Body::world_point_jacobian) at every contact, and at the next detection's q, not the
+// last one's.
+TEST(ContactDetector, RowsAreThoseOfEachSidesJacobianAtTheDetectionsQ) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/incline-3d/scene.yaml", {});
+  const World& world = scene->world;
+  ContactDetector detector(world);
+  State state = initial_state(world);
+  const int block = world.body_index("block");
+  std::vector<ActiveContact> contacts;
+  std::vector<SparseRow> rows;
+  for (const double shift : {0.0, 0.3, -0.2}) {
+    Vector q = state.q;
+    q(world.bodies[block].position_offset + 1) += shift;  // along y, in the slope: elsewhere on it
+    detector.detect(q, 1e-6, contacts, rows);
+    ASSERT_EQ(contacts.size(), 4u) << shift;
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+      const ContactPoint& c = contacts[i].point;
+      SparseRow expected[3];
+      contact_rows(world, contacts[i].body_a, detector.side_jacobian(q, c.key.object_a, c, c.point_a),
+                   contacts[i].body_b, detector.side_jacobian(q, c.key.object_b, c, c.point_b), c, 3, expected);
+      for (int k = 0; k < 3; ++k) EXPECT_TRUE(rows[3 * i + k] == expected[k]) << shift << ", contact " << i << ", row " << k;
     }
   }
 }
