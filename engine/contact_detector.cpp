@@ -100,19 +100,6 @@ PointJacobian ContactDetector::side_jacobian(const Vector& q, int object, const 
   return b.body->world_point_jacobian(b.positions(q), world_point);
 }
 
-// Body::world_point_jacobian with the body's inverse pose formed once per detection (a box on its four
-// corners asks four times): the same Jacobian to the bit.
-PointJacobian ContactDetector::detected_side_jacobian(const Vector& q, int object, const ContactPoint& c,
-                                                      const Eigen::Vector3d& world_point) {
-  const BodyInstance& b = world_.bodies[object_body_[object]];
-  if (b.body->fixed() || object_shape_[object] < 0) return side_jacobian(q, object, c, world_point);
-  if (!inverse_pose_known_[object]) {
-    inverse_poses_[object] = b.body->pose(b.positions(q)).inverse();
-    inverse_pose_known_[object] = true;
-  }
-  return b.body->point_jacobian(b.positions(q), inverse_poses_[object] * world_point);
-}
-
 double ContactDetector::travel_bound(const Vector& v, double h) const {
   double speed = 0.0;
   for (const BodyInstance& b : world_.bodies) {
@@ -153,8 +140,6 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   const int nb = static_cast<int>(world_.bodies.size());
   const int d = dimension_;
   rows.resize(d * points_.size());
-  inverse_poses_.resize(object_body_.size());
-  inverse_pose_known_.assign(object_body_.size(), false);
   for (ContactPoint& point : points_) {
     const int body_a = object_body_[point.key.object_a], body_b = object_body_[point.key.object_b];
     const int law_index = law_of_pair_[body_a * nb + body_b];
@@ -162,8 +147,8 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     const ContactLaw& law = world_.contact_laws[law_index];
     if (!law.isotropic()) complete_frame(point, world_.dimension == 2, law.friction_direction);
     const int i = static_cast<int>(contacts.size());
-    contact_rows(world_, body_a, detected_side_jacobian(q, point.key.object_a, point, point.point_a), body_b,
-                 detected_side_jacobian(q, point.key.object_b, point, point.point_b), point, d, &rows[d * i]);
+    contact_rows(world_, body_a, side_jacobian(q, point.key.object_a, point, point.point_a), body_b,
+                 side_jacobian(q, point.key.object_b, point, point.point_b), point, d, &rows[d * i]);
     ActiveContact& c = contacts.emplace_back();
     c.point = point;
     c.law = law_index;

@@ -43,10 +43,6 @@ class ContactDetector {
   std::vector<Eigen::Vector3d> node_positions_;  // work buffer for the elastic bodies' surfaces
   std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
   std::vector<ContactPoint> points_;
-  // The inverse pose of each object's body at the q of the current detection, formed at its first contact.
-  std::vector<Eigen::Isometry3d> inverse_poses_;
-  std::vector<bool> inverse_pose_known_;
-  PointJacobian detected_side_jacobian(const Vector& q, int object, const ContactPoint& c, const Eigen::Vector3d& world_point);
 };
 
 // Rows of one contact point between bodies A and B into rows (dimension × n), from the Jacobians of
