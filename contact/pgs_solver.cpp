@@ -510,7 +510,8 @@ void condense(const FrictionContactProblem& problem, PgsCondensation& condensed)
                       condensed.equalities == problem.equalities && condensed.W.rows() == problem.W.rows() &&
                       condensed.W.cols() == problem.W.cols() && condensed.W == problem.W;
   if (!formed) condense_operator(problem, condensed);
-  condensed.x_b = condensed.W_ee.solve(problem.b.tail(m_e));
+  condensed.x_b = problem.b.tail(m_e);
+  condensed.solve_equalities(condensed.x_b);
   // Each product into its array, then combined: the same operations as on temporaries, to the bit.
   contacts.b.noalias() = problem.W.topRightCorner(m_c, m_e) * condensed.x_b;
   contacts.b = problem.b.head(m_c) - contacts.b;
@@ -536,7 +537,7 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
   u_e.noalias() = problem.W.bottomLeftCorner(m_e, m_c) * r_c;
   product.noalias() = problem.W.bottomRightCorner(m_e, m_e) * r_e;
   u_e = u_e + product + problem.b.tail(m_e);
-  condensed.W_ee.solveInPlace(u_e);
+  condensed.solve_equalities(u_e);
   r_e -= u_e;
   // r_c is finite (the sweeps reject non-finite local results, the polish keeps only a smaller finite
   // residual); r_e is not when W_ee is singular and its rows inconsistent.
@@ -552,6 +553,17 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
 }
 
 }  // namespace
+
+void PgsCondensation::solve_equalities(Eigen::VectorXd& x) const {
+  if (x.size() != 1) {
+    W_ee.solveInPlace(x);
+    return;
+  }
+  // Eigen's LDLT of a 1 × 1 matrix: no transposition, L = 1, D = W_ee; its solve divides by D when
+  // |D| exceeds the smallest normal double, and gives 0 otherwise (the pseudo-inverse).
+  const double D = W_ee.vectorD()(0);
+  x(0) = std::abs(D) > std::numeric_limits<double>::min() ? x(0) / D : 0.0;
+}
 
 PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::VectorXd& r,
                                std::vector<ContactStatus>* status) const {

@@ -84,6 +84,9 @@ struct PgsCondensation {
   // is the same to the bit (a lumped World's constant rows, step after step) reuses them.
   Eigen::MatrixXd W;
   int dimension = 0, contact_count = -1, equalities = -1;
+  // x ← W_ee⁺ x: the LDLT's solve; for a single equality row written out (a point held on a line),
+  // the same to the bit without the solve's set-up.
+  void solve_equalities(Eigen::VectorXd& x) const;
 };
 
 class PgsSolver {

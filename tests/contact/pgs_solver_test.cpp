@@ -280,6 +280,21 @@ TEST(PgsSolver, ReusedCondensationGivesAFreshSolversImpulses) {
   EXPECT_TRUE(same_as_fresh());
 }
 
+// A single equality row's W_ee⁺ x is written out: Eigen's LDLT solve to the bit, over signs and
+// magnitudes, a singular (zero or subnormal) W_ee giving 0 as the pseudo-inverse does.
+TEST(PgsSolver, SingleEqualitySolveIsTheLdltsToTheBit) {
+  for (const double w : {2.5, -3.0, 1e-300, 3e-308, 1e-310, 0.0, -0.0, 7e300}) {
+    for (const double b : {1.0, -0.3, 1e-200, 5e307, 0.0}) {
+      PgsCondensation condensation;
+      condensation.W_ee.compute(Eigen::MatrixXd::Constant(1, 1, w));
+      Eigen::VectorXd x = Eigen::VectorXd::Constant(1, b);
+      condensation.solve_equalities(x);
+      const Eigen::VectorXd expected = condensation.W_ee.solve(Eigen::VectorXd::Constant(1, b));
+      EXPECT_TRUE(x(0) == expected(0) && std::signbit(x(0)) == std::signbit(expected(0))) << w << ", " << b;
+    }
+  }
+}
+
 TEST(PgsSolver, EqualitiesOnlyAreSolvedInOneSweep) {
   FrictionContactProblem problem;
   problem.dimension = 3;
