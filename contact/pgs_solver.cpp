@@ -120,10 +120,12 @@ double velocity_scale(double norm_b, double norm_Wr) {
 struct SweepResult {
   double increment_squared = 0.0;  // Σ (W_ii Δr_i)², (m/s)²
   double Wr_squared = 0.0;         // ≈ ‖W r‖², from the velocities seen during the sweep, (m/s)²
-  // Every local solve returned, bit for bit, the impulse it started from (and none was rejected). Then
-  // local_c(r) = r_c exactly for every contact, and the contact part of the full residual is zero
-  // without solving anything again.
-  bool contacts_fixed = true;
+  // The contacts from this one on have a zero term in the full residual at the sweep's result, known
+  // without solving them again: after the last contact whose impulse moved, no impulse changed, so
+  // each later contact (and that one, if its impulse is its local solution, omega = 1) sees at the end
+  // the frozen velocity it was solved with, and its local solution is its impulse bit for bit. 0 when
+  // every local solve returned the impulse it started from; a rejected contact is never settled.
+  int settled_from = 0;
 };
 
 template <int D>
@@ -140,7 +142,7 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
     const Vector<D> r_old = r.template segment<D>(first);
     if (!r_local.allFinite()) {
       ++rejected;
-      result.contacts_fixed = false;
+      result.settled_from = c + 1;
       result.Wr_squared += (b_c - problem.b.template segment<D>(first) + W_cc * r_old).squaredNorm();
       continue;
     }
@@ -149,7 +151,7 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
       r_new = r_old + parameters.omega * (r_local - r_old);
       if (parameters.omega > 1.0) keep_in_cone<D>(r_new, mu);
     }
-    if (r_local != r_old) result.contacts_fixed = false;
+    if (r_new != r_old || r_local != r_new) result.settled_from = r_local == r_new ? c : c + 1;
     result.increment_squared += W_cc.diagonal().cwiseProduct(r_new - r_old).squaredNorm();
     result.Wr_squared += (b_c - problem.b.template segment<D>(first) + W_cc * r_new).squaredNorm();
     r.template segment<D>(first) = r_new;
@@ -169,11 +171,13 @@ double equality_residual_squared(const FrictionContactProblem& problem, const Ei
   return sum;
 }
 
-// Σ_c ‖W_cc (r_c − local_c(r))‖², (m/s)²; infinite if a local solution is not finite.
+// Σ_c ‖W_cc (r_c − local_c(r))‖², (m/s)²; infinite if a local solution is not finite. The terms of the
+// contacts from `settled_from` on are known to be zero (SweepResult) and not computed: adding them
+// would add +0 to the sum, which leaves it the same to the bit.
 template <int D>
-double contact_residual_squared(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+double contact_residual_squared(const FrictionContactProblem& problem, const Eigen::VectorXd& r, int settled_from) {
   double sum = 0.0;
-  for (int c = 0; c < problem.contacts; ++c) {
+  for (int c = 0; c < settled_from; ++c) {
     const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
     const Vector<D> b_c = frozen_free_velocity<D>(problem, r, first);
     const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
@@ -185,16 +189,20 @@ double contact_residual_squared(const FrictionContactProblem& problem, const Eig
   return sum;
 }
 
-// The full residual, relative; the contact part may be passed in when it is known to be zero.
-double relative_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
-                         bool contacts_known_fixed = false) {
+// The full residual, relative; the contacts from settled_from on may be known to contribute zero
+// (right after a sweep, SweepResult::settled_from).
+double relative_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r, int settled_from) {
   double error_squared = equality_residual_squared(problem, r);
-  if (!contacts_known_fixed)
-    error_squared += problem.dimension == 2 ? contact_residual_squared<2>(problem, r)
-                                            : contact_residual_squared<3>(problem, r);
+  if (settled_from > 0)
+    error_squared += problem.dimension == 2 ? contact_residual_squared<2>(problem, r, settled_from)
+                                            : contact_residual_squared<3>(problem, r, settled_from);
   const double residual = std::sqrt(error_squared) /
                           velocity_scale(problem.b.norm(), norm_of_product(problem.W, r));
   return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
+}
+
+double relative_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+  return relative_residual(problem, r, problem.contacts);
 }
 
 // Active-set polish: with the statuses of the contacts taken as known, the law reduces to a square
@@ -402,7 +410,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     residual_is_current = false;
     // A stalled iteration: try the active-set polish every kPolishInterval sweeps.
     if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish)) {
-      statistics.residual = relative_residual(problem, r);
+      statistics.residual = relative_residual(problem, r, swept.settled_from);
       residual_is_current = true;
       if (polish<D>(problem, r, statistics.residual, parameters.tolerance)) statistics.polished = true;
       if (statistics.residual <= parameters.tolerance) {
@@ -415,7 +423,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     // work) worth computing; it decides.
     const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
     if (std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
-      statistics.residual = relative_residual(problem, r, swept.contacts_fixed);
+      statistics.residual = relative_residual(problem, r, swept.settled_from);
       residual_is_current = true;
       if (statistics.residual <= parameters.tolerance) {
         statistics.converged = true;
@@ -502,7 +510,8 @@ void condense(const FrictionContactProblem& problem, PgsCondensation& condensed)
                       condensed.equalities == problem.equalities && condensed.W.rows() == problem.W.rows() &&
                       condensed.W.cols() == problem.W.cols() && condensed.W == problem.W;
   if (!formed) condense_operator(problem, condensed);
-  condensed.x_b = condensed.W_ee.solve(problem.b.tail(m_e));
+  condensed.x_b = problem.b.tail(m_e);
+  condensed.solve_equalities(condensed.x_b);
   // Each product into its array, then combined: the same operations as on temporaries, to the bit.
   contacts.b.noalias() = problem.W.topRightCorner(m_c, m_e) * condensed.x_b;
   contacts.b = problem.b.head(m_c) - contacts.b;
@@ -528,7 +537,7 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
   u_e.noalias() = problem.W.bottomLeftCorner(m_e, m_c) * r_c;
   product.noalias() = problem.W.bottomRightCorner(m_e, m_e) * r_e;
   u_e = u_e + product + problem.b.tail(m_e);
-  condensed.W_ee.solveInPlace(u_e);
+  condensed.solve_equalities(u_e);
   r_e -= u_e;
   // r_c is finite (the sweeps reject non-finite local results, the polish keeps only a smaller finite
   // residual); r_e is not when W_ee is singular and its rows inconsistent.
@@ -544,6 +553,17 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
 }
 
 }  // namespace
+
+void PgsCondensation::solve_equalities(Eigen::VectorXd& x) const {
+  if (x.size() != 1) {
+    W_ee.solveInPlace(x);
+    return;
+  }
+  // Eigen's LDLT of a 1 × 1 matrix: no transposition, L = 1, D = W_ee; its solve divides by D when
+  // |D| exceeds the smallest normal double, and gives 0 otherwise (the pseudo-inverse).
+  const double D = W_ee.vectorD()(0);
+  x(0) = std::abs(D) > std::numeric_limits<double>::min() ? x(0) / D : 0.0;
+}
 
 PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::VectorXd& r,
                                std::vector<ContactStatus>* status) const {

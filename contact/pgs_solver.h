@@ -38,8 +38,9 @@
 //   - W is taken as symmetric (coupling is read from its contiguous columns);
 //   - omega relaxes the contact impulses only; with omega > 1 a relaxed impulse is pulled back into its
 //     cone (r_n ≥ 0, r_t scaled radially); the equality block is always solved exactly;
-//   - a sweep in which every local solve returned its starting impulse bit for bit has a zero contact
-//     residual, which is then not recomputed;
+//   - right after a sweep, the contacts after the last impulse that moved (and that one, when it is
+//     its own local solution) have a zero term in the full residual, which is then not recomputed:
+//     they see the frozen velocity they were solved with (a sweep that moved nothing skips them all);
 //   - a warm start with NaN/inf entries is discarded like one of the wrong size;
 //   - status: open if r_n ≤ 0, stick if the elliptic radius of r_t is below (1 − 1e-9) r_n, slip
 //     otherwise (a frictionless closed contact is slip);
@@ -83,6 +84,9 @@ struct PgsCondensation {
   // is the same to the bit (a lumped World's constant rows, step after step) reuses them.
   Eigen::MatrixXd W;
   int dimension = 0, contact_count = -1, equalities = -1;
+  // x ← W_ee⁺ x: the LDLT's solve; for a single equality row written out (a point held on a line),
+  // the same to the bit without the solve's set-up.
+  void solve_equalities(Eigen::VectorXd& x) const;
 };
 
 class PgsSolver {

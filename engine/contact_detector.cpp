@@ -5,16 +5,40 @@
 
 namespace csim {
 
+namespace {
+
+// No velocity component twice in J (a rigid body's Jacobian: components 0, 1, 2, …).
+bool ascending(const PointJacobian& J) {
+  for (int j = 1; j < J.count; ++j)
+    if (J.index[j] <= J.index[j - 1]) return false;
+  return true;
+}
+
+}  // namespace
+
 void contact_rows(const World& world, int body_a, const PointJacobian& point_a, int body_b,
                   const PointJacobian& point_b, const ContactPoint& c, int dimension, SparseRow* rows) {
   const Eigen::Vector3d* axes[3] = {&c.normal, &c.t1, &c.t2};
   for (int k = 0; k < dimension; ++k) rows[k].clear();
   const int ids[2] = {body_a, body_b};
   const PointJacobian* jacobians[2] = {&point_a, &point_b};
+  // Two bodies own disjoint velocity components: when neither side names one twice, no entry is met
+  // twice, and each row takes its entries in SparseRow::add's order without its search (a column of J
+  // at a time, all rows together).
+  const bool distinct = body_a != body_b && ascending(point_a) && ascending(point_b);
   for (int side = 0; side < 2; ++side) {
     const BodyInstance& b = world.bodies[ids[side]];
     const PointJacobian& J = *jacobians[side];
     const double sign = side == 0 ? -1.0 : 1.0;
+    if (distinct) {
+      for (int j = 0; j < J.count; ++j)
+        for (int k = 0; k < dimension; ++k) {
+          SparseRow& row = rows[k];
+          row.index[row.count] = b.velocity_offset + J.index[j];
+          row.value[row.count++] = sign * axes[k]->dot(J.column.col(j));
+        }
+      continue;
+    }
     for (int k = 0; k < dimension; ++k)
       for (int j = 0; j < J.count; ++j)
         rows[k].add(b.velocity_offset + J.index[j], sign * axes[k]->dot(J.column.col(j)));

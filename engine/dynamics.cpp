@@ -296,6 +296,30 @@ void Dynamics::external(const Vector& q, double t, Vector& f) const {
   }
 }
 
+// The same as external at each time, the points' Jacobians taken once: the same vectors to the bit.
+void Dynamics::external(const Vector& q, double t_a, double t_b, Vector& f_a, Vector& f_b) const {
+  f_a.setZero(world_.velocity_size);
+  if (!world_.gravity.isZero())
+    for (const BodyInstance& b : world_.bodies)
+      if (!b.body->fixed())
+        b.body->add_weight(b.positions(q), world_.gravity, f_a.segment(b.velocity_offset, b.body->velocity_size()));
+  f_b = f_a;
+  for (const Load& load : world_.loads) {
+    const BodyInstance& b = world_.bodies[load.body];
+    const double multiplier_a = load.multiplier(t_a), multiplier_b = load.multiplier(t_b);
+    if (load.nodal_forces.size() > 0) {
+      f_a.segment(b.velocity_offset, b.body->velocity_size()) += multiplier_a * load.nodal_forces;
+      f_b.segment(b.velocity_offset, b.body->velocity_size()) += multiplier_b * load.nodal_forces;
+      continue;
+    }
+    const PointJacobian J = b.body->point_jacobian(b.positions(q), load.point);
+    for (int k = 0; k < J.count; ++k) {
+      f_a(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier_a * load.force);
+      f_b(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier_b * load.force);
+    }
+  }
+}
+
 Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) const {
   const std::size_t i = &s - world_.springs.data();
   const BodyInstance& a = world_.bodies[s.body_a];

@@ -59,6 +59,8 @@ class Dynamics {
 
   // The parts, for steppers that weight them differently in time.
   void external(const Vector& q, double t, Vector& f) const;    // loads and gravity (sets f)
+  // The same at two times (f_a at t_a, f_b at t_b), the loads' points taken at q once.
+  void external(const Vector& q, double t_a, double t_b, Vector& f_a, Vector& f_b) const;
   void add_inertial_forces(const Vector& v, Vector& f) const;   // gyroscopic terms
   void add_internal_forces(const Vector& q, Vector& f) const;   // springs and bodies
   void add_spring_forces(const Vector& q, Vector& f) const;

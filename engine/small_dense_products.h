@@ -67,6 +67,31 @@ inline void small_combine_columns(const Matrix& A, const Matrix& X, Matrix& G) {
   small_dense_detail::dispatch(A.rows(), [&](auto N) { small_dense_detail::combine_columns<N()>(A, X, G); });
 }
 
+// A diagonal matrix (a point's or an unsprung rigid body's mass, and then A⁻¹): its products go by its
+// diagonal. Every other term of the full products is x·0 = ±0, which leaves a nonzero sum as it is and
+// a zero one +0 (+0 + −0 = +0): from a +0 start, the sums are 0 + x_i d_i to the bit, as below.
+inline bool is_diagonal(const Matrix& A) {
+  for (Eigen::Index j = 0; j < A.cols(); ++j)
+    for (Eigen::Index i = 0; i < A.rows(); ++i)
+      if (i != j && A(i, j) != 0.0) return false;
+  return true;
+}
+
+// out = D x, D = diag(diagonal): small_multiply's result for that D, to the bit.
+inline void small_diagonal_multiply(const Vector& diagonal, const Vector& x, Vector& out) {
+  out.resize(diagonal.size());
+  for (Eigen::Index i = 0; i < diagonal.size(); ++i) out(i) = 0.0 + x(i) * diagonal(i);
+}
+
+// G = D X, D = diag(diagonal): small_combine_columns' result for that D, to the bit (it skips X's
+// zero entries, whose column of D adds nothing; an entry then stays +0 = 0 + 0 · d_i).
+inline void small_diagonal_columns(const Vector& diagonal, const Matrix& X, Matrix& G) {
+  const Eigen::Index n = X.rows(), m = X.cols();
+  G.resize(n, m);
+  for (Eigen::Index a = 0; a < m; ++a)
+    for (Eigen::Index i = 0; i < n; ++i) G(i, a) = 0.0 + X(i, a) * diagonal(i);
+}
+
 // W = Xᵀ G when it is known to be symmetric (the Delassus operator H A⁻¹ Hᵀ, X = Hᵀ, G = A⁻¹ Hᵀ):
 // one triangle computed, mirrored.
 inline void small_symmetric_gram(const Matrix& X, const Matrix& G, Matrix& W) {

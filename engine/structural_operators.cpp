@@ -58,6 +58,8 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
     dense_mass_ = Matrix(dynamics.mass());
     dense_stiffness_ = Matrix(body_stiffness_);
     dense_damping_ = Matrix(dynamics.damping());
+    mass_diagonal_ = explicit_inverse_ && is_diagonal(dense_mass_);
+    if (mass_diagonal_) mass_diagonal_entries_ = dense_mass_.diagonal();
   }
 }
 
@@ -140,9 +142,12 @@ void StructuralOperators::update_coefficients(const Vector& q, double damping_co
 // proximal term of the header.
 void StructuralOperators::factor_dense(const Matrix& A) {
   if (explicit_inverse_) {
-    if (invert_positive_definite(A, dense_scratch_, dense_inverse_)) return;
-    dense_factor_.compute(A);
-    dense_inverse_ = dense_factor_.solve(Matrix::Identity(A.rows(), A.cols()));
+    if (!invert_positive_definite(A, dense_scratch_, dense_inverse_)) {
+      dense_factor_.compute(A);
+      dense_inverse_ = dense_factor_.solve(Matrix::Identity(A.rows(), A.cols()));
+    }
+    inverse_diagonal_ = is_diagonal(dense_inverse_);
+    if (inverse_diagonal_) inverse_diagonal_entries_ = dense_inverse_.diagonal();
     return;
   }
   dense_factor_.compute(A);
@@ -176,7 +181,8 @@ void StructuralOperators::regularize(double largest, PositiveDefiniteWith&& posi
 void StructuralOperators::solve_in_place(Vector& x) const {
   if (sparse_) sparse_factor_.solve_in_place(x);
   else if (explicit_inverse_) {
-    small_multiply(dense_inverse_, x, dense_solution_);
+    if (inverse_diagonal_) small_diagonal_multiply(inverse_diagonal_entries_, x, dense_solution_);
+    else small_multiply(dense_inverse_, x, dense_solution_);
     x = dense_solution_;
   } else {
     dense_factor_.solveInPlace(x);
@@ -184,13 +190,15 @@ void StructuralOperators::solve_in_place(Vector& x) const {
 }
 
 void StructuralOperators::dense_columns(const Matrix& Ht, Matrix& G) const {
-  small_combine_columns(dense_inverse_, Ht, G);
+  if (inverse_diagonal_) small_diagonal_columns(inverse_diagonal_entries_, Ht, G);
+  else small_combine_columns(dense_inverse_, Ht, G);
 }
 
 // A lumped World's products are compiled for its size (small_dense_products.h); a small elastic World
 // keeps Eigen's, whose summation order its results were verified with.
 void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = dynamics_.mass() * v;
+  else if (mass_diagonal_) small_diagonal_multiply(mass_diagonal_entries_, v, out);
   else if (explicit_inverse_) small_multiply(dense_mass_, v, out);
   else out.noalias() = dense_mass_ * v;
 }

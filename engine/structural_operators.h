@@ -70,6 +70,10 @@ class StructuralOperators {
   // formed, and at the q of the last update.
   std::vector<double> factored_spring_columns_, spring_columns_;
   Matrix dense_inverse_, dense_scratch_;  // A⁻¹, and the Cholesky factor it is computed from
+  // A lumped World's M, and A⁻¹, when diagonal (a point, an unsprung rigid body in space): their
+  // products by the diagonal alone, the same to the bit (small_dense_products.h).
+  bool mass_diagonal_ = false, inverse_diagonal_ = false;
+  Vector mass_diagonal_entries_, inverse_diagonal_entries_;
   Eigen::LDLT<Matrix> dense_factor_;
   mutable Vector dense_solution_;          // solve_in_place's product (one thread per stepper, as the run)
   // M and C are Dynamics'. body_stiffness_: the bodies' K (a finite-strain body's tangent at q), dropped

@@ -97,9 +97,8 @@ void MoreauJean::initialize(State& state) {
 // Loads at both ends of the step (their points taken at q_k), and the inertial force at v_k.
 void MoreauJean::compute_loads(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
-  dynamics_.external(state.q, state.t + h, f_total_);
-  f_loads_ = theta * f_total_;
-  dynamics_.external(state.q, state.t, f_total_);
+  dynamics_.external(state.q, state.t + h, state.t, f_loads_, f_total_);
+  f_loads_ *= theta;
   f_loads_ += (1.0 - theta) * f_total_;
   dynamics_.add_inertial_forces(state.v, f_loads_);
 }

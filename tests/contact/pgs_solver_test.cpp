@@ -280,6 +280,21 @@ TEST(PgsSolver, ReusedCondensationGivesAFreshSolversImpulses) {
   EXPECT_TRUE(same_as_fresh());
 }
 
+// A single equality row's W_ee⁺ x is written out: Eigen's LDLT solve to the bit, over signs and
+// magnitudes, a singular (zero or subnormal) W_ee giving 0 as the pseudo-inverse does.
+TEST(PgsSolver, SingleEqualitySolveIsTheLdltsToTheBit) {
+  for (const double w : {2.5, -3.0, 1e-300, 3e-308, 1e-310, 0.0, -0.0, 7e300}) {
+    for (const double b : {1.0, -0.3, 1e-200, 5e307, 0.0}) {
+      PgsCondensation condensation;
+      condensation.W_ee.compute(Eigen::MatrixXd::Constant(1, 1, w));
+      Eigen::VectorXd x = Eigen::VectorXd::Constant(1, b);
+      condensation.solve_equalities(x);
+      const Eigen::VectorXd expected = condensation.W_ee.solve(Eigen::VectorXd::Constant(1, b));
+      EXPECT_TRUE(x(0) == expected(0) && std::signbit(x(0)) == std::signbit(expected(0))) << w << ", " << b;
+    }
+  }
+}
+
 TEST(PgsSolver, EqualitiesOnlyAreSolvedInOneSweep) {
   FrictionContactProblem problem;
   problem.dimension = 3;
@@ -358,6 +373,55 @@ TEST(PgsSolver, SmallSweepIncrementAloneIsNotConvergence) {
   EXPECT_EQ(statistics.iterations, 50);
   EXPECT_GT(statistics.residual, 0.5);
   EXPECT_DOUBLE_EQ(statistics.residual, PgsSolver::residual(problem, r));
+}
+
+// Right after a sweep, the residual skips the contacts whose term it knows to be zero (those after
+// the last impulse that moved, pgs_solver.cpp's SweepResult): the residual reported must be the full
+// one to the bit, with coupled contacts, over-relaxed sweeps (where the last moved impulse is not its
+// local solution) and sweeps from nearly settled iterates alike.
+TEST(PgsSolver, ResidualAfterASweepIsTheFullResidualToTheBit) {
+  for (const int dimension : {2, 3}) {
+    for (const double omega : {1.0, 1.3}) {
+      const int contacts = 4, m = dimension * contacts, n = 7;
+      Eigen::MatrixXd H(m, n);
+      for (int i = 0; i < m; ++i)
+        for (int j = 0; j < n; ++j) H(i, j) = std::sin(1.0 + 3.1 * i + 1.7 * j + 0.3 * i * j);
+      FrictionContactProblem problem;
+      problem.dimension = dimension;
+      problem.contacts = contacts;
+      problem.W = H * H.transpose();
+      problem.b = H * Eigen::VectorXd::LinSpaced(n, -1.0, 0.5);
+      problem.mu.assign(contacts, Eigen::Vector2d(0.3, 0.2));
+      PgsParameters parameters;
+      parameters.max_iterations = 1;  // one sweep a solve
+      parameters.tolerance = 1e300;   // the cheap test passes: the residual follows the sweep
+      parameters.omega = omega;
+      parameters.polish = false;
+      const PgsSolver one_sweep(parameters);
+      Eigen::VectorXd r;
+      int nonzero = 0;
+      for (int sweep = 0; sweep < 60; ++sweep) {
+        const PgsStatistics statistics = one_sweep.solve(problem, r);
+        ASSERT_EQ(statistics.residual, PgsSolver::residual(problem, r))
+            << "dimension " << dimension << ", omega " << omega << ", sweep " << sweep;
+        nonzero += statistics.residual > 0.0;
+      }
+      EXPECT_GE(nonzero, 5);  // not only converged iterates
+    }
+  }
+  // A contact whose local solve is rejected (not finite) is never taken as settled, even the last.
+  const BoxOnTwoCorners box;
+  FrictionContactProblem problem = box.problem(0.0);
+  problem.W(2, 2) = std::numeric_limits<double>::quiet_NaN();
+  PgsParameters parameters;
+  parameters.max_iterations = 1;
+  parameters.tolerance = 1e300;
+  parameters.polish = false;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  EXPECT_EQ(statistics.rejected_local_solutions, 1);
+  EXPECT_EQ(statistics.residual, std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(statistics.converged);
 }
 
 TEST(PgsSolver, WarmStartFromSolutionTakesOneSweep) {

@@ -93,5 +93,83 @@ TEST(ContactDetector, TravelBoundCoversTheFastestPoint) {
   EXPECT_GE(detector.travel_bound(v, 0.1), 0.1 * (3.0 + 2.0 * std::sqrt(0.5)) - 1e-12);
 }
 
+// contact_rows appends a column of J at a time when no velocity component can appear twice (two
+// bodies, neither naming a component twice): the rows must be SparseRow::add's, entry for entry and
+// to the bit; a body on both sides, or a Jacobian naming a component twice, merges its entries.
+TEST(ContactDetector, ContactRowsAreThoseOfSparseRowAddToTheBit) {
+  const auto scene = flat_cube();
+  const World& world = scene->world;
+  const int block = world.body_index("block"), slope = world.body_index("slope");
+  ContactPoint c;
+  c.normal = Eigen::Vector3d(0.1, -0.3, 0.9).normalized();
+  complete_frame(c, false);
+  auto jacobian = [](std::vector<int> components, double seed) {
+    PointJacobian J;
+    for (int component : components)
+      J.add(component, Eigen::Vector3d(std::sin(seed + component), std::cos(3.0 * seed + component), 0.7 - seed));
+    return J;
+  };
+  auto by_add = [&](int body_a, const PointJacobian& a, int body_b, const PointJacobian& b) {
+    std::vector<SparseRow> rows(3);
+    const Eigen::Vector3d* axes[3] = {&c.normal, &c.t1, &c.t2};
+    const int ids[2] = {body_a, body_b};
+    const PointJacobian* sides[2] = {&a, &b};
+    for (int side = 0; side < 2; ++side)
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < sides[side]->count; ++j)
+          rows[k].add(world.bodies[ids[side]].velocity_offset + sides[side]->index[j],
+                      (side == 0 ? -1.0 : 1.0) * axes[k]->dot(sides[side]->column.col(j)));
+    return rows;
+  };
+  const PointJacobian none, rigid = jacobian({0, 1, 2, 3, 4, 5}, 0.3), other = jacobian({0, 1, 2, 3, 4, 5}, 1.1),
+                      repeated = jacobian({0, 3, 0, 4}, 0.5);
+  struct Case {
+    int body_a, body_b;
+    const PointJacobian *a, *b;
+    int entries;  // per row
+  };
+  const std::vector<Case> cases = {
+      {block, slope, &rigid, &none, 6},
+      {slope, block, &none, &other, 6},
+      {block, block, &rigid, &other, 6},     // one body on both sides: merged
+      {block, slope, &repeated, &none, 3},  // component 0 twice: merged
+  };
+  for (const Case& test : cases) {
+    std::vector<SparseRow> rows(3);
+    contact_rows(world, test.body_a, *test.a, test.body_b, *test.b, c, 3, rows.data());
+    const std::vector<SparseRow> expected = by_add(test.body_a, *test.a, test.body_b, *test.b);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(rows[k].count, test.entries);
+      EXPECT_TRUE(rows[k] == expected[k]) << "bodies " << test.body_a << ", " << test.body_b << ", row " << k;
+    }
+  }
+}
+
+// A detection forms each body's inverse pose once, at its first contact: the rows are those of
+// side_jacobian (Body::world_point_jacobian) at every contact, and at the next detection's q, not the
+// last one's.
+TEST(ContactDetector, RowsAreThoseOfEachSidesJacobianAtTheDetectionsQ) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/incline-3d/scene.yaml", {});
+  const World& world = scene->world;
+  ContactDetector detector(world);
+  State state = initial_state(world);
+  const int block = world.body_index("block");
+  std::vector<ActiveContact> contacts;
+  std::vector<SparseRow> rows;
+  for (const double shift : {0.0, 0.3, -0.2}) {
+    Vector q = state.q;
+    q(world.bodies[block].position_offset + 1) += shift;  // along y, in the slope: elsewhere on it
+    detector.detect(q, 1e-6, contacts, rows);
+    ASSERT_EQ(contacts.size(), 4u) << shift;
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+      const ContactPoint& c = contacts[i].point;
+      SparseRow expected[3];
+      contact_rows(world, contacts[i].body_a, detector.side_jacobian(q, c.key.object_a, c, c.point_a),
+                   contacts[i].body_b, detector.side_jacobian(q, c.key.object_b, c, c.point_b), c, 3, expected);
+      for (int k = 0; k < 3; ++k) EXPECT_TRUE(rows[3 * i + k] == expected[k]) << shift << ", contact " << i << ", row " << k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace csim

@@ -58,5 +58,43 @@ TEST(SmallDenseProducts, AgreeWithEigensProducts) {
   }
 }
 
+// A diagonal matrix's products by its diagonal alone give the full products' results to the bit, the
+// signs of their zeros included (the lumped step takes them for a point's or an unsprung body's M
+// and A⁻¹); a matrix with one off-diagonal entry is not taken for diagonal.
+TEST(SmallDenseProducts, DiagonalProductsAreTheFullOnesToTheBit) {
+  const auto same_bits = [](const Matrix& a, const Matrix& b) {
+    if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
+    for (Eigen::Index i = 0; i < a.size(); ++i)
+      if (!(a.data()[i] == b.data()[i] && std::signbit(a.data()[i]) == std::signbit(b.data()[i]))) return false;
+    return true;
+  };
+  for (int n : {2, 3, 6, 7}) {
+    Matrix D = Matrix::Zero(n, n);
+    for (int i = 0; i < n; ++i) D(i, i) = 1.0 / (0.3 + i);
+    D(n - 1, 0) = D(0, n - 1) = -0.0;  // a Cholesky inverse's zeros may be negative
+    ASSERT_TRUE(is_diagonal(D)) << n;
+    const Vector d = D.diagonal();
+    Matrix X = Matrix::Zero(n, 5);  // sparse columns, as the problem's rows, with negative zeros
+    for (int a = 0; a < 5; ++a)
+      for (int j = 0; j < n; ++j)
+        if ((a + j) % 3 != 0) X(j, a) = std::sin(1.0 + a + 3.0 * j);
+    X(0, 1) = -0.0;
+    X(n - 1, 2) = -1e-320;  // its product with d underflows
+    Matrix G_full, G_diagonal;
+    small_combine_columns(D, X, G_full);
+    small_diagonal_columns(d, X, G_diagonal);
+    EXPECT_TRUE(same_bits(G_full, G_diagonal)) << n;
+    for (int a = 0; a < 5; ++a) {
+      const Vector x = X.col(a);
+      Vector y_full, y_diagonal;
+      small_multiply(D, x, y_full);
+      small_diagonal_multiply(d, x, y_diagonal);
+      EXPECT_TRUE(same_bits(y_full, y_diagonal)) << n << ", column " << a;
+    }
+    D(1, 0) = 1e-300;
+    EXPECT_FALSE(is_diagonal(D)) << n;
+  }
+}
+
 }  // namespace
 }  // namespace csim

@@ -205,6 +205,25 @@ TEST(Dynamics, IdaAndMoreauJeanFollowTheSameTrajectory) {
   EXPECT_LT((a.v - b.v).norm(), 1e-4 * a.v.norm());
 }
 
+// The loads at two times in one pass (the Moreau–Jean step's ends) are those of two calls, to the bit,
+// on a World with every load type, while the loads ramp and after, at a deformed, turned state.
+TEST(Dynamics, LoadsAtTwoTimesAreTwoCallsToTheBit) {
+  const auto scene = load_scene(kScene, {"time.step=1e-4"});
+  const Dynamics dynamics(scene->world);
+  auto stepper = make_stepper(scene->world, scene->run);
+  State state = initial_state(scene->world);
+  stepper->initialize(state);
+  for (int k = 0; k < 50; ++k) stepper->step(state);
+  for (const auto& [t_a, t_b] : {std::pair{0.0051, 0.005}, std::pair{0.3, 0.7}, std::pair{20.0, 20.0}}) {
+    Vector f_a, f_b, one_a, one_b;
+    dynamics.external(state.q, t_a, t_b, f_a, f_b);
+    dynamics.external(state.q, t_a, one_a);
+    dynamics.external(state.q, t_b, one_b);
+    EXPECT_TRUE(f_a == one_a && f_b == one_b) << t_a << ", " << t_b;
+    EXPECT_GT(f_a.norm(), 0.0);
+  }
+}
+
 }  // namespace every_force
 
 // A linear elastic body's K u is kept for the next call at the same q (Dynamics::elastic_energy then
