@@ -31,15 +31,15 @@
 // (velocities Δq/h, impulses) stay those of the whole step. The predictor only moves the first iterate
 // (steady rolling repeats its increments); q_k stays the step start of the slip rows. A step that does
 // not converge with the predictor and modified Newton (below) is first taken again with neither, from
-// z_k with a factor at every iterate, before it is halved: they change the path of the iterates, never
-// which steps a run can take.
+// z_k with a factor at every iterate, before it is halved: they change the path of the iterates, and no
+// step that Newton's own iteration converges is halved for them.
 //
 // Modified Newton. An iterate keeps the factor of the step's last factored one, and then evaluates the
 // forces without the tangent, while that factor holds the same rows (the same contacts, held the same
 // way) with the same weights (held_weight_, hub_proximal_ below), and while each iterate that kept it
-// shrank |Δz|∞ by KeptFactor::kContraction at least (kept_factor.h); otherwise, or when its solve lets a
-// held row go or fails, the iterate factors its own tangent. The residual f, the rows H, their offsets and the
-// Delassus operator W = H A⁻¹ Hᵀ are the iterate's own with the kept A, and the held rows' load
+// shrank |Δz|∞ by KeptFactor::kContraction at least (kept_factor.h); otherwise, or when its solve lets
+// a held row go or fails, the iterate factors its own tangent. The residual f, the rows H, their offsets
+// and the Delassus operator W = H A⁻¹ Hᵀ are the iterate's own with the kept A, and the held rows' load
 // −ρ H_Aᵀ c_A takes the kept ρ and the iterate's rows: at a fixed point (Δz = 0, the held rows held,
 // c_A = 0) the equilibrium holds as with Newton's own matrix; the rate is linear instead of quadratic
 // (counted in the summary as kept_factor_iterations).
