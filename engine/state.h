@@ -37,6 +37,7 @@ struct SolverCounters {
   int max_newton_iterations = 0;  // the most in one step
   long newton_regularized = 0;    // iterations whose tangent needed a proximal term to be positive definite
   long newton_held = 0;           // iterations whose tangent was held by its contacts' rows instead (quasi_static.h)
+  long newton_kept_factor = 0;    // quasi-static: iterations that solved with an earlier iterate's factor (modified Newton)
   long newton_relaxed = 0;        // iterations whose step the secant model lengthened or shortened (secant_relaxation.h)
   long newton_backtracks = 0;     // Moreau–Jean: iterates taken again on a shorter step after an element inverted
   long newton_redetections = 0;   // Moreau–Jean: steps whose Newton moved farther than their contact detection reached

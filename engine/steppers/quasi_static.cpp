@@ -100,10 +100,10 @@ void QuasiStatic::initialize(State& state) {
 // A finite-strain body riding in its hub's frame is evaluated there (its energy is objective): its force
 // turned to the world, its tangent left in the frame, first in triplets_, as reduce_stiffness takes it
 // (reduced_coordinates.h). Returns where the world-frame entries of triplets_ start.
-std::size_t QuasiStatic::generalized_force(const Vector& q, double t, Vector& f) {
+std::size_t QuasiStatic::generalized_force(const Vector& q, double t, Vector& f, bool tangent) {
   dynamics_.external(q, t, f);
   triplets_.clear();
-  return dynamics_.add_internal_forces_and_tangent(q, f, needs_tangent() ? &triplets_ : nullptr, &reduced_);
+  return dynamics_.add_internal_forces_and_tangent(q, f, tangent && needs_tangent() ? &triplets_ : nullptr, &reduced_);
 }
 
 // K_z from the bodies' tangent (in triplets_, from generalized_force) and the springs'; factored by
@@ -121,6 +121,8 @@ void QuasiStatic::assemble_stiffness(const Vector& q, std::size_t world_from) {
 // with held rows). Returns whether held rows were used.
 bool QuasiStatic::factor_stiffness() {
   f_aug_ = f_z_;
+  factor_kind_ = KeptFactor::Kind::stiffness;
+  factor_regularized_ = false;
   if (!needs_tangent()) return false;
   factored_ = true;
   const bool hub = !reduced_.hub_unknowns().empty();
@@ -130,20 +132,17 @@ bool QuasiStatic::factor_stiffness() {
                        "springs, ties, prescribed components or fixed degrees of freedom)");
   const double largest = K_z_.diagonal().cwiseAbs().maxCoeff();
   Triplets augmented;
-  Vector load = Vector::Zero(f_z_.size());
   std::vector<int> nonzero;
   bool sticking = false;
   for (int i = 0; i < problem_.contacts; ++i) {
-    sticking = sticking || hold_[i] == kHoldStick;
-    const int rows = hold_[i] == kHoldStick ? d_ : hold_[i] == kHoldNormal ? 1 : 0;
+    sticking = sticking || hold_[i] == Hold::stick;
+    const int rows = hold_[i] == Hold::stick ? d_ : hold_[i] == Hold::normal ? 1 : 0;
     for (int a = d_ * i; a < d_ * i + rows; ++a) {
       nonzero.clear();
       for (int k = 0; k < H_.cols(); ++k)
         if (H_(a, k) != 0.0) nonzero.push_back(k);
-      for (int k : nonzero) {
+      for (int k : nonzero)
         for (int l : nonzero) augmented.emplace_back(k, l, H_(a, k) * H_(a, l));
-        load(k) += H_(a, k) * (offset_(a) + compliance_(a) * r_(a));  // ũ's offset: penalty friction
-      }
     }
   }
   // A hub needs a sticking contact to hold its spin; without, its proximal term.
@@ -174,11 +173,13 @@ bool QuasiStatic::factor_stiffness() {
       if (in_pattern) Eigen::Map<Vector>(held_matrix_.valuePtr(), held_matrix_.nonZeros()) = base_values_ + rho * held_values_;
       else held_matrix_ = base + rho * HtH;
       if (factor_.factor_positive_definite(held_matrix_)) {
-        f_aug_ = f_z_ - rho * load;
+        f_aug_ = f_z_ - rho * held_load();
+        held_rho_ = rho;
         return true;
       }
     }
   }
+  factor_kind_ = KeptFactor::Kind::proximal;
   SparseMatrix proximal = K_z_;
   for (int i : reduced_.hub_unknowns()) proximal.coeffRef(i, i) += hub_proximal_ * largest;
   if (factor_.factor_positive_definite(proximal)) return false;
@@ -192,6 +193,7 @@ bool QuasiStatic::factor_stiffness() {
     throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
                        "material instability)");
   ++counters_->newton_regularized;
+  factor_regularized_ = true;
   return false;
 }
 
@@ -206,7 +208,7 @@ bool QuasiStatic::release_let_go_rows() {
   bool released = false;
   for (int i = 0; i < problem_.contacts; ++i) {
     const ContactStatus status = active_[i].status;
-    const Hold keep = status == ContactStatus::open ? kHoldNone : status == ContactStatus::slip ? kHoldNormal : kHoldStick;
+    const Hold keep = status == ContactStatus::open ? Hold::none : status == ContactStatus::slip ? Hold::normal : Hold::stick;
     if (hold_[i] > keep) {
       hold_[i] = keep;
       released = true;
@@ -297,25 +299,38 @@ void QuasiStatic::assemble_problem() {
 
 double QuasiStatic::iterate(const State& state, double t_next) {
   t_ = t_next;
-  const std::size_t world_from = generalized_force(q_, t_next, f_);
   if (needs_tangent()) reduced_.tangent(q_, T_);
-  f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
   clock_.lap(timers_.free_velocity);
   detect_contacts(state, t_next);
   clock_.lap(timers_.detection);
   warm_start(previous_, active_, d_, problem_.size(), r_, &warm_status_);
   soften_friction(state);
-  hold_.assign(problem_.contacts, kHoldNone);
+  hold_.assign(problem_.contacts, Hold::none);
   for (int i = 0; i < problem_.contacts; ++i)
-    if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? kHoldStick : kHoldNormal;
+    if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? Hold::stick : Hold::normal;
   clock_.lap(timers_.assembly);
-  assemble_stiffness(q_, world_from);
+  // Modified Newton (see the header): the forces alone when an earlier iterate's factor is kept.
+  bool keep = accelerated_ && parameters_.modified_newton && !linear_ &&
+              kept_.fits(held_rows(), held_weight_, hub_proximal_, !reduced_.hub_unknowns().empty());
+  std::size_t world_from = generalized_force(q_, t_next, f_, !keep);
+  f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
+  if (!keep) assemble_stiffness(q_, world_from);
   clock_.lap(timers_.free_velocity);
   // Held rows that the solve lets go would make the step another than Newton's (see the header): the
   // rows are dropped and the problem solved again, a few times at most.
+  bool held = false;
   for (int round = 0;; ++round) {
-    const bool held = factor_stiffness();
-    if (held && round == 0) ++counters_->newton_held;
+    if (keep) {
+      held = kept_.made().kind == KeptFactor::Kind::held;
+      f_aug_ = held ? Vector(f_z_ - kept_.made().rho * held_load()) : f_z_;
+    } else {
+      held = factor_stiffness();
+    }
+    if (round == 0) {
+      if (held) ++counters_->newton_held;
+      if (keep) ++counters_->newton_kept_factor;
+      if (keep && kept_.made().regularized) ++counters_->newton_regularized;
+    }
     clock_.lap(timers_.free_velocity);
     assemble_problem();
     clock_.lap(timers_.assembly);
@@ -343,12 +358,19 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     // a larger ρ shrinks W along the rows and leaves the step Newton's while they stay held.
     clock_.lap(timers_.solve);
     double& weight = held ? held_weight_ : hub_proximal_;
-    if (!contact_failure_.empty() && (held || !reduced_.hub_unknowns().empty()) && weight < 1.0) {
-      weight *= 100.0;
-      continue;
+    const bool stiffer = !contact_failure_.empty() && (held || !reduced_.hub_unknowns().empty()) && weight < 1.0;
+    if (stiffer) weight *= 100.0;
+    else if (!held || round == kHeldRounds || !release_let_go_rows()) break;
+    if (keep) {  // the kept factor holds other rows, or with another weight: this iterate's own tangent
+      keep = false;
+      world_from = generalized_force(q_, t_next, f_, true);
+      assemble_stiffness(q_, world_from);
+      clock_.lap(timers_.free_velocity);
     }
-    if (!held || round == kHeldRounds || !release_let_go_rows()) break;
   }
+  if (!keep)
+    kept_.record({held ? KeptFactor::Kind::held : factor_kind_, held_rows(), held_weight_, hub_proximal_, held_rho_,
+                  factor_regularized_});
   // Δz = K⁻¹ f_aug + K⁻¹ H_zᵀ r: the free increment from the last assemble_problem, with f_aug_ unchanged since.
   if (problem_.size() > 0) dz_ = free_increment_ + factor_.solve(Vector(H_.transpose() * r_));
   else dz_ = factor_.solve(f_aug_);
@@ -361,11 +383,34 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   if (relaxation != 1.0) ++counters_->newton_relaxed;
   reduced_.gather(q_, t_next, z_);  // at q_j, so that T is exact there (3D rotations: increments)
   z_ += relaxation * dz_;
+  z_increment_ += relaxation * dz_;
   reduced_.expand(z_, t_next, q_);
   if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
   previous_ = active_;  // forces, for the next iteration's warm start
   clock_.lap(timers_.update);
-  return dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
+  const double increment = dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
+  kept_.observe(increment, keep);
+  return increment;
+}
+
+HeldRows QuasiStatic::held_rows() const {
+  HeldRows rows;
+  for (int i = 0; i < problem_.contacts; ++i)
+    if (hold_[i] != Hold::none) rows.emplace_back(active_[i].point.key, hold_[i]);
+  return rows;
+}
+
+// H_Aᵀ c̃_A over the held rows (hold_), c̃ the offset of ũ with penalty friction: ρ times it leaves the
+// load with the held matrix (see the header).
+Vector QuasiStatic::held_load() const {
+  Vector load = Vector::Zero(f_z_.size());
+  for (int i = 0; i < problem_.contacts; ++i) {
+    const int rows = hold_[i] == Hold::stick ? d_ : hold_[i] == Hold::normal ? 1 : 0;
+    for (int a = d_ * i; a < d_ * i + rows; ++a)
+      for (int k = 0; k < H_.cols(); ++k)
+        if (H_(a, k) != 0.0) load(k) += H_(a, k) * (offset_(a) + compliance_(a) * r_(a));
+  }
+  return load;
 }
 
 void QuasiStatic::step(State& state) {
@@ -388,7 +433,11 @@ void QuasiStatic::step(State& state) {
 // Brings state to t_next; when Newton fails, as two halves, each of which may be halved again, down
 // to max_cutbacks halvings (the loading path is a function of t, so any t in between is a load step).
 void QuasiStatic::advance(State& state, double t_next, int halvings) {
-  const std::string failure = solve_increment(state, t_next);
+  std::string failure = solve_increment(state, t_next, true);
+  // The predictor and the kept factor change the iterates: a step they did not bring to convergence is
+  // first taken again with neither (see the header).
+  if (!failure.empty() && !linear_ && (parameters_.predictor || parameters_.modified_newton))
+    failure = solve_increment(state, t_next, false);
   if (failure.empty()) {
     accept(state, t_next);
     return;
@@ -409,14 +458,21 @@ void QuasiStatic::advance(State& state, double t_next, int halvings) {
 
 // Newton's iterations from state to t_next into q_, active_ and reactions_; state is not touched. Returns
 // "" when they converged, else why not.
-std::string QuasiStatic::solve_increment(const State& state, double t_next) {
+std::string QuasiStatic::solve_increment(const State& state, double t_next, bool accelerated) {
+  accelerated_ = accelerated;
   // The prescriptions in force at t_next (a cutback can step back across a release).
   if (world_.releases_prescription(reduced_time_, t_next) || world_.releases_prescription(t_next, reduced_time_)) {
     reduced_ = reduce(world_, t_next);
     reduced_time_ = t_next;
     factored_ = false;
+    last_z_increment_.resize(0);  // another set of unknowns
   }
   reduced_.gather(state.q, state.t, z_);
+  // The predictor: the last accepted step's increment of z, scaled to this step's length (see the header).
+  z_increment_.setZero(z_.size());
+  if (accelerated_ && parameters_.predictor && !linear_ && last_z_increment_.size() == z_.size() && last_step_length_ > 0.0)
+    z_increment_ = ((t_next - state.t) / last_step_length_) * last_z_increment_;
+  z_ += z_increment_;
   reduced_.expand(z_, t_next, q_);
   // The warm start: the last increment's forces (state's impulses are forces × h, see accept).
   previous_ = state.contacts;
@@ -426,6 +482,7 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next) {
   int iterations = 0;
   double increment = 0.0;
   relaxation_.reset();
+  kept_.drop();
   hub_proximal_ = kHubProximal;
   held_weight_ = kFirstHeld;
   std::string failure;
@@ -461,6 +518,8 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next) {
 // state ← the converged increment to t_next. Impulses are the forces × the whole step h, whatever the
 // increment's length, so that contact-force probes read forces (state.h).
 void QuasiStatic::accept(State& state, double t_next) {
+  last_z_increment_ = z_increment_;
+  last_step_length_ = t_next - state.t;
   state.q = q_;
   state.reactions = reactions_;
   state.t = t_next;

@@ -3,8 +3,10 @@
 //
 // A load step from t_k to t_{k+1} (a pseudo-time: the loads' multipliers λ(t), the prescribed
 // displacements and the friction ramp give the loading path). The unknowns are z, the coordinates
-// that are neither prescribed nor tied (reduced_coordinates.h: q = Φ(z, t)). Starting from
-// z_k with the prescribed components at t_{k+1}, Newton's method solves the equilibrium
+// that are neither prescribed nor tied (reduced_coordinates.h: q = Φ(z, t)). Starting from the
+// predictor z_k + (h_{k+1}/h_k) Δz_k (Δz_k the last accepted step's increment of z, h_k its length; z_k
+// alone at the first step and when the unknowns change) with the prescribed components at t_{k+1},
+// Newton's method solves the equilibrium
 //   Tᵀ (f(q) + Hᵀ r) = 0,   f = loads − internal forces (N),  r the contact forces (N),
 // each iteration j being a linearized frictional contact problem at q_j:
 //   stiffness  K_z = Tᵀ K_T(q_j) T + ties' geometric term (held positive definite, see below);
@@ -26,7 +28,21 @@
 // failed contact solve) is taken again as two half steps, each halved again if it fails, down to
 // max_cutbacks halvings (counted in the summary); only then does the run stop (exit 2). The
 // loading path being a function of t, a half step is a load step like any other; the step's outputs
-// (velocities Δq/h, impulses) stay those of the whole step.
+// (velocities Δq/h, impulses) stay those of the whole step. The predictor only moves the first iterate
+// (steady rolling repeats its increments); q_k stays the step start of the slip rows. A step that does
+// not converge with the predictor and modified Newton (below) is first taken again with neither, from
+// z_k with a factor at every iterate, before it is halved: they change the path of the iterates, and no
+// step that Newton's own iteration converges is halved for them.
+//
+// Modified Newton. An iterate keeps the factor of the step's last factored one, and then evaluates the
+// forces without the tangent, while that factor holds the same rows (the same contacts, held the same
+// way) with the same weights (held_weight_, hub_proximal_ below), and while each iterate that kept it
+// shrank |Δz|∞ by KeptFactor::kContraction at least (kept_factor.h); otherwise, or when its solve lets
+// a held row go or fails, the iterate factors its own tangent. The residual f, the rows H, their offsets
+// and the Delassus operator W = H A⁻¹ Hᵀ are the iterate's own with the kept A, and the held rows' load
+// −ρ H_Aᵀ c_A takes the kept ρ and the iterate's rows: at a fixed point (Δz = 0, the held rows held,
+// c_A = 0) the equilibrium holds as with Newton's own matrix; the rate is linear instead of quadratic
+// (counted in the summary as kept_factor_iterations).
 //
 // Holding K_z positive definite. The Delassus operator needs K_z positive definite, which the
 // equilibrium with its contacts does not guarantee:
@@ -79,6 +95,7 @@
 #include "engine/dynamics.h"
 #include "engine/sparse_ldlt.h"
 #include "engine/reduced_coordinates.h"
+#include "engine/steppers/kept_factor.h"
 #include "engine/steppers/phase_clock.h"
 #include "engine/steppers/quasi_static_parameters.h"
 #include "engine/steppers/secant_relaxation.h"
@@ -104,7 +121,8 @@ class QuasiStatic final : public Stepper {
 
  private:
   void advance(State& state, double t_next, int halvings);
-  std::string solve_increment(const State& state, double t_next);
+  // accelerated: with the predictor and modified Newton (as parameters_ allow), else Newton's plain iteration.
+  std::string solve_increment(const State& state, double t_next, bool accelerated);
   void accept(State& state, double t_next);
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
@@ -116,7 +134,8 @@ class QuasiStatic final : public Stepper {
   void soften_friction(const State& state);  // penalty friction's terms (see the header)
   double set_compliance(const Vector& r);
   void assemble_problem();
-  std::size_t generalized_force(const Vector& q, double t, Vector& f);
+  // f; with tangent, the bodies' tangent into triplets_ too (when needs_tangent()).
+  std::size_t generalized_force(const Vector& q, double t, Vector& f, bool tangent);
   bool needs_tangent() const { return !(linear_ && factored_); }  // a linear World's is factored once
 
   const World& world_;
@@ -155,12 +174,23 @@ class QuasiStatic final : public Stepper {
   double hub_proximal_ = 0.0;  // the hub's proximal weight this step's iterates start from (/ max diag)
   std::string contact_failure_;  // the last iterate's contact solve failure message, or ""
   Vector step_increment_;      // q_j ⊖ q_k in velocity components (m, rad): the slip rows' argument
+  // The predictor (see the header): Σ ω Δz over this attempt's iterates, its predicted part included, and
+  // the last accepted step's sum with that step's length (s); empty when there is none or the unknowns
+  // changed since.
+  Vector z_increment_, last_z_increment_;
+  bool accelerated_ = true;    // this attempt's: predictor and modified Newton (solve_increment)
+  double last_step_length_ = 0.0;
   SolverCounters* counters_ = nullptr;
   std::vector<ActiveContact> candidates_, active_, previous_;
   std::vector<ContactStatus> warm_status_;  // the warm start's statuses of active_
-  // Per contact of active_, the rows held (quasi_static.h): none, the normal, or all (sticking).
-  enum Hold { kHoldNone = 0, kHoldNormal = 1, kHoldStick = 2 };
-  std::vector<Hold> hold_;
+  std::vector<Hold> hold_;     // per contact of active_, the rows held (kept_factor.h)
+  // Modified Newton (see the header): the step's last factor, what it was made with.
+  KeptFactor kept_;
+  double held_rho_ = 0.0;      // the ρ of factor_stiffness' last held factor (N/m)
+  KeptFactor::Kind factor_kind_ = KeptFactor::Kind::stiffness;  // … and what it factored
+  bool factor_regularized_ = false;                             // … with grown proximal terms
+  HeldRows held_rows() const;  // hold_ with its contacts' keys
+  Vector held_load() const;    // H_Aᵀ c̃_A over the held rows (ρ times it leaves the load with them)
   std::vector<SparseRow> rows_;
   Matrix H_;                   // the contact rows over z, H_z
   Vector free_increment_;      // K⁻¹ f_aug: the increment without contact forces

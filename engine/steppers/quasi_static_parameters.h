@@ -18,6 +18,10 @@ struct QuasiStaticParameters : QuasiStaticOptions {
   double failure_residual = 1e-6;
   double newton_tolerance = 1e-10;  // on |Δz|∞ / L
   int newton_max_iterations = 30;
+  // Newton's predictor and modified Newton (quasi_static.h), not scene keys: off only where a test compares
+  // them with Newton's plain iteration.
+  bool predictor = true;
+  bool modified_newton = true;
 };
 
 }  // namespace csim

@@ -10,6 +10,7 @@ void add_newton_group(const SolverCounters& c, double tolerance, SummaryEntries&
       .add("max_per_step", c.max_newton_iterations)
       .add("regularized_iterations", c.newton_regularized)
       .add("contact_held_iterations", c.newton_held)
+      .add("kept_factor_iterations", c.newton_kept_factor)
       .add("relaxed_iterations", c.newton_relaxed)
       .add("backtracks", c.newton_backtracks)
       .add("redetections", c.newton_redetections)
