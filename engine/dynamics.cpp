@@ -196,7 +196,7 @@ double Dynamics::kinetic_energy(const Vector& v) const {
 }
 
 const Vector& Dynamics::linear_body_products(const Vector& q) const {
-  if (products_kept_ && kept_positions_.size() == q.size() &&
+  if (kept_positions_.size() == q.size() &&
       std::equal(q.data(), q.data() + q.size(), kept_positions_.data()))
     return kept_products_;
   kept_products_.resize(size());
@@ -204,7 +204,6 @@ const Vector& Dynamics::linear_body_products(const Vector& q) const {
     if (b.body->elastic() && !b.body->nonlinear())
       b.body->stiffness_product(b.positions(q), kept_products_.segment(b.velocity_offset, b.body->velocity_size()));
   kept_positions_ = q;
-  products_kept_ = true;
   return kept_products_;
 }
 
@@ -277,47 +276,44 @@ void Dynamics::add_spring_stiffness(const Vector& q, Triplets& K) const {
   }
 }
 
-void Dynamics::external(const Vector& q, double t, Vector& f) const {
-  f.setZero(world_.velocity_size);
-  if (!world_.gravity.isZero())
-    for (const BodyInstance& b : world_.bodies)
+namespace {
+
+// Loads and gravity at each of N times, the loads' points taken at q once (their Jacobians do not depend
+// on t): forces[i] at times[i], each the same to the bit as a call at that time alone.
+template <std::size_t N>
+void external_forces(const World& world, const Vector& q, const std::array<double, N>& times,
+                     const std::array<Vector*, N>& forces) {
+  Vector& first = *forces[0];
+  first.setZero(world.velocity_size);
+  if (!world.gravity.isZero())
+    for (const BodyInstance& b : world.bodies)
       if (!b.body->fixed())
-        b.body->add_weight(b.positions(q), world_.gravity, f.segment(b.velocity_offset, b.body->velocity_size()));
-  for (const Load& load : world_.loads) {
-    const BodyInstance& b = world_.bodies[load.body];
-    const double multiplier = load.multiplier(t);
+        b.body->add_weight(b.positions(q), world.gravity, first.segment(b.velocity_offset, b.body->velocity_size()));
+  for (std::size_t i = 1; i < N; ++i) *forces[i] = first;
+  for (const Load& load : world.loads) {
+    const BodyInstance& b = world.bodies[load.body];
     if (load.nodal_forces.size() > 0) {  // a distributed load, already in the body's coordinates
-      f.segment(b.velocity_offset, b.body->velocity_size()) += multiplier * load.nodal_forces;
+      for (std::size_t i = 0; i < N; ++i)
+        forces[i]->segment(b.velocity_offset, b.body->velocity_size()) += load.multiplier(times[i]) * load.nodal_forces;
       continue;
     }
     const PointJacobian J = b.body->point_jacobian(b.positions(q), load.point);
-    for (int k = 0; k < J.count; ++k)
-      f(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier * load.force);
+    for (std::size_t i = 0; i < N; ++i) {
+      const double multiplier = load.multiplier(times[i]);
+      for (int k = 0; k < J.count; ++k)
+        (*forces[i])(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier * load.force);
+    }
   }
 }
 
-// The same as external at each time, the points' Jacobians taken once: the same vectors to the bit.
+}  // namespace
+
+void Dynamics::external(const Vector& q, double t, Vector& f) const {
+  external_forces<1>(world_, q, {t}, {&f});
+}
+
 void Dynamics::external(const Vector& q, double t_a, double t_b, Vector& f_a, Vector& f_b) const {
-  f_a.setZero(world_.velocity_size);
-  if (!world_.gravity.isZero())
-    for (const BodyInstance& b : world_.bodies)
-      if (!b.body->fixed())
-        b.body->add_weight(b.positions(q), world_.gravity, f_a.segment(b.velocity_offset, b.body->velocity_size()));
-  f_b = f_a;
-  for (const Load& load : world_.loads) {
-    const BodyInstance& b = world_.bodies[load.body];
-    const double multiplier_a = load.multiplier(t_a), multiplier_b = load.multiplier(t_b);
-    if (load.nodal_forces.size() > 0) {
-      f_a.segment(b.velocity_offset, b.body->velocity_size()) += multiplier_a * load.nodal_forces;
-      f_b.segment(b.velocity_offset, b.body->velocity_size()) += multiplier_b * load.nodal_forces;
-      continue;
-    }
-    const PointJacobian J = b.body->point_jacobian(b.positions(q), load.point);
-    for (int k = 0; k < J.count; ++k) {
-      f_a(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier_a * load.force);
-      f_b(b.velocity_offset + J.index[k]) += J.column.col(k).dot(multiplier_b * load.force);
-    }
-  }
+  external_forces<2>(world_, q, {t_a, t_b}, {&f_a, &f_b});
 }
 
 Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) const {

@@ -128,11 +128,11 @@ class Dynamics {
   bool nonlinear_ = false;
   bool gyroscopic_ = false;  // a body has inertial forces
   mutable Vector work_;
-  // The linear elastic bodies' K u (each in its velocity segment) at kept_positions_, for the next call
-  // at the same q: a step's strain energy at q_{k+1} and the next step's internal force share one product.
+  // The linear elastic bodies' K u (each in its velocity segment) at kept_positions_ (empty before the
+  // first call), for the next call at the same q: a step's strain energy at q_{k+1} and the next step's
+  // internal force share one product.
   bool has_linear_bodies_ = false;
   mutable Vector kept_positions_, kept_products_;
-  mutable bool products_kept_ = false;
   const Vector& linear_body_products(const Vector& q) const;
 };
 

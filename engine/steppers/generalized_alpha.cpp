@@ -91,8 +91,8 @@ void GeneralizedAlpha::free_step(const State& state) {
   a_star_ = (k.alpha_f * acceleration_ - k.alpha_m * recursion_) / (1.0 - k.alpha_m);
   v_hat_ = state.v + (h * (1.0 - k.gamma)) * recursion_ + (h * k.gamma) * a_star_;
   q_hat_ = state.q + h * state.v + (h * h * (0.5 - k.beta)) * recursion_ + (h * h * k.beta) * a_star_;
-  dynamics_.external(state.q, state.t, f_loads_start_);  // for the work of loads (no gyroscopic body here)
-  dynamics_.external(state.q, state.t + h, f_loads_end_);
+  // For the work of loads (no gyroscopic body here).
+  dynamics_.external(state.q, state.t, state.t + h, f_loads_start_, f_loads_end_);
   f_total_ = f_loads_end_;
   dynamics_.add_internal_forces(state.q, f_total_);
   if (operators_.has_stiffness()) {

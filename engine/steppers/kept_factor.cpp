@@ -2,6 +2,12 @@
 
 namespace csim {
 
+bool rows_hold(const HeldRows& rows, bool hub) {
+  bool sticking = false;
+  for (const auto& row : rows) sticking = sticking || row.second == Hold::stick;
+  return !rows.empty() && (!hub || sticking);
+}
+
 void KeptFactor::record(Made made) {
   made_ = std::move(made);
   valid_ = true;
@@ -19,12 +25,7 @@ bool KeptFactor::fits(const HeldRows& rows, double held_weight, double hub_proxi
   switch (made_.kind) {
     case Kind::stiffness: return true;
     case Kind::held: return held_weight == made_.held_weight && rows == made_.rows;
-    case Kind::proximal: {
-      bool sticking = false;
-      for (const auto& row : rows) sticking = sticking || row.second == Hold::stick;
-      const bool would_hold = !rows.empty() && (!hub || sticking);
-      return hub_proximal == made_.hub_proximal && !would_hold;
-    }
+    case Kind::proximal: return hub_proximal == made_.hub_proximal && !rows_hold(rows, hub);
   }
   return false;
 }

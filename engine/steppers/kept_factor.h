@@ -25,6 +25,13 @@ namespace csim {
 enum class Hold { none = 0, normal = 1, stick = 2 };
 // The contacts an iterate holds, and how, in its contacts' order (sorted by key).
 using HeldRows = std::vector<std::pair<ContactKey, Hold>>;
+// How many of a contact's rows (of dimension d) are held: none, the normal, or all of them.
+inline int held_row_count(Hold hold, int dimension) {
+  return hold == Hold::stick ? dimension : hold == Hold::normal ? 1 : 0;
+}
+// Whether held rows make the factored matrix K_z + G + ρ H_Aᵀ H_A (quasi_static.h) rather than the
+// proximal terms: some row held, and with a hub a sticking contact to hold its spin.
+bool rows_hold(const HeldRows& rows, bool hub);
 
 class KeptFactor {
  public:

@@ -133,11 +133,8 @@ bool QuasiStatic::factor_stiffness() {
   const double largest = K_z_.diagonal().cwiseAbs().maxCoeff();
   Triplets augmented;
   std::vector<int> nonzero;
-  bool sticking = false;
   for (int i = 0; i < problem_.contacts; ++i) {
-    sticking = sticking || hold_[i] == Hold::stick;
-    const int rows = hold_[i] == Hold::stick ? d_ : hold_[i] == Hold::normal ? 1 : 0;
-    for (int a = d_ * i; a < d_ * i + rows; ++a) {
+    for (int a = d_ * i; a < d_ * i + held_row_count(hold_[i], d_); ++a) {
       nonzero.clear();
       for (int k = 0; k < H_.cols(); ++k)
         if (H_(a, k) != 0.0) nonzero.push_back(k);
@@ -146,7 +143,7 @@ bool QuasiStatic::factor_stiffness() {
     }
   }
   // A hub needs a sticking contact to hold its spin; without, its proximal term.
-  if (!augmented.empty() && (!hub || sticking)) {
+  if (!augmented.empty() && rows_hold(held_rows(), hub)) {
     SparseMatrix HtH(K_z_.rows(), K_z_.cols());
     HtH.setFromTriplets(augmented.begin(), augmented.end());
     SparseMatrix G;
@@ -405,8 +402,7 @@ HeldRows QuasiStatic::held_rows() const {
 Vector QuasiStatic::held_load() const {
   Vector load = Vector::Zero(f_z_.size());
   for (int i = 0; i < problem_.contacts; ++i) {
-    const int rows = hold_[i] == Hold::stick ? d_ : hold_[i] == Hold::normal ? 1 : 0;
-    for (int a = d_ * i; a < d_ * i + rows; ++a)
+    for (int a = d_ * i; a < d_ * i + held_row_count(hold_[i], d_); ++a)
       for (int k = 0; k < H_.cols(); ++k)
         if (H_(a, k) != 0.0) load(k) += H_(a, k) * (offset_(a) + compliance_(a) * r_(a));
   }
