@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <ostream>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -140,17 +141,19 @@ void ParaviewSeries::writer_loop() {
 void ParaviewSeries::write_files(const Frame& frame) {
   std::size_t next_body = 0;
   for (Series& s : series_) {
-    std::string text;
+    const std::string file = frame_name(s.stem, frame.index);
+    const std::string path = (std::filesystem::path(directory_) / file).string();
     if (s.body < 0) {
-      text = contacts_vtu(frame.contacts, frame.t, encoding_);
+      write_file_atomically(path, contacts_vtu(frame.contacts, frame.t, encoding_));
     } else {
+      // Streamed: a large body's file is not assembled in memory beside its arrays.
       const FeBody& body = *world_.bodies[s.body].body->finite_elements();
       const Eigen::VectorXd& u = frame.displacement[next_body];
-      text = fe_body_vtu(*s.mesh, u, frame.velocity[next_body], element_fields(body, u), frame.t);
+      VtkFileText text(s.mesh->encoding);
+      fe_body_file(text, *s.mesh, u, frame.velocity[next_body], element_fields(body, u), frame.t);
+      write_file_atomically(path, [&text](std::ostream& out) { text.write(out); });
       ++next_body;
     }
-    const std::string file = frame_name(s.stem, frame.index);
-    write_file_atomically((std::filesystem::path(directory_) / file).string(), text);
     s.written.push_back(file);
   }
 }

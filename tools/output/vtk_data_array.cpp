@@ -3,7 +3,9 @@
 #include <bit>
 #include <charconv>
 #include <cstring>
+#include <ostream>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #ifdef CSIM_HAVE_ZLIB
@@ -160,15 +162,27 @@ void VtkFileText::put(A&& array, const char* indent) {
 void VtkFileText::array(const EncodedArray& array, const char* indent) { put(array, indent); }
 void VtkFileText::array(EncodedArray&& array, const char* indent) { put(std::move(array), indent); }
 
-std::string VtkFileText::finish() {
-  if (encoding_ == VtkEncoding::ascii) return std::move(xml_) + "</VTKFile>\n";
+template <typename Sink>
+void VtkFileText::emit(Sink&& sink) const {
+  sink(xml_);
+  if (encoding_ == VtkEncoding::ascii) {
+    sink("</VTKFile>\n");
+    return;
+  }
+  sink("  <AppendedData encoding=\"raw\">\n   _");
+  for (const std::string* data : appended_) sink(*data);
+  sink("\n  </AppendedData>\n</VTKFile>\n");
+}
+
+std::string VtkFileText::finish() const {
   std::string out;
   out.reserve(xml_.size() + appended_size_ + 64);
-  out += xml_;
-  out += "  <AppendedData encoding=\"raw\">\n   _";
-  for (const std::string* data : appended_) out += *data;
-  out += "\n  </AppendedData>\n</VTKFile>\n";
+  emit([&out](std::string_view piece) { out += piece; });
   return out;
+}
+
+void VtkFileText::write(std::ostream& out) const {
+  emit([&out](std::string_view piece) { out.write(piece.data(), static_cast<std::streamsize>(piece.size())); });
 }
 
 }  // namespace csim

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -49,10 +50,14 @@ EncodedArray encode_array(VtkEncoding encoding, const char* type, const std::str
                           const std::vector<std::string>& component_names = {});
 
 // The text of one VTK XML file. open() writes the root element; array() a DataArray (inline, or a
-// reference into the appended data); finish() the appended data and the closing of the root.
+// reference into the appended data); finish() the appended data and the closing of the root, as one
+// string, or write() the same bytes to a stream without assembling them: a large frame's arrays are
+// then held once, not twice (the file of a 52k-DOF body is about 9 MB).
 class VtkFileText {
  public:
   explicit VtkFileText(VtkEncoding encoding) : encoding_(encoding) {}
+  VtkFileText(const VtkFileText&) = delete;  // appended_ points into owned_
+  VtkFileText& operator=(const VtkFileText&) = delete;
   // The XML declaration, `prolog` (comment lines), and <VTKFile type="TYPE" ...>.
   void open(const std::string& type, const std::string& prolog);
   std::string& xml() { return xml_; }  // for the elements between the arrays
@@ -60,9 +65,12 @@ class VtkFileText {
   // once, into the file's text.
   void array(const EncodedArray& array, const char* indent = "        ");
   void array(EncodedArray&& array, const char* indent = "        ");
-  std::string finish();
+  std::string finish() const;
+  void write(std::ostream& out) const;
 
  private:
+  template <typename Sink>
+  void emit(Sink&& sink) const;  // the file's text, piece by piece, to sink(std::string_view)
   const std::string& keep(const EncodedArray& array) { return array.data; }
   const std::string& keep(EncodedArray&& array) { return owned_.emplace_back(std::move(array.data)); }
   template <typename A>

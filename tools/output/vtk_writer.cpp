@@ -117,14 +117,13 @@ EncodedMesh encode_mesh(const Mesh& mesh, VtkEncoding encoding) {
   return out;
 }
 
-std::string fe_body_vtu(const EncodedMesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
-                        const ElementFields& fields, double t) {
+void fe_body_file(VtkFileText& file, const EncodedMesh& mesh, const Eigen::VectorXd& displacement,
+                  const Eigen::VectorXd& velocity, const ElementFields& fields, double t) {
   const VtkEncoding encoding = mesh.encoding;
   const bool strain = !fields.strain.empty();
   std::vector<std::string> comments{"stress: " + fields.stress_description,
                                     "von_mises, pressure (-trace/3, compression positive): from stress"};
   if (strain) comments.push_back("green_lagrange_strain: " + fields.strain_description);
-  VtkFileText file(encoding);
   open_grid(file, t, mesh.points, mesh.cells, comments);
   file.xml() += "      <PointData Vectors=\"displacement\">\n";
   file.array(encode_array(encoding, "Float64", "displacement", 3, as_vectors(displacement, mesh.points, mesh.dofs_per_node)));
@@ -149,12 +148,14 @@ std::string fe_body_vtu(const EncodedMesh& mesh, const Eigen::VectorXd& displace
   file.xml() += "      </CellData>\n";
   put_points_and_cells(file, mesh.coordinates, mesh.connectivity, mesh.offsets, mesh.types);
   close_grid(file);
-  return file.finish();
 }
 
 std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
                         const ElementFields& fields, double t, VtkEncoding encoding) {
-  return fe_body_vtu(encode_mesh(mesh, encoding), displacement, velocity, fields, t);
+  const EncodedMesh encoded = encode_mesh(mesh, encoding);
+  VtkFileText file(encoding);
+  fe_body_file(file, encoded, displacement, velocity, fields, t);
+  return file.finish();
 }
 
 std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, VtkEncoding encoding) {

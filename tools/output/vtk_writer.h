@@ -53,11 +53,13 @@ struct EncodedMesh {
 };
 EncodedMesh encode_mesh(const Mesh& mesh, VtkEncoding encoding);
 
-// One elastic body at one frame, in the mesh's encoding. displacement and velocity: all the mesh's
-// dofs, node-major (m, m/s; 2 or 3 per node as the mesh), fields: one stress (and strain, or none) per
-// element, t: the frame's time (s).
-std::string fe_body_vtu(const EncodedMesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
-                        const ElementFields& fields, double t);
+// One elastic body at one frame, in the mesh's encoding, into `file` (opened with mesh.encoding, which
+// refers to the mesh's arrays until it is written: ParaviewSeries streams it to the file, VtkFileText::
+// write). displacement and velocity: all the mesh's dofs, node-major (m, m/s; 2 or 3 per node as the
+// mesh), fields: one stress (and strain, or none) per element, t: the frame's time (s).
+void fe_body_file(VtkFileText& file, const EncodedMesh& mesh, const Eigen::VectorXd& displacement,
+                  const Eigen::VectorXd& velocity, const ElementFields& fields, double t);
+// The same file's text, the mesh encoded for it.
 std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
                         const ElementFields& fields, double t, VtkEncoding encoding);
 

@@ -3,6 +3,7 @@
 // the piece's counts), and the binary and zlib runs holding exactly the ASCII run's values: an elastic
 // shoe in QUAD4 with contacts, a finite-strain pendulum (with its strain array), a HEXA8 block under a
 // box. The reader itself must refuse a broken offset, a truncated block and a wrong array length.
+#include "tools/output/atomic_file.h"
 #include "tools/output/vtk_data_array.h"
 #include "tools/output/vtk_writer.h"
 #include "tools/run/run.h"
@@ -157,6 +158,51 @@ TEST(VtkDataArray, ArraysOfSeveralBlocksReadBack) {
       EXPECT_EQ(back, values) << count << " values, encoding " << static_cast<int>(encoding);
     }
   }
+}
+
+// A frame streamed to its file (VtkFileText::write, as ParaviewSeries writes a body's frames) holds the
+// bytes of the assembled text, in every encoding, and write_file_atomically puts them in place whole.
+TEST(VtkDataArray, StreamedFileIsTheAssembledText) {
+  Mesh mesh;
+  mesh.element_type = ElementType::quad4;
+  mesh.nodes = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}};
+  mesh.elements = {{0, 1, 2, 3}, {1, 4, 5, 2}};
+  ElementFields fields;
+  fields.stress = {Stress::Constant(2.0), Stress::LinSpaced(-1.0, 4.0)};
+  const Eigen::VectorXd u = Eigen::VectorXd::LinSpaced(12, -0.5, 1.0);
+  const fs::path folder = fs::temp_directory_path() / "csim-streamed-vtu";
+  fs::create_directories(folder);
+  for (const VtkEncoding encoding : all_encodings()) {
+    const EncodedMesh encoded = encode_mesh(mesh, encoding);
+    VtkFileText file(encoding);
+    fe_body_file(file, encoded, u, 2.0 * u, fields, 0.25);
+    std::ostringstream streamed;
+    file.write(streamed);
+    const std::string text = file.finish();
+    EXPECT_EQ(streamed.str(), text) << "encoding " << static_cast<int>(encoding);
+    EXPECT_EQ(text, fe_body_vtu(mesh, u, 2.0 * u, fields, 0.25, encoding));
+    const fs::path path = folder / "body.vtu";
+    write_file_atomically(path.string(), [&file](std::ostream& out) { file.write(out); });
+    EXPECT_EQ(read_text(path), text);
+    EXPECT_NO_THROW(test_vtu::read_vtu(read_text(path)));
+  }
+  fs::remove_all(folder);
+}
+
+// A writer that fails midway leaves neither the file nor its temporary.
+TEST(VtkDataArray, FailedStreamLeavesNoFile) {
+  const fs::path folder = fs::temp_directory_path() / "csim-failed-vtu";
+  fs::create_directories(folder);
+  const fs::path path = folder / "body.vtu";
+  EXPECT_THROW(write_file_atomically(path.string(),
+                                     [](std::ostream& out) {
+                                       out << "<?xml version=\"1.0\"?>\n";
+                                       throw std::runtime_error("encoding failed");
+                                     }),
+               std::runtime_error);
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(folder / "body.vtu.tmp"));
+  fs::remove_all(folder);
 }
 
 // The read-back tests can fail: a file with a broken offset, a truncated block or a short array is
