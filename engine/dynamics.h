@@ -134,6 +134,9 @@ class Dynamics {
   bool has_linear_bodies_ = false;
   mutable Vector kept_positions_, kept_products_;
   const Vector& linear_body_products(const Vector& q) const;
+  // The elastic bodies' weight M g (each in its velocity segment, zero elsewhere), formed once: it does
+  // not depend on q, and forming it reads all of M, at every step otherwise.
+  Vector elastic_weight_;
 };
 
 }  // namespace csim

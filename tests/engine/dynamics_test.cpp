@@ -257,5 +257,29 @@ TEST(Dynamics, KeptStiffnessProductFollowsThePositions) {
   EXPECT_GT((f1 - f2).norm(), 1e-3 * f1.norm());
 }
 
+// An elastic body's weight is formed once by Dynamics (it reads all of M): at any q it is the body's own
+// add_weight into zeros, to the bit (box-on-block-3d: a HEXA8 block under gravity; the box on it
+// carries the push load too, and is not compared).
+TEST(Dynamics, ElasticWeightFormedOnceIsTheBodysWeight) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/box-on-block-3d/scene.yaml", {});
+  const World& world = scene->world;
+  ASSERT_FALSE(world.gravity.isZero());
+  const Dynamics dynamics(world);
+  Vector q = initial_state(world).q;
+  for (int i = 0; i < q.size(); ++i) q(i) += 1e-3 * std::sin(1.0 + i);
+  Vector f;
+  dynamics.external(q, 0.0, f);
+  int elastic = 0;
+  for (const BodyInstance& b : world.bodies) {
+    if (!b.body->elastic()) continue;
+    Vector expected = Vector::Zero(b.body->velocity_size());
+    b.body->add_weight(b.positions(q), world.gravity, expected);
+    EXPECT_TRUE(f.segment(b.velocity_offset, b.body->velocity_size()) == expected) << b.name;
+    EXPECT_GT(expected.norm(), 0.0);
+    ++elastic;
+  }
+  EXPECT_EQ(elastic, 1);
+}
+
 }  // namespace
 }  // namespace csim
