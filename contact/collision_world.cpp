@@ -73,14 +73,33 @@ Shape normalised(Shape shape) {
   return shape;
 }
 
+// The nodes that a surface's geometry names (its faces, contact nodes and curve), ascending; throws on
+// a node outside [0, node_count).
+std::vector<int> geometry_nodes(const DeformableSurfaceGeometry& geometry, int node_count) {
+  std::vector<int> nodes(geometry.contact_nodes.begin(), geometry.contact_nodes.end());
+  for (const auto& segment : geometry.segments) nodes.insert(nodes.end(), segment.begin(), segment.end());
+  for (const auto& triangle : geometry.triangles) nodes.insert(nodes.end(), triangle.begin(), triangle.end());
+  for (const CurveSegment& c : geometry.curve) nodes.insert(nodes.end(), c.nodes.begin(), c.nodes.begin() + c.count);
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  if (!nodes.empty() && (nodes.front() < 0 || nodes.back() >= node_count))
+    throw std::invalid_argument("add_deformable_surface: the geometry names a node outside the " +
+                                std::to_string(node_count) + " given");
+  return nodes;
+}
+
 }  // namespace
 
 struct CollisionWorld::Impl {
   // A deformable surface: its node positions and the FCL BVH of its triangles.
   struct Surface {
     DeformableSurfaceGeometry geometry;
-    std::vector<Eigen::Vector3d> positions;      // m, world, every node
-    std::vector<fcl::Vector3d> vertices;         // BVH vertices (2D: each node at z = ±½)
+    // The nodes the geometry names (ascending): the BVH's vertices, and the positions kept current. A
+    // body's surface is a small part of its nodes (a 52k-DOF shoe: 0.5k of 26k), and refitting over
+    // every node made detection O(N).
+    std::vector<int> nodes;
+    std::vector<Eigen::Vector3d> positions;      // m, world, by node: current on `nodes`, never read elsewhere
+    std::vector<fcl::Vector3d> vertices;         // BVH vertices, `nodes` in order (2D: each at z = ±½)
     std::vector<fcl::Triangle> triangles;
     std::shared_ptr<fcl::BVHModel<fcl::AABBd>> model;
     std::vector<std::pair<int, SurfaceFeatures>> features_of_body;  // bodies not listed: nodes
@@ -101,14 +120,15 @@ struct CollisionWorld::Impl {
   };
 
   void fill_vertices(Surface& surface) const {
-    const std::size_t n = surface.positions.size();
+    const std::size_t n = surface.nodes.size();
     surface.vertices.resize(planar ? 2 * n : n);
     for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d& x = surface.positions[surface.nodes[i]];
       if (planar) {
-        surface.vertices[2 * i] = surface.positions[i] - 0.5 * Eigen::Vector3d::UnitZ();
-        surface.vertices[2 * i + 1] = surface.positions[i] + 0.5 * Eigen::Vector3d::UnitZ();
+        surface.vertices[2 * i] = x - 0.5 * Eigen::Vector3d::UnitZ();
+        surface.vertices[2 * i + 1] = x + 0.5 * Eigen::Vector3d::UnitZ();
       } else {
-        surface.vertices[i] = surface.positions[i];
+        surface.vertices[i] = x;
       }
     }
   }
@@ -269,14 +289,18 @@ int CollisionWorld::add_deformable_surface(int body, const std::vector<Eigen::Ve
   Impl::Surface& surface = *object.surface;
   surface.geometry = geometry;
   surface.positions = node_positions;
+  surface.nodes = geometry_nodes(geometry, static_cast<int>(node_positions.size()));
+  std::vector<int> vertex_of(node_positions.size(), -1);
+  for (std::size_t i = 0; i < surface.nodes.size(); ++i) vertex_of[surface.nodes[i]] = static_cast<int>(i);
   impl_->fill_vertices(surface);
   if (impl_->planar) {
-    for (const auto& [a, b] : geometry.segments) {  // the edge a-b as the quad (a−, b−, b+, a+)
+    for (const auto& [node_a, node_b] : geometry.segments) {  // the edge a-b as the quad (a−, b−, b+, a+)
+      const int a = vertex_of[node_a], b = vertex_of[node_b];
       surface.triangles.emplace_back(2 * a, 2 * b, 2 * b + 1);
       surface.triangles.emplace_back(2 * a, 2 * b + 1, 2 * a + 1);
     }
   } else {
-    for (const auto& t : geometry.triangles) surface.triangles.emplace_back(t[0], t[1], t[2]);
+    for (const auto& t : geometry.triangles) surface.triangles.emplace_back(vertex_of[t[0]], vertex_of[t[1]], vertex_of[t[2]]);
   }
   surface.model = std::make_shared<fcl::BVHModel<fcl::AABBd>>();
   surface.model->beginModel();
@@ -304,7 +328,10 @@ void CollisionWorld::set_node_positions(int object, const std::vector<Eigen::Vec
   Impl::Object& o = impl_->objects.at(object);
   if (!o.surface) throw std::invalid_argument("set_node_positions: object is not a deformable surface");
   Impl::Surface& surface = *o.surface;
-  surface.positions = node_positions;
+  if (node_positions.size() != surface.positions.size())
+    throw std::invalid_argument("set_node_positions: " + std::to_string(node_positions.size()) + " positions for " +
+                                std::to_string(surface.positions.size()) + " nodes");
+  for (int node : surface.nodes) surface.positions[node] = node_positions[node];
   impl_->fill_vertices(surface);
   // The refit sequence of FCL 0.7: without computeLocalAABB() the object's AABB keeps the old extent.
   surface.model->beginUpdateModel();

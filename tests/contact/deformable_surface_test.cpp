@@ -60,6 +60,44 @@ TEST(DeformableSurface, RefittedBvhFollowsTheNodes) {
   EXPECT_EQ(contacts.size(), 1u);
 }
 
+// A body's nodes that its surface's geometry does not name (interior nodes) are not the BVH's: the
+// surface's contacts, as it moves, are those of the same square numbered alone, wherever the interior
+// nodes are; a position list of another length is refused.
+TEST(DeformableSurface, NodesOffTheGeometryDoNotCount) {
+  DeformableSurfaceGeometry interleaved;  // the square's corners as nodes 0, 2, 3, 5 of six
+  interleaved.segments = {{0, 2}, {2, 3}, {3, 5}, {5, 0}};
+  interleaved.contact_nodes = {0, 2, 3, 5};
+  const auto body_nodes = [](const Eigen::Vector3d& offset, double interior) {
+    const std::vector<Eigen::Vector3d> corners = square_nodes(offset);
+    return std::vector<Eigen::Vector3d>{corners[0], Eigen::Vector3d(interior, 0, 0), corners[1], corners[2],
+                                        Eigen::Vector3d(0, interior, 0), corners[3]};
+  };
+  CollisionWorld plain(true), with_interior(true);
+  for (CollisionWorld* world : {&plain, &with_interior}) world->set_pose(world->add_object(0, Sphere{0.5}, true), Eigen::Isometry3d::Identity());
+  const int a = plain.add_deformable_surface(1, square_nodes(Eigen::Vector3d(0.4, -0.3, 0)), square());
+  const int b = with_interior.add_deformable_surface(1, body_nodes(Eigen::Vector3d(0.4, -0.3, 0), 1e6), interleaved);
+  const int renumbered[] = {0, 2, 3, 5};
+  // Each corner in turn in the ball (node 0, then 2, 3, 5), then none.
+  for (const Eigen::Vector3d offset : {Eigen::Vector3d(0.4, -0.3, 0), Eigen::Vector3d(-0.9, -0.2, 0), Eigen::Vector3d(-0.9, -1.1, 0),
+                                       Eigen::Vector3d(-0.2, -0.7, 0), Eigen::Vector3d(10, 0, 0)}) {
+    plain.set_node_positions(a, square_nodes(offset));
+    with_interior.set_node_positions(b, body_nodes(offset, offset.x() > 5 ? 0.0 : -1e6));
+    std::vector<ContactPoint> expected, found;
+    for (auto [world, out] : {std::pair{&plain, &expected}, std::pair{&with_interior, &found}}) {
+      world->update(1e-3);
+      world->find_contacts(*out);
+    }
+    ASSERT_EQ(found.size(), expected.size()) << offset.transpose();
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      EXPECT_EQ(found[i].key.feature, renumbered[expected[i].key.feature]);
+      EXPECT_EQ(found[i].gap, expected[i].gap);
+      EXPECT_EQ(found[i].point_b, expected[i].point_b);
+    }
+    if (offset.x() < 5) EXPECT_FALSE(found.empty());
+  }
+  EXPECT_THROW(with_interior.set_node_positions(b, square_nodes(Eigen::Vector3d::Zero())), std::invalid_argument);
+}
+
 TEST(DeformableSurface, NodeInsideABoxGoesToTheNearestFace) {
   CollisionWorld world(true);
   const int box = world.add_object(0, Box{Eigen::Vector3d(1, 0.5, 0.5)}, true);
