@@ -202,6 +202,21 @@ double Dynamics::kinetic_energy(const Vector& v) const {
   return 0.5 * v.dot(work_);
 }
 
+double Dynamics::kinetic_energy(const Vector& v, const Vector& x, Vector& Mx) const {
+  // Eigen's column-major sparse × dense product, written out for two right-hand sides: each result
+  // entry takes the same terms in the same order (column by column), hence the same bits.
+  work_.setZero(size());
+  Mx.setZero(size());
+  for (int j = 0; j < mass_.outerSize(); ++j) {
+    const double vj = v(j), xj = x(j);
+    for (SparseMatrix::InnerIterator it(mass_, j); it; ++it) {
+      work_(it.index()) += it.value() * vj;
+      Mx(it.index()) += it.value() * xj;
+    }
+  }
+  return 0.5 * v.dot(work_);
+}
+
 const Vector& Dynamics::linear_body_products(const Vector& q) const {
   if (kept_positions_.size() == q.size() &&
       std::equal(q.data(), q.data() + q.size(), kept_positions_.data()))

@@ -94,6 +94,9 @@ class Dynamics {
   // at the same q (to the bit) then reuses (Body::stiffness_product).
   double elastic_energy(const Vector& q) const;
   double kinetic_energy(const Vector& v) const;  // J: ½ vᵀ M v
+  // The same, with M x into Mx in the same pass over M (a large body's M is read once, not twice); each
+  // the same to the bit as its own product.
+  double kinetic_energy(const Vector& v, const Vector& x, Vector& Mx) const;
 
   bool has_elastic_bodies() const { return has_elastic_bodies_; }
   bool has_springs() const { return !world_.springs.empty(); }

@@ -441,7 +441,13 @@ void MoreauJean::account_energy(State& state) {
   for (int a = 0; a < static_cast<int>(r_.size()); ++a)
     e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a].dot(v_theta_) : equality_dot(a - contact_rows, v_theta_));
   dv_ = v_next_ - state.v;
-  operators_.apply_mass(dv_, work_);
+  double kinetic = 0.0;
+  if (operators_.sparse()) {  // M Δv and ½ vᵀ M v in one pass over a large M
+    kinetic = dynamics_.kinetic_energy(v_next_, dv_, work_);
+  } else {
+    operators_.apply_mass(dv_, work_);
+    kinetic = dynamics_.kinetic_energy(v_next_);
+  }
   double numerical = dv_.dot(work_);
   if (operators_.nonlinear()) {  // −Δq·(f(q_{k+1}) − f(q_k)), f at Newton's last iterate (see the header)
     numerical -= h * v_theta_.dot(f_iterate_ - f_start_);
@@ -459,7 +465,7 @@ void MoreauJean::account_energy(State& state) {
     operators_.apply_damping(v_theta_, work_);
     e.damping_dissipation += h * v_theta_.dot(work_);
   }
-  e.kinetic = dynamics_.kinetic_energy(v_next_);
+  e.kinetic = kinetic;
   e.elastic = dynamics_.elastic_energy(q_next_);
   e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
 }

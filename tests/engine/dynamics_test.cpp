@@ -257,6 +257,24 @@ TEST(Dynamics, KeptStiffnessProductFollowsThePositions) {
   EXPECT_GT((f1 - f2).norm(), 1e-3 * f1.norm());
 }
 
+// ½ vᵀ M v with M x in the same pass over M (a Moreau–Jean step's energy balance) gives each the same
+// bits as its own product, on an elastic body's consistent mass.
+TEST(Dynamics, KineticEnergyWithAMassProductIsBothProducts) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml", {"parameters.divisions=6"});
+  const Dynamics dynamics(scene->world);
+  Vector v(dynamics.size()), x(dynamics.size());
+  for (int i = 0; i < v.size(); ++i) {
+    v(i) = std::sin(1.0 + 3.0 * i) * (1.0 + i);
+    x(i) = 1e-3 * std::cos(2.0 + i) / (1.0 + i);
+  }
+  Vector Mx;
+  const double kinetic = dynamics.kinetic_energy(v, x, Mx);
+  EXPECT_EQ(kinetic, dynamics.kinetic_energy(v));
+  const Vector expected = dynamics.mass() * x;
+  EXPECT_TRUE(Mx == expected);
+  EXPECT_GT(Mx.norm(), 0.0);
+}
+
 // An elastic body's weight is formed once by Dynamics (it reads all of M): at any q it is the body's own
 // add_weight into zeros, to the bit (box-on-block-3d: a HEXA8 block under gravity; the box on it
 // carries the push load too, and is not compared).
