@@ -341,6 +341,12 @@ void CollisionWorld::set_node_positions(int object, const std::vector<Eigen::Vec
 }
 
 
+const std::vector<int>& CollisionWorld::surface_nodes(int object) const {
+  const Impl::Object& o = impl_->objects.at(object);
+  if (!o.surface) throw std::invalid_argument("surface_nodes: object is not a deformable surface");
+  return o.surface->nodes;
+}
+
 int CollisionWorld::object_count() const { return static_cast<int>(impl_->objects.size()); }
 
 }  // namespace csim

@@ -54,7 +54,10 @@ class CollisionWorld {
   // World pose of the object's shape frame. Call for the moving objects, then update().
   void set_pose(int object, const Eigen::Isometry3d& pose);
   // Current node positions of a deformable surface (all its nodes, as given to add_…); then update().
+  // Only the entries of surface_nodes(object) are read.
   void set_node_positions(int object, const std::vector<Eigen::Vector3d>& node_positions);
+  // The nodes a deformable surface's geometry names (its faces, contact nodes and curve), ascending.
+  const std::vector<int>& surface_nodes(int object) const;
 
   // Refreshes AABBs (inflated by margin, m, ≥ 0) and the manager (FCL's update()).
   void update(double margin);

@@ -127,8 +127,9 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;
     if (object_shape_[o] < 0) {
-      b.body->surface_node_positions(b.positions(q), node_positions_);
-      collision_->set_node_positions(static_cast<int>(o), node_positions_);
+      if (node_positions_.size() <= o) node_positions_.resize(o + 1);
+      b.body->surface_node_positions(b.positions(q), collision_->surface_nodes(static_cast<int>(o)), node_positions_[o]);
+      collision_->set_node_positions(static_cast<int>(o), node_positions_[o]);
       continue;
     }
     collision_->set_pose(static_cast<int>(o),

@@ -40,7 +40,8 @@ class ContactDetector {
   std::unique_ptr<CollisionWorld> collision_;
   std::vector<int> object_body_;   // collision object → body index
   std::vector<int> object_shape_;  // collision object → shape index in its body, −1 for a deformable surface
-  std::vector<Eigen::Vector3d> node_positions_;  // work buffer for the elastic bodies' surfaces
+  // Each deformable surface's node positions by collision object (its body's nodes; the surface's kept current).
+  std::vector<std::vector<Eigen::Vector3d>> node_positions_;
   std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
   std::vector<ContactPoint> points_;
 };

@@ -165,6 +165,12 @@ class Body {
   virtual void surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::Vector3d>& positions) const {
     positions.clear();
   }
+  // The same for the listed nodes alone (a detection refreshes the nodes its surface's geometry names,
+  // a small part of a large body's): positions is sized to every node, its other entries are kept.
+  virtual void surface_node_positions(const ConstVectorRef& q, const std::vector<int>& nodes,
+                                      std::vector<Eigen::Vector3d>& positions) const {
+    positions.clear();
+  }
   // The Jacobian of a point of the contact surface given by its nodes and weights (a contact's
   // SurfacePoint): Σ weight · (the node's columns). Empty for a body without a contact surface.
   virtual PointJacobian surface_point_jacobian(const ConstVectorRef& q, const SurfacePoint& point) const { return {}; }

@@ -220,6 +220,12 @@ void FeBody::surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::
     positions[n] = mesh_.nodes[n] + node_displacement(q, static_cast<int>(n));
 }
 
+void FeBody::surface_node_positions(const ConstVectorRef& q, const std::vector<int>& nodes,
+                                    std::vector<Eigen::Vector3d>& positions) const {
+  if (positions.size() != mesh_.nodes.size()) positions.assign(mesh_.nodes.begin(), mesh_.nodes.end());
+  for (int n : nodes) positions[n] = mesh_.nodes[n] + node_displacement(q, n);
+}
+
 void FeBody::add_weight(const ConstVectorRef&, const Eigen::Vector3d& g, VectorRef f) const {
   Eigen::VectorXd uniform(free_count_);
   for (int node = 0; node < static_cast<int>(mesh_.nodes.size()); ++node)

@@ -64,6 +64,8 @@ class FeBody final : public Body {
   // curve through quad4 boundary nodes and the quadratic quad8 edges.
   std::optional<ContactSurface> contact_surface(bool smoothed) const override;
   void surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::Vector3d>& positions) const override;
+  void surface_node_positions(const ConstVectorRef& q, const std::vector<int>& nodes,
+                              std::vector<Eigen::Vector3d>& positions) const override;
   int node_count() const override { return static_cast<int>(mesh_.nodes.size()); }
   int node_components() const override { return dofs_per_node(); }
   Eigen::Vector3d node_reference(int node) const override { return mesh_.nodes[node]; }

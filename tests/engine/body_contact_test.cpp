@@ -135,6 +135,15 @@ TEST(BodyContact, ElasticSurfacePointMovesWithItsJacobian) {
   ASSERT_EQ(at_q.size(), 6u);
   for (int node = 0; node < 6; ++node)
     EXPECT_LT((at_q[node] - body.mesh().nodes[node] - body.node_displacement(q, node)).norm(), 1e-15);
+  // The listed nodes alone (a detection's): theirs are the same to the bit, the others kept as they were.
+  std::vector<Eigen::Vector3d> listed;
+  body.surface_node_positions(q, {1, 4}, listed);
+  ASSERT_EQ(listed.size(), 6u);
+  for (int node = 0; node < 6; ++node)
+    EXPECT_EQ(listed[node], node == 1 || node == 4 ? at_q[node] : body.mesh().nodes[node]) << node;
+  body.surface_node_positions(q + v, {4}, listed);
+  EXPECT_EQ(listed[4], at_q_plus_v[4]);
+  EXPECT_EQ(listed[1], at_q[1]);
   // A point of the bottom edge between a held node and a free one, a quarter of the way along: its
   // position is linear in q, so J v is exactly its motion from q to q + v.
   SurfacePoint point;
