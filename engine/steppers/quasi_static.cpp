@@ -423,8 +423,9 @@ void QuasiStatic::step(State& state) {
   ++c.steps;
   c.contact_points += static_cast<long>(state.contacts.size());
   c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
-  state.energy.elastic = dynamics_.elastic_energy(state.q);
 }
+
+void QuasiStatic::measure_energy(State& state) const { state.energy.elastic = dynamics_.elastic_energy(state.q); }
 
 // Brings state to t_next; when Newton fails, as two halves, each of which may be halved again, down
 // to max_cutbacks halvings (the loading path is a function of t, so any t in between is a load step).

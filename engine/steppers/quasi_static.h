@@ -116,6 +116,7 @@ class QuasiStatic final : public Stepper {
 
   void initialize(State& state) override;
   void step(State& state) override;
+  void measure_energy(State& state) const override;  // the elastic energy at state.q
   void summarize_statistics(const State& state, SummaryEntries& out) const override;
   bool tracks_energy_balance() const override { return false; }  // the elastic energy only
 
