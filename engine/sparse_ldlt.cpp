@@ -323,25 +323,26 @@ void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
     ++kept_delassus_;
     return;
   }
-  // Y = L⁻¹ P Hᵀ, column by column from H's nonzeros.
-  Y_.setZero(n, m);
+  // Y = L⁻¹ P Hᵀ, column by column from H's nonzeros: its sparse columns, and Y_ dense, which is zero
+  // between calls of the same shape (the entries written are cleared at the end, not all n × m).
+  if (Y_.rows() != n || Y_.cols() != m) Y_.setZero(n, m);
+  columns_.resize(m);
   for (int a = 0; a < m; ++a) {
     const int first = row_nonzeros_[a];
-    forward(row_index_.data() + first, row_value_.data() + first, row_nonzeros_[a + 1] - first, column_);
-    for (std::size_t k = 0; k < column_.index.size(); ++k) Y_(column_.index[k], a) = column_.value[k];
+    forward(row_index_.data() + first, row_value_.data() + first, row_nonzeros_[a + 1] - first, columns_[a]);
+    for (std::size_t k = 0; k < columns_[a].index.size(); ++k) Y_(columns_[a].index[k], a) = columns_[a].value[k];
   }
-  // The columns that reach each row of Y, gathered along Y's columns (two passes in storage order, not
-  // one across them).
+  // The columns that reach each row of Y with a nonzero, in column order, from the sparse columns.
   row_start_.assign(n + 1, 0);
   for (int c = 0; c < m; ++c)
-    for (int i = 0; i < n; ++i)
-      if (Y_(i, c) != 0.0) ++row_start_[i + 1];
+    for (std::size_t k = 0; k < columns_[c].index.size(); ++k)
+      if (columns_[c].value[k] != 0.0) ++row_start_[columns_[c].index[k] + 1];
   for (int i = 0; i < n; ++i) row_start_[i + 1] += row_start_[i];
   row_columns_.resize(row_start_[n]);
   fill_.assign(row_start_.begin(), row_start_.end() - 1);
   for (int c = 0; c < m; ++c)
-    for (int i = 0; i < n; ++i)
-      if (Y_(i, c) != 0.0) row_columns_[fill_[i]++] = c;
+    for (std::size_t k = 0; k < columns_[c].index.size(); ++k)
+      if (columns_[c].value[k] != 0.0) row_columns_[fill_[columns_[c].index[k]]++] = c;
   // W = Σ_i y_i y_iᵀ / D_i over the rows y_i of Y (D > 0: a positive definite factor). A row that few
   // columns reach (below the top separators of the elimination tree) adds its few products directly; the
   // denser rows, scaled by D^-1/2, go to one matrix product.
@@ -365,6 +366,8 @@ void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
   for (int k = 0; k < static_cast<int>(rows_.size()); ++k) compact_.row(k) = Y_.row(rows_[k]) / std::sqrt(D(rows_[k]));
   W.triangularView<Eigen::StrictlyLower>() = W.transpose().triangularView<Eigen::StrictlyLower>();
   W.noalias() += compact_.transpose() * compact_;
+  for (int c = 0; c < m; ++c)
+    for (int i : columns_[c].index) Y_(i, c) = 0.0;
   kept_W_ = W;
   kept_factorization_ = factorizations_;
   std::swap(kept_row_nonzeros_, row_nonzeros_);

@@ -81,7 +81,8 @@ class SparseLdlt {
   mutable bool tree_ready_ = false;
   mutable std::vector<int> mark_, reach_;  // forward's work space: a visit mark by column, the reach
   mutable Vector work_;                    // forward's dense work vector, zero between calls
-  Matrix Y_, compact_;                     // delassus' work space
+  Matrix Y_, compact_;                     // delassus' work space (Y_ zero between calls)
+  std::vector<ForwardColumn> columns_;     // Y's columns
   std::vector<int> rows_, row_start_, row_columns_, fill_;
   // H's nonzeros, row after row (row a: entries row_nonzeros_[a] to row_nonzeros_[a + 1]), and those
   // of the H whose W is kept_W_, made with the factorization kept_factorization_ (−1: none).
@@ -91,7 +92,6 @@ class SparseLdlt {
   std::vector<double> kept_row_value_;
   long kept_factorization_ = -1;
   Matrix kept_W_;
-  ForwardColumn column_;
   void analyse(const SparseMatrix& A);  // the ordering and symbolic factor of A's pattern
   void prepare_tree() const;
 };
