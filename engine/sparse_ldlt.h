@@ -21,8 +21,9 @@
 //
 // delassus keeps its last W with the nonzeros of the H it came from, and returns it while the factor
 // is the same (no factorization since) and H's nonzeros are the same to the bit: the quasi-static
-// stepper's modified Newton iterates solve with one factor, and a contact on flat ground keeps its rows
-// exactly (kept_factor.h). The same inputs give the same W, so keeping it changes no result.
+// stepper's modified Newton iterates solve with one factor (kept_factor.h), and a node on flat ground
+// keeps its rows exactly while nothing turns them (a ring whose hub turns has them turned with it,
+// reduced_coordinates.h). The same inputs give the same W, so keeping it changes no result.
 #pragma once
 
 #include "engine/bodies/body.h"
