@@ -14,6 +14,25 @@ bool held_at_reference(const PrescribedComponent& p) {
   return std::all_of(p.value.table.begin(), p.value.table.end(), [](const auto& point) { return point.second == 0.0; });
 }
 
+// Writes the entries' values into T when they fill its pattern one to one (every iterate of a run but
+// those where the unknowns or a hub column's nonzeros change): the matrix setFromTriplets would make,
+// without its assembly. False, with T's values partly written, when they do not.
+bool write_in_pattern(const Triplets& entries, SparseRowMatrix& T) {
+  if (!T.isCompressed() || T.nonZeros() != static_cast<Eigen::Index>(entries.size())) return false;
+  std::vector<char> written(entries.size(), 0);
+  for (const Eigen::Triplet<double>& entry : entries) {
+    const int* first = T.innerIndexPtr() + T.outerIndexPtr()[entry.row()];
+    const int* last = T.innerIndexPtr() + T.outerIndexPtr()[entry.row() + 1];
+    const int* found = std::find(first, last, entry.col());
+    if (found == last) return false;
+    const std::ptrdiff_t slot = found - T.innerIndexPtr();
+    if (written[slot]) return false;  // a repeated entry, which setFromTriplets would sum
+    written[slot] = 1;
+    T.valuePtr()[slot] = entry.value();
+  }
+  return true;
+}
+
 }  // namespace
 
 ReducedCoordinates::ReducedCoordinates(const World& world, double t) : world_(&world) {
@@ -279,6 +298,7 @@ void ReducedCoordinates::tangent(const Vector& q, SparseRowMatrix& T) const {
         if (f.unknown[k] >= 0) entries.emplace_back(f.dof[c], f.unknown[k], relative(c, k));
     }
   }
+  if (T.rows() == n && T.cols() == unknown_count_ && write_in_pattern(entries, T)) return;
   T.resize(n, unknown_count_);
   T.setFromTriplets(entries.begin(), entries.end());
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 namespace csim {
@@ -62,6 +63,11 @@ cholmod_sparse view_triangle(int n, const int* start, const int* row, const doub
   view.sorted = 1;
   view.packed = 1;
   return view;
+}
+
+// Whether a and b hold the same numbers to the bit (−0 is not 0, a NaN equals its own bits).
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
 
 // A column of n numbers as CHOLMOD reads a right-hand side, without a copy.
@@ -299,31 +305,44 @@ void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
   const int m = static_cast<int>(H.rows()), n = static_cast<int>(H.cols());
   W.resize(m, m);
   if (m == 0) return;
-  // Y = L⁻¹ P Hᵀ, column by column from H's nonzeros.
-  Y_.setZero(n, m);
+  // H's nonzeros, row by row: the right-hand sides of Y's columns, and what the kept W is checked with.
+  row_nonzeros_.assign(1, 0);
+  row_index_.clear();
+  row_value_.clear();
   for (int a = 0; a < m; ++a) {
-    row_index_.clear();
-    row_value_.clear();
     for (int k = 0; k < n; ++k)
       if (H(a, k) != 0.0) {
         row_index_.push_back(k);
         row_value_.push_back(H(a, k));
       }
-    forward(row_index_.data(), row_value_.data(), static_cast<int>(row_index_.size()), column_);
-    for (std::size_t k = 0; k < column_.index.size(); ++k) Y_(column_.index[k], a) = column_.value[k];
+    row_nonzeros_.push_back(static_cast<int>(row_index_.size()));
   }
-  // The columns that reach each row of Y, gathered along Y's columns (two passes in storage order, not
-  // one across them).
+  if (kept_factorization_ == factorizations_ && row_nonzeros_ == kept_row_nonzeros_ && row_index_ == kept_row_index_ &&
+      same_bits(row_value_, kept_row_value_)) {
+    W = kept_W_;
+    ++kept_delassus_;
+    return;
+  }
+  // Y = L⁻¹ P Hᵀ, column by column from H's nonzeros: its sparse columns, and Y_ dense, which is zero
+  // between calls of the same shape (the entries written are cleared at the end, not all n × m).
+  if (Y_.rows() != n || Y_.cols() != m) Y_.setZero(n, m);
+  columns_.resize(m);
+  for (int a = 0; a < m; ++a) {
+    const int first = row_nonzeros_[a];
+    forward(row_index_.data() + first, row_value_.data() + first, row_nonzeros_[a + 1] - first, columns_[a]);
+    for (std::size_t k = 0; k < columns_[a].index.size(); ++k) Y_(columns_[a].index[k], a) = columns_[a].value[k];
+  }
+  // The columns that reach each row of Y with a nonzero, in column order, from the sparse columns.
   row_start_.assign(n + 1, 0);
   for (int c = 0; c < m; ++c)
-    for (int i = 0; i < n; ++i)
-      if (Y_(i, c) != 0.0) ++row_start_[i + 1];
+    for (std::size_t k = 0; k < columns_[c].index.size(); ++k)
+      if (columns_[c].value[k] != 0.0) ++row_start_[columns_[c].index[k] + 1];
   for (int i = 0; i < n; ++i) row_start_[i + 1] += row_start_[i];
   row_columns_.resize(row_start_[n]);
   fill_.assign(row_start_.begin(), row_start_.end() - 1);
   for (int c = 0; c < m; ++c)
-    for (int i = 0; i < n; ++i)
-      if (Y_(i, c) != 0.0) row_columns_[fill_[i]++] = c;
+    for (std::size_t k = 0; k < columns_[c].index.size(); ++k)
+      if (columns_[c].value[k] != 0.0) row_columns_[fill_[columns_[c].index[k]]++] = c;
   // W = Σ_i y_i y_iᵀ / D_i over the rows y_i of Y (D > 0: a positive definite factor). A row that few
   // columns reach (below the top separators of the elimination tree) adds its few products directly; the
   // denser rows, scaled by D^-1/2, go to one matrix product.
@@ -347,6 +366,13 @@ void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
   for (int k = 0; k < static_cast<int>(rows_.size()); ++k) compact_.row(k) = Y_.row(rows_[k]) / std::sqrt(D(rows_[k]));
   W.triangularView<Eigen::StrictlyLower>() = W.transpose().triangularView<Eigen::StrictlyLower>();
   W.noalias() += compact_.transpose() * compact_;
+  for (int c = 0; c < m; ++c)
+    for (int i : columns_[c].index) Y_(i, c) = 0.0;
+  kept_W_ = W;
+  kept_factorization_ = factorizations_;
+  std::swap(kept_row_nonzeros_, row_nonzeros_);
+  std::swap(kept_row_index_, row_index_);
+  std::swap(kept_row_value_, row_value_);
 }
 
 }  // namespace csim

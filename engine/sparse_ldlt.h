@@ -18,6 +18,12 @@
 // part of a solve (which reads all of L twice) and holds a small part of the n entries of A⁻¹ hᵀ.
 // forward gives one such sparse column (kept by the caller, e.g. per contact; delassus_cache.h),
 // delassus_entry one entry of W from two of them, delassus all of W for dense rows H.
+//
+// delassus keeps its last W with the nonzeros of the H it came from, and returns it while the factor
+// is the same (no factorization since) and H's nonzeros are the same to the bit: the quasi-static
+// stepper's modified Newton iterates solve with one factor (kept_factor.h), and a node on flat ground
+// keeps its rows exactly while nothing turns them (a ring whose hub turns has them turned with it,
+// reduced_coordinates.h). The same inputs give the same W, so keeping it changes no result.
 #pragma once
 
 #include "engine/bodies/body.h"
@@ -45,7 +51,8 @@ class SparseLdlt {
   bool factor_positive_definite(const SparseMatrix& A);
   Vector solve(const Vector& b) const;  // A⁻¹ b
   void solve_in_place(Vector& x) const;  // x ← A⁻¹ x
-  // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage.
+  // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage. The last W when neither the factor nor H's
+  // nonzeros changed since (see above).
   void delassus(const Matrix& H, Matrix& W);
   // y ← L⁻¹ P hᵀ for the row h = Σ_k value[k] e_{index[k]}ᵀ (count entries, distinct indices).
   void forward(const int* index, const double* value, int count, ForwardColumn& y) const;
@@ -60,13 +67,14 @@ class SparseLdlt {
   int size() const;                            // n
   long analyses() const { return analyses_; }  // symbolic analyses so far
   long factorizations() const { return factorizations_; }
+  long kept_delassus() const { return kept_delassus_; }  // delassus calls that returned the last W
   double factor_nonzeros() const;              // entries of L, its diagonal (D) included
 
  private:
   struct Cholmod;
   std::unique_ptr<Cholmod> cholmod_;
   std::vector<int> outer_, inner_;  // the pattern the analysis was made for
-  long analyses_ = 0, factorizations_ = 0;
+  long analyses_ = 0, factorizations_ = 0, kept_delassus_ = 0;
   // The elimination tree (parent of each column of L, −1 at a root) and the diagonal D, read from L
   // after each factorization when forward asks.
   mutable std::vector<int> parent_;
@@ -74,11 +82,17 @@ class SparseLdlt {
   mutable bool tree_ready_ = false;
   mutable std::vector<int> mark_, reach_;  // forward's work space: a visit mark by column, the reach
   mutable Vector work_;                    // forward's dense work vector, zero between calls
-  Matrix Y_, compact_;                     // delassus' work space
+  Matrix Y_, compact_;                     // delassus' work space (Y_ zero between calls)
+  std::vector<ForwardColumn> columns_;     // Y's columns
   std::vector<int> rows_, row_start_, row_columns_, fill_;
-  std::vector<int> row_index_;             // a row of H's nonzeros, for forward
+  // H's nonzeros, row after row (row a: entries row_nonzeros_[a] to row_nonzeros_[a + 1]), and those
+  // of the H whose W is kept_W_, made with the factorization kept_factorization_ (−1: none).
+  std::vector<int> row_nonzeros_, row_index_;
   std::vector<double> row_value_;
-  ForwardColumn column_;
+  std::vector<int> kept_row_nonzeros_, kept_row_index_;
+  std::vector<double> kept_row_value_;
+  long kept_factorization_ = -1;
+  Matrix kept_W_;
   void analyse(const SparseMatrix& A);  // the ordering and symbolic factor of A's pattern
   void prepare_tree() const;
 };

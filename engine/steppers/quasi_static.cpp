@@ -220,7 +220,12 @@ void QuasiStatic::detect_contacts(const State& state, double t_next) {
   const int nc = static_cast<int>(candidates_.size());
   active_ = candidates_;
   const int m = d_ * nc, nz = reduced_.size();
-  H_.setZero(m, nz);
+  // H_ is zero but for the entries the last detection wrote: those are cleared, not all m × nz.
+  if (H_.rows() == m && H_.cols() == nz)
+    for (Eigen::Index entry : H_written_) H_.data()[entry] = 0.0;
+  else
+    H_.setZero(m, nz);
+  H_written_.clear();
   problem_.dimension = d_;
   problem_.contacts = nc;
   problem_.equalities = 0;
@@ -229,7 +234,10 @@ void QuasiStatic::detect_contacts(const State& state, double t_next) {
   for (int a = 0; a < m; ++a) {
     const SparseRow& row = rows_[a];
     for (int k = 0; k < row.count; ++k)
-      for (SparseRowMatrix::InnerIterator it(T_, row.index[k]); it; ++it) H_(a, it.col()) += row.value[k] * it.value();
+      for (SparseRowMatrix::InnerIterator it(T_, row.index[k]); it; ++it) {
+        H_(a, it.col()) += row.value[k] * it.value();
+        H_written_.push_back(a + it.col() * m);  // column-major
+      }
   }
   for (int i = 0; i < nc; ++i) problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t_next);
   offset_.setZero(m);
@@ -423,8 +431,9 @@ void QuasiStatic::step(State& state) {
   ++c.steps;
   c.contact_points += static_cast<long>(state.contacts.size());
   c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
-  state.energy.elastic = dynamics_.elastic_energy(state.q);
 }
+
+void QuasiStatic::measure_energy(State& state) const { state.energy.elastic = dynamics_.elastic_energy(state.q); }
 
 // Brings state to t_next; when Newton fails, as two halves, each of which may be halved again, down
 // to max_cutbacks halvings (the loading path is a function of t, so any t in between is a load step).

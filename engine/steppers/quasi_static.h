@@ -116,6 +116,7 @@ class QuasiStatic final : public Stepper {
 
   void initialize(State& state) override;
   void step(State& state) override;
+  void measure_energy(State& state) const override;  // the elastic energy at state.q
   void summarize_statistics(const State& state, SummaryEntries& out) const override;
   bool tracks_energy_balance() const override { return false; }  // the elastic energy only
 
@@ -193,6 +194,7 @@ class QuasiStatic final : public Stepper {
   Vector held_load() const;    // H_Aᵀ c̃_A over the held rows (ρ times it leaves the load with them)
   std::vector<SparseRow> rows_;
   Matrix H_;                   // the contact rows over z, H_z
+  std::vector<Eigen::Index> H_written_;  // the entries of H_ its last detection wrote (the others are zero)
   Vector free_increment_;      // K⁻¹ f_aug: the increment without contact forces
   FrictionContactProblem problem_;
 };

@@ -22,6 +22,11 @@ class Stepper {
   virtual ~Stepper() = default;
   virtual void initialize(State& state) = 0;  // fills the initial energies, counters
   virtual void step(State& state) = 0;
+  // The energies that step() leaves to be asked for, into state.energy: the run asks after each step
+  // whose probes read an energy, and at its end. Only the quasi-static stepper leaves one, its elastic
+  // energy (a pass over every element that its step does not need); the others close a balance of
+  // work at every step.
+  virtual void measure_energy(State&) const {}
   // The stepper's part of the run summary: its own settings (written after the integrator's name) and
   // its statistics at the end of a run from `state` (written after the contact solver's).
   virtual void summarize_settings(SummaryEntries&) const {}

@@ -4,12 +4,15 @@
 // floating frame (a hub rotation leaves the strain energy unchanged); the same in 3D, where the hub's
 // rotation and the ground's are quaternions moved by increments, and the 3D ring held in z rolls as
 // the plane one; the frame's reduction of the stiffness (a ring evaluated in its hub's frame) against
-// the world's sparse product.
+// the world's sparse product; a tangent written over the last one is a new one, bit for bit.
 #include "engine/reduced_coordinates.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
 
 namespace csim {
 namespace {
@@ -74,6 +77,37 @@ TEST(ReducedCoordinates, TangentMatchesFiniteDifferences) {
     worst = std::max(worst, ((q_plus - q_minus) / (2 * h) - dense.col(k)).lpNorm<Eigen::Infinity>());
   }
   EXPECT_LT(worst, 1e-9);
+}
+
+// Whether two sparse matrices have the same pattern and the same values to the bit.
+bool same_bits(const SparseRowMatrix& a, const SparseRowMatrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() &&
+         std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.outerSize() + 1, b.outerIndexPtr()) &&
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr()) &&
+         std::memcmp(a.valuePtr(), b.valuePtr(), sizeof(double) * static_cast<std::size_t>(a.nonZeros())) == 0;
+}
+
+TEST(ReducedCoordinates, ATangentWrittenOverTheLastIsANewOne) {
+  // T is written in place while its pattern stays (reduced_coordinates.cpp): at another state, with the
+  // hub at its reference, and for other unknowns (the press), the same matrix as a new one, bit for bit.
+  const auto scene = coarse_ring();
+  const World& world = scene->world;
+  const ReducedCoordinates rolling(world, 2.0), pressing(world, 0.5);
+  Vector q;
+  SparseRowMatrix T;
+  const auto expect_new = [&](const ReducedCoordinates& reduced, const Vector& z) {
+    reduced.expand(z, 2.0, q);
+    SparseRowMatrix fresh;
+    reduced.tangent(q, fresh);
+    reduced.tangent(q, T);
+    EXPECT_TRUE(same_bits(T, fresh));
+  };
+  const Vector z = some_state(rolling, world);
+  expect_new(rolling, z);
+  expect_new(rolling, 0.5 * z);
+  expect_new(rolling, Vector::Zero(rolling.size()));
+  expect_new(pressing, Vector::Constant(pressing.size(), 0.01));
+  expect_new(rolling, z);
 }
 
 TEST(ReducedCoordinates, GeometricStiffnessIsTheSecondDerivativeOfTheFrame) {

@@ -1,10 +1,13 @@
 // The sparse LDLᵀ of the steppers (engine/sparse_ldlt.h, on CHOLMOD): its Delassus operator from the
 // forward substitution alone against H A⁻¹ Hᵀ from dense algebra, its sparse forward columns, its
-// positive-definiteness verdict, and the reuse of its symbolic analysis while the pattern stays.
+// positive-definiteness verdict, the reuse of its symbolic analysis while the pattern stays, and the
+// Delassus operator it keeps while neither the factor nor the rows change.
 #include "engine/sparse_ldlt.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <random>
 
 namespace csim {
@@ -165,6 +168,57 @@ TEST(SparseLdlt, ForwardColumnsGiveTheDelassusOperatorOfARandomSparseMatrix) {
   factor.back_substitute(z, v);
   const Vector expected_v = Matrix(A).ldlt().solve(H.transpose() * r);
   EXPECT_LE((v - expected_v).lpNorm<Eigen::Infinity>(), 1e-11 * expected_v.lpNorm<Eigen::Infinity>());
+}
+
+// Whether two matrices hold the same numbers to the bit.
+bool same_bits(const Matrix& a, const Matrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
+
+TEST(SparseLdlt, KeepsTheDelassusOperatorWhileTheFactorAndTheRowsStayTheSameToTheBit) {
+  std::mt19937 random(5);
+  const SparseMatrix A = random_grid(8, random);
+  const int n = static_cast<int>(A.rows()), m = 6;
+  std::uniform_int_distribution<int> unknown(0, n - 1);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Matrix H = Matrix::Zero(m, n);
+  for (int a = 0; a < m; ++a)
+    for (int k = 0; k < 3; ++k) H(a, unknown(random)) = uniform(random);
+  SparseLdlt factor, fresh;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  Matrix first, kept, recomputed;
+  factor.delassus(H, first);
+  factor.delassus(H, kept);
+  EXPECT_EQ(factor.kept_delassus(), 1);
+  ASSERT_TRUE(fresh.factor_positive_definite(A));
+  fresh.delassus(H, recomputed);
+  EXPECT_TRUE(same_bits(kept, recomputed));
+  EXPECT_TRUE(same_bits(kept, first));
+  // A value one ulp away, an entry moved to another unknown, a row fewer, another factor: W of its own.
+  const auto expect_recomputed = [&](const SparseMatrix& matrix, const Matrix& rows) {
+    SparseLdlt other;
+    ASSERT_TRUE(other.factor_positive_definite(matrix));
+    Matrix expected, W;
+    other.delassus(rows, expected);
+    factor.delassus(rows, W);
+    EXPECT_TRUE(same_bits(W, expected));
+    EXPECT_EQ(factor.kept_delassus(), 1);
+  };
+  int row = 2, column = 0;
+  while (H(row, column) == 0.0) ++column;
+  Matrix changed = H;
+  changed(row, column) = std::nextafter(H(row, column), 2.0);
+  expect_recomputed(A, changed);
+  Matrix moved = H;
+  moved(row, column) = 0.0;
+  moved(row, (column + 1) % n) += H(row, column);
+  expect_recomputed(A, moved);
+  expect_recomputed(A, H.topRows(m - 1));
+  expect_recomputed(A, H);
+  const SparseMatrix stiffer = 2.0 * A;
+  ASSERT_TRUE(factor.factor_positive_definite(stiffer));
+  expect_recomputed(stiffer, H);
 }
 
 TEST(SparseLdlt, SolvesLikeADenseFactorizationAfterARefactorization) {

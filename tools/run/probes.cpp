@@ -36,6 +36,12 @@ void ProbeEvaluator::evaluate(const State& state, std::vector<double>& values) c
   for (std::size_t i = 0; i < run_.probes.size(); ++i) values[i] = run_.probes[i].scale * unscaled(i, state);
 }
 
+bool ProbeEvaluator::reads_energy() const {
+  for (const ProbeDefinition& p : run_.probes)
+    if (p.kind == ProbeDefinition::Kind::energy) return true;
+  return false;
+}
+
 double ProbeEvaluator::unscaled(std::size_t i, const State& state) const {
   using Kind = ProbeDefinition::Kind;
   const ProbeDefinition& p = run_.probes[i];

@@ -29,6 +29,7 @@ class ProbeEvaluator {
  public:
   ProbeEvaluator(const World& world, const RunSettings& run);
   void evaluate(const State& state, std::vector<double>& values) const;
+  bool reads_energy() const;  // whether a probe reads a term of State::energy (Stepper::measure_energy)
 
  private:
   // A probe's energy term or force component, resolved once from its name: a probe is evaluated at

@@ -145,11 +145,13 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   output_row(values);
   double next_output = rate;
 
+  const bool energy_probes = probes.reads_energy();
   Progress progress(options.progress);
   const auto start = std::chrono::steady_clock::now();
   for (long k = 0; k < steps; ++k) {
     honour_stop_request();
     stepper.step(state);
+    if (energy_probes) stepper.measure_energy(state);
     // Events inside the step (stick/slip switches of ida-events) are exact samples.
     for (const EventSample& event : state.events) {
       State at_event = state;
@@ -167,6 +169,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     }
     progress.update(state.t, run.end_time);
   }
+  stepper.measure_energy(state);  // for the summary
   report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.checks = checks.finish(state.t);
   stepper.summarize_settings(report.stepper_settings);
