@@ -88,6 +88,16 @@ cholmod_dense dense_view(double* value, int n) {
 SparseLdlt::SparseLdlt() : cholmod_(std::make_unique<Cholmod>()) {}
 SparseLdlt::~SparseLdlt() = default;
 
+void SparseLdlt::release_pattern() {
+  Cholmod& c = *cholmod_;
+  std::vector<int>().swap(outer_);  // an empty pattern matches no matrix: the next factorization analyses
+  std::vector<int>().swap(inner_);
+  std::vector<int>().swap(c.upper_start);
+  std::vector<int>().swap(c.upper_row);
+  std::vector<int>().swap(c.slot);
+  std::vector<double>().swap(c.upper_value);
+}
+
 int SparseLdlt::size() const { return cholmod_->factor ? static_cast<int>(cholmod_->factor->n) : 0; }
 
 double SparseLdlt::factor_nonzeros() const {

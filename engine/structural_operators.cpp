@@ -113,6 +113,8 @@ void StructuralOperators::update_coefficients(const Vector& q, double damping_co
     // The symbolic analysis depends only on the pattern, which K's refresh keeps (sparse_ldlt.h).
     if (nonlinear_) factor_regularized(A);
     else sparse_factor_.factor_positive_definite(A);
+    // A constant A is factored once: the map kept for refactorizations goes (10 MB at 52k DOFs).
+    if (!nonlinear_ && dynamics_.constant_stiffness()) sparse_factor_.release_pattern();
   } else {
     if (dynamics_.has_springs()) {
       dynamics_.spring_stiffness(q, dense_stiffness_);

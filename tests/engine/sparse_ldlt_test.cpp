@@ -221,6 +221,29 @@ TEST(SparseLdlt, KeepsTheDelassusOperatorWhileTheFactorAndTheRowsStayTheSameToTh
   expect_recomputed(stiffer, H);
 }
 
+// A factor whose pattern map was released (a constant A, factored once) solves and gives forward
+// columns as before, to the bit; a later factorization analyses the pattern again and gives the same factor.
+TEST(SparseLdlt, ReleasedPatternKeepsTheFactorAndIsAnalysedAgain) {
+  std::mt19937 random(11);
+  const SparseMatrix A = random_grid(6, random);
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  const Vector b = Vector::LinSpaced(A.rows(), -1.0, 3.0);
+  const int index[] = {3, 7};
+  const double value[] = {1.0, -0.5};
+  SparseLdlt::ForwardColumn before, after;
+  const Vector x = factor.solve(b);
+  factor.forward(index, value, 2, before);
+  factor.release_pattern();
+  EXPECT_TRUE(factor.solve(b) == x);
+  factor.forward(index, value, 2, after);
+  EXPECT_EQ(after.index, before.index);
+  EXPECT_EQ(after.value, before.value);
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  EXPECT_EQ(factor.analyses(), 2);
+  EXPECT_TRUE(factor.solve(b) == x);
+}
+
 TEST(SparseLdlt, SolvesLikeADenseFactorizationAfterARefactorization) {
   std::mt19937 random(7);
   SparseMatrix A = random_grid(6, random);
