@@ -203,6 +203,12 @@ void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   else out.noalias() = dense_mass_ * v;
 }
 
+double StructuralOperators::kinetic_energy(const Vector& v, Vector& work) const {
+  if (!mass_diagonal_) return dynamics_.kinetic_energy(v);
+  small_diagonal_multiply(mass_diagonal_entries_, v, work);
+  return 0.5 * v.dot(work);
+}
+
 void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = dynamics_.damping() * v;
   else if (explicit_inverse_) small_multiply(dense_damping_, v, out);

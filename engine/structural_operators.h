@@ -53,6 +53,9 @@ class StructuralOperators {
   // (delassus_cache.h).
   const SparseLdlt& sparse_factor() const { return sparse_factor_; }
   void apply_mass(const Vector& v, Vector& out) const;       // out = M v
+  // ½ vᵀ M v (J): Dynamics::kinetic_energy's value to the bit, a diagonal M applied by its diagonal
+  // (small_dense_products.h) into `work`.
+  double kinetic_energy(const Vector& v, Vector& work) const;
   void apply_stiffness(const Vector& v, Vector& out) const;  // out = K v
   void apply_damping(const Vector& v, Vector& out) const;    // out = C v
 

@@ -459,7 +459,7 @@ void MoreauJean::account_energy(State& state) {
     operators_.apply_damping(v_theta_, work_);
     e.damping_dissipation += h * v_theta_.dot(work_);
   }
-  e.kinetic = dynamics_.kinetic_energy(v_next_);
+  e.kinetic = operators_.kinetic_energy(v_next_, work_);
   e.elastic = dynamics_.elastic_energy(q_next_);
   e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
 }
