@@ -14,6 +14,22 @@ bool ascending(const PointJacobian& J) {
   return true;
 }
 
+// The distinct case of contact_rows for D rows: a column of J at a time into every row, the rows'
+// common entry count kept in a local (a store through a row's index array may alias its count).
+template <int D>
+void append_columns(int offset, const PointJacobian& J, double sign, const Eigen::Vector3d* const* axes,
+                    SparseRow* rows) {
+  int n = rows[0].count;
+  for (int j = 0; j < J.count; ++j, ++n) {
+    const int index = offset + J.index[j];
+    for (int k = 0; k < D; ++k) {
+      rows[k].index[n] = index;
+      rows[k].value[n] = sign * axes[k]->dot(J.column.col(j));
+    }
+  }
+  for (int k = 0; k < D; ++k) rows[k].count = n;
+}
+
 }  // namespace
 
 void contact_rows(const World& world, int body_a, const PointJacobian& point_a, int body_b,
@@ -31,12 +47,8 @@ void contact_rows(const World& world, int body_a, const PointJacobian& point_a, 
     const PointJacobian& J = *jacobians[side];
     const double sign = side == 0 ? -1.0 : 1.0;
     if (distinct) {
-      for (int j = 0; j < J.count; ++j)
-        for (int k = 0; k < dimension; ++k) {
-          SparseRow& row = rows[k];
-          row.index[row.count] = b.velocity_offset + J.index[j];
-          row.value[row.count++] = sign * axes[k]->dot(J.column.col(j));
-        }
+      if (dimension == 2) append_columns<2>(b.velocity_offset, J, sign, axes, rows);
+      else append_columns<3>(b.velocity_offset, J, sign, axes, rows);
       continue;
     }
     for (int k = 0; k < dimension; ++k)

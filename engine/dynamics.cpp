@@ -105,8 +105,10 @@ void Dynamics::add_inertial_forces(const Vector& v, Vector& f) const {
                                  f.segment(b.velocity_offset, b.body->velocity_size()));
 }
 
-void Dynamics::add_internal_forces(const Vector& q, Vector& f) const {
-  add_spring_forces(q, f);
+void Dynamics::add_internal_forces(const Vector& q, Vector& f) const { add_internal_forces(q, f, nullptr); }
+
+void Dynamics::add_internal_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns) const {
+  add_spring_forces(q, f, spring_columns);
   add_body_internal_forces(q, f);
 }
 
@@ -284,6 +286,18 @@ Entries entries_of(const SpringEnds& ends) {
   return entries;
 }
 
+// Appends a spring's ends' Jacobian columns to columns from `size` on (spring_jacobian_columns' layout:
+// end a's columns, then end b's).
+void append_jacobian_columns(const SpringEnds& ends, std::vector<double>& columns, std::size_t& size) {
+  const PointJacobian* sides[2] = {&ends.a, &ends.b};
+  for (int side = 0; side < (ends.has_b ? 2 : 1); ++side) {
+    const PointJacobian& J = *sides[side];
+    if (columns.size() < size + 3 * J.count) columns.resize(size + 3 * J.count);
+    std::copy(J.column.data(), J.column.data() + 3 * J.count, columns.data() + size);
+    size += 3 * J.count;
+  }
+}
+
 }  // namespace
 
 void Dynamics::add_spring_stiffness(const Vector& q, Triplets& K) const {
@@ -353,11 +367,22 @@ Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) 
   return d;
 }
 
-void Dynamics::add_spring_forces(const Vector& q, Vector& f) const {
-  for (const Spring& s : world_.springs) {
-    const Eigen::Vector3d force_on_a = -s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q));
-    for (const Entry& e : entries_of(spring_ends(world_, s, q))) f(e.index) += e.column.dot(force_on_a);
+void Dynamics::add_spring_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns) const {
+  if (!spring_columns) {
+    for (const Spring& s : world_.springs) {
+      const Eigen::Vector3d force_on_a = -s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q));
+      for (const Entry& e : entries_of(spring_ends(world_, s, q))) f(e.index) += e.column.dot(force_on_a);
+    }
+    return;
   }
+  std::size_t size = 0;
+  for (const Spring& s : world_.springs) {  // the same forces, the ends' columns kept on the way
+    const Eigen::Vector3d force_on_a = -s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q));
+    const SpringEnds ends = spring_ends(world_, s, q);
+    for (const Entry& e : entries_of(ends)) f(e.index) += e.column.dot(force_on_a);
+    append_jacobian_columns(ends, *spring_columns, size);
+  }
+  spring_columns->resize(size);
 }
 
 // A lumped World's A is rebuilt from this whenever a body with a spring turns: P J_j is formed once
@@ -378,16 +403,7 @@ void Dynamics::spring_stiffness(const Vector& q, Matrix& K) const {
 
 void Dynamics::spring_jacobian_columns(const Vector& q, std::vector<double>& columns) const {
   std::size_t size = 0;
-  for (const Spring& s : world_.springs) {
-    const SpringEnds ends = spring_ends(world_, s, q);
-    const PointJacobian* sides[2] = {&ends.a, &ends.b};
-    for (int side = 0; side < (ends.has_b ? 2 : 1); ++side) {
-      const PointJacobian& J = *sides[side];
-      if (columns.size() < size + 3 * J.count) columns.resize(size + 3 * J.count);
-      std::copy(J.column.data(), J.column.data() + 3 * J.count, columns.data() + size);
-      size += 3 * J.count;
-    }
-  }
+  for (const Spring& s : world_.springs) append_jacobian_columns(spring_ends(world_, s, q), columns, size);
   columns.resize(size);
 }
 

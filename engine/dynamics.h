@@ -63,7 +63,10 @@ class Dynamics {
   void external(const Vector& q, double t_a, double t_b, Vector& f_a, Vector& f_b) const;
   void add_inertial_forces(const Vector& v, Vector& f) const;   // gyroscopic terms
   void add_internal_forces(const Vector& q, Vector& f) const;   // springs and bodies
-  void add_spring_forces(const Vector& q, Vector& f) const;
+  // The same, and the springs' Jacobian columns at q (spring_jacobian_columns' to the bit) from the
+  // ends the forces were computed with: a step that needs both takes the ends once.
+  void add_internal_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns) const;
+  void add_spring_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns = nullptr) const;
   void add_body_internal_forces(const Vector& q, Vector& f) const;
   void add_damping_force(const Vector& v, Vector& f) const;     // f −= C v
   // The internal forces and, when stiffness is given, their tangent K = −∂f/∂q as triplets, in one

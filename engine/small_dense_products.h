@@ -6,6 +6,8 @@
 
 #include "engine/bodies/body.h"
 
+#include <type_traits>
+
 namespace csim {
 
 namespace small_dense_detail {
@@ -39,7 +41,12 @@ void symmetric_gram(const Matrix& X, const Matrix& G, Matrix& W) {
   const Eigen::Index n = X.rows(), m = X.cols();
   W.resize(m, m);
   for (Eigen::Index b = 0; b < m; ++b) {
-    const Eigen::Map<const Column<N>> g(G.col(b).data(), n);
+    const Eigen::Map<const Column<N>> column(G.col(b).data(), n);
+    // n = 6 (a rigid body in space): G's column copied, since W's stores may alias G's storage and the
+    // map would be read again for every entry; the same values, so the same dot products. Smaller
+    // columns cost more to copy than to read again, and a dynamic one would allocate.
+    using Kept = std::conditional_t<N == 6, const Column<N>, const Eigen::Map<const Column<N>>&>;
+    Kept g = column;
     for (Eigen::Index a = 0; a <= b; ++a) W(a, b) = W(b, a) = Eigen::Map<const Column<N>>(X.col(a).data(), n).dot(g);
   }
 }

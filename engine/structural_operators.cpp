@@ -75,14 +75,16 @@ bool StructuralOperators::factored_for(const Vector& q, double damping_coefficie
   return true;
 }
 
-void StructuralOperators::update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient) {
+void StructuralOperators::update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient,
+                                              std::vector<double>* spring_columns) {
   if (factored_for(q, damping_coefficient, stiffness_coefficient)) return;
   // A is a function of K and its coefficients, and the springs' K of their Jacobian columns: a body
   // that turned by round-off alone (a shoe held flat by its contacts turns by 1e-25 rad) has the same
   // columns to the bit, and a dense A and its inverse are kept.
   const bool compare_columns = !sparse_ && !nonlinear_ && dynamics_.has_springs();
   if (compare_columns) {
-    dynamics_.spring_jacobian_columns(q, spring_columns_);
+    if (spring_columns) spring_columns_.swap(*spring_columns);  // the caller's, taken at q
+    else dynamics_.spring_jacobian_columns(q, spring_columns_);
     if (factored_ && damping_coefficient == factored_damping_ && stiffness_coefficient == factored_stiffness_ &&
         spring_columns_ == factored_spring_columns_) {
       for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
@@ -203,6 +205,12 @@ void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   else if (mass_diagonal_) small_diagonal_multiply(mass_diagonal_entries_, v, out);
   else if (explicit_inverse_) small_multiply(dense_mass_, v, out);
   else out.noalias() = dense_mass_ * v;
+}
+
+double StructuralOperators::kinetic_energy(const Vector& v, Vector& work) const {
+  if (!mass_diagonal_) return dynamics_.kinetic_energy(v);
+  small_diagonal_multiply(mass_diagonal_entries_, v, work);
+  return 0.5 * v.dot(work);
 }
 
 void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {

@@ -28,9 +28,21 @@ class StructuralOperators {
 
   // Refreshes K at q and refactors A when needed (always the first time).
   void update(const Vector& q, double h, double theta) { update_coefficients(q, h * theta, h * h * theta * theta); }
+  // Whether update(q, h, θ) compares the springs' Jacobian columns at q (a dense linear World with
+  // springs on turning bodies, whose orientation moved since A was formed; false also where update
+  // forms them itself, at the first step); then the caller may hand them over, taken with the springs'
+  // forces (Dynamics::add_internal_forces), and update uses (and takes) them instead of forming them.
+  bool compares_spring_columns(const Vector& q, double h, double theta) const {
+    return !sparse_ && !nonlinear_ && !dynamics_.spring_stiffness_coordinates().empty() &&
+           !factored_for(q, h * theta, h * h * theta * theta);
+  }
+  void update(const Vector& q, double h, double theta, std::vector<double>* spring_columns) {
+    update_coefficients(q, h * theta, h * h * theta * theta, spring_columns);
+  }
   // The same for A = M + c_C C + c_K K with the coefficients of another scheme (c_C in s, c_K in s²;
   // the generalized-α iteration matrix of generalized_alpha.h).
-  void update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient);
+  void update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient,
+                           std::vector<double>* spring_columns = nullptr);
   bool nonlinear() const { return nonlinear_; }  // a body's K depends on q (a finite-strain body)
   bool has_stiffness() const { return has_stiffness_; }
   bool has_damping() const { return has_damping_; }
@@ -53,6 +65,9 @@ class StructuralOperators {
   // (delassus_cache.h).
   const SparseLdlt& sparse_factor() const { return sparse_factor_; }
   void apply_mass(const Vector& v, Vector& out) const;       // out = M v
+  // ½ vᵀ M v (J): Dynamics::kinetic_energy's value to the bit, a diagonal M applied by its diagonal
+  // (small_dense_products.h) into `work`.
+  double kinetic_energy(const Vector& v, Vector& work) const;
   void apply_stiffness(const Vector& v, Vector& out) const;  // out = K v
   void apply_damping(const Vector& v, Vector& out) const;    // out = C v
 

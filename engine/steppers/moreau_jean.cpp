@@ -70,7 +70,7 @@ void MoreauJean::add_problem_row(int a, double scale, Dense&& out) const {
   const int contact_rows = static_cast<int>(rows_.size());
   const int ne = static_cast<int>(equalities_.rows.rows());
   if (a < contact_rows) {
-    rows_[a].scatter(scale, out);
+    rows_[a]->scatter(scale, out);
   } else if (a < contact_rows + ne) {
     for (int j = 0; j < equalities_.rows.cols(); ++j) out(j) += scale * equalities_.rows(a - contact_rows, j);
   } else {
@@ -105,11 +105,15 @@ void MoreauJean::compute_loads(const State& state) {
 
 void MoreauJean::compute_free_velocity(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
-  operators_.update(state.q, h, theta);
   compute_loads(state);
   f_total_ = f_loads_;
-  if (operators_.has_stiffness()) {
-    dynamics_.add_internal_forces(state.q, f_total_);
+  // The springs' Jacobian columns that A's update compares come with their forces (the same ends).
+  if (!operators_.has_stiffness()) {
+    operators_.update(state.q, h, theta);
+  } else {
+    std::vector<double>* columns = operators_.compares_spring_columns(state.q, h, theta) ? &spring_columns_ : nullptr;
+    dynamics_.add_internal_forces(state.q, f_total_, columns);
+    operators_.update(state.q, h, theta, columns);
     if (!stiffness_velocity_kept(state.v)) operators_.apply_stiffness(state.v, stiffness_velocity_);
     f_total_ -= (theta * h) * stiffness_velocity_;
   }
@@ -239,7 +243,7 @@ void MoreauJean::gather_columns() {
   direct_columns_.resize(d * nc);
   for (int a = 0; a < d * nc; ++a) {
     direct_columns_[a].setZero(n);
-    rows_[a].scatter(1.0, direct_columns_[a]);
+    rows_[a]->scatter(1.0, direct_columns_[a]);
     operators_.solve_in_place(direct_columns_[a]);
     columns_[a] = &direct_columns_[a];
   }
@@ -280,7 +284,7 @@ void MoreauJean::gather_delassus() {
   delassus_cache_.begin(operators_.sparse_factor());
   for (int i = 0; i < nc; ++i)
     for (int k = 0; k < d; ++k) {
-      const SparseRow& row = rows_[d * i + k];
+      const SparseRow& row = *rows_[d * i + k];
       delassus_slots_[d * i + k] =
           delassus_cache_.slot({0, active_[i].point.key, k}, row.index.data(), row.value.data(), row.count);
     }
@@ -316,7 +320,7 @@ void MoreauJean::assemble(const State& state) {
   problem_.mu.resize(nc);
   rows_.resize(d * nc);
   for (int i = 0; i < nc; ++i) {
-    for (int k = 0; k < d; ++k) rows_[d * i + k] = candidate_rows_[d * active_rows_[i] + k];
+    for (int k = 0; k < d; ++k) rows_[d * i + k] = &candidate_rows_[d * active_rows_[i] + k];
     problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(state.t + h);
   }
   problem_.W.resize(m, m);
@@ -335,13 +339,13 @@ void MoreauJean::assemble(const State& state) {
     gather_columns();
     for (int a = 0; a < m; ++a)
       for (int b = 0; b < m; ++b)
-        problem_.W(a, b) = a < d * nc ? rows_[a].dot(*columns_[b]) : equality_dot(a - d * nc, *columns_[b]);
+        problem_.W(a, b) = a < d * nc ? rows_[a]->dot(*columns_[b]) : equality_dot(a - d * nc, *columns_[b]);
   }
   for (int a = 0; a < m; ++a)
-    problem_.b(a) = a < d * nc ? rows_[a].dot(v_free_) : equality_dot(a - d * nc, v_free_);
+    problem_.b(a) = a < d * nc ? rows_[a]->dot(v_free_) : equality_dot(a - d * nc, v_free_);
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
-    const double approach = rows_[d * i].dot(state.v);
+    const double approach = rows_[d * i]->dot(state.v);
     if (e > 0.0) {
       problem_.b(d * i) += e * approach;
     } else if (parameters_.close_gaps) {
@@ -439,16 +443,17 @@ void MoreauJean::account_energy(State& state) {
   e.work_of_loads += h * f_loads_.dot(v_theta_);
   const int contact_rows = static_cast<int>(rows_.size());
   for (int a = 0; a < static_cast<int>(r_.size()); ++a)
-    e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a].dot(v_theta_) : equality_dot(a - contact_rows, v_theta_));
+    e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a]->dot(v_theta_) : equality_dot(a - contact_rows, v_theta_));
   dv_ = v_next_ - state.v;
-  double kinetic = 0.0;
+  double kinetic = 0.0, numerical = 0.0;
   if (operators_.sparse()) {  // M Δv and ½ vᵀ M v in one pass over a large M
     kinetic = dynamics_.kinetic_energy(v_next_, dv_, work_);
+    numerical = dv_.dot(work_);
   } else {
     operators_.apply_mass(dv_, work_);
-    kinetic = dynamics_.kinetic_energy(v_next_);
+    numerical = dv_.dot(work_);
+    kinetic = operators_.kinetic_energy(v_next_, work_);  // then work_ is scratch
   }
-  double numerical = dv_.dot(work_);
   if (operators_.nonlinear()) {  // −Δq·(f(q_{k+1}) − f(q_k)), f at Newton's last iterate (see the header)
     numerical -= h * v_theta_.dot(f_iterate_ - f_start_);
   } else if (keeps_stiffness_velocity()) {

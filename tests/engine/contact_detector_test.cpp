@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 namespace csim {
 namespace {
 
@@ -123,6 +125,10 @@ TEST(ContactDetector, ContactRowsAreThoseOfSparseRowAddToTheBit) {
   };
   const PointJacobian none, rigid = jacobian({0, 1, 2, 3, 4, 5}, 0.3), other = jacobian({0, 1, 2, 3, 4, 5}, 1.1),
                       repeated = jacobian({0, 3, 0, 4}, 0.5);
+  PointJacobian translation;  // unit and zero columns: products of zero, and signed zeros in the rows
+  translation.add(0, Eigen::Vector3d::UnitX());
+  translation.add(1, Eigen::Vector3d::UnitY());
+  translation.add(2, Eigen::Vector3d(0.0, -0.0, 0.0));
   struct Case {
     int body_a, body_b;
     const PointJacobian *a, *b;
@@ -133,16 +139,21 @@ TEST(ContactDetector, ContactRowsAreThoseOfSparseRowAddToTheBit) {
       {slope, block, &none, &other, 6},
       {block, block, &rigid, &other, 6},     // one body on both sides: merged
       {block, slope, &repeated, &none, 3},  // component 0 twice: merged
+      {block, slope, &rigid, &other, 12},   // both sides, two bodies (slope's offset past block's)
+      {slope, block, &translation, &rigid, 9},
   };
-  for (const Case& test : cases) {
-    std::vector<SparseRow> rows(3);
-    contact_rows(world, test.body_a, *test.a, test.body_b, *test.b, c, 3, rows.data());
-    const std::vector<SparseRow> expected = by_add(test.body_a, *test.a, test.body_b, *test.b);
-    for (int k = 0; k < 3; ++k) {
-      EXPECT_EQ(rows[k].count, test.entries);
-      EXPECT_TRUE(rows[k] == expected[k]) << "bodies " << test.body_a << ", " << test.body_b << ", row " << k;
+  for (const Case& test : cases)
+    for (int dimension : {3, 2}) {  // a plane contact's rows are the first two
+      std::vector<SparseRow> rows(3);
+      contact_rows(world, test.body_a, *test.a, test.body_b, *test.b, c, dimension, rows.data());
+      const std::vector<SparseRow> expected = by_add(test.body_a, *test.a, test.body_b, *test.b);
+      for (int k = 0; k < dimension; ++k) {
+        EXPECT_EQ(rows[k].count, test.entries);
+        EXPECT_TRUE(rows[k] == expected[k]) << "bodies " << test.body_a << ", " << test.body_b << ", row " << k;
+        EXPECT_EQ(std::memcmp(rows[k].value.data(), expected[k].value.data(), rows[k].count * sizeof(double)), 0)
+            << "signs of zero, bodies " << test.body_a << ", " << test.body_b << ", row " << k;
+      }
     }
-  }
 }
 
 // A detection forms each body's inverse pose once, at its first contact: the rows are those of

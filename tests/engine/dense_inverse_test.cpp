@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <cmath>
 
 namespace csim {
@@ -93,6 +95,37 @@ TEST(SmallDenseProducts, DiagonalProductsAreTheFullOnesToTheBit) {
     }
     D(1, 0) = 1e-300;
     EXPECT_FALSE(is_diagonal(D)) << n;
+  }
+}
+
+// The Gram product with G's column kept in a local (n = 6) is the one that reads it through a map, to
+// the bit: the same dot products of the same values.
+TEST(SmallDenseProducts, SymmetricGramIsTheMappedOneToTheBit) {
+  for (int n : {3, 6, 7}) {
+    for (int m : {1, 4, 12}) {
+      Matrix X(n, m), G(n, m);
+      for (int j = 0; j < m; ++j)
+        for (int i = 0; i < n; ++i) {
+          X(i, j) = (i + j) % 4 == 0 ? -0.0 : std::sin(1.0 + 0.7 * i + 1.3 * j);
+          G(i, j) = std::cos(0.2 + 1.9 * i - 0.4 * j) * std::pow(10.0, (i % 3) - 1);
+        }
+      Matrix expected(m, m), W;
+      auto mapped = [&](auto size) {  // the former kernel: both columns read through maps of size N
+        constexpr int N = decltype(size)::value;
+        using Column = Eigen::Matrix<double, N, 1>;
+        for (int b = 0; b < m; ++b)
+          for (int a = 0; a <= b; ++a)
+            expected(a, b) = expected(b, a) =
+                Eigen::Map<const Column>(X.col(a).data(), n).dot(Eigen::Map<const Column>(G.col(b).data(), n));
+      };
+      if (n == 3) mapped(std::integral_constant<int, 3>{});
+      else if (n == 6) mapped(std::integral_constant<int, 6>{});
+      else mapped(std::integral_constant<int, Eigen::Dynamic>{});
+      small_symmetric_gram(X, G, W);
+      ASSERT_EQ(W.rows(), m);
+      ASSERT_EQ(W.cols(), m);
+      EXPECT_EQ(std::memcmp(W.data(), expected.data(), m * m * sizeof(double)), 0) << n << " x " << m;
+    }
   }
 }
 

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 namespace csim {
 namespace {
 
@@ -297,6 +299,30 @@ TEST(Dynamics, ElasticWeightFormedOnceIsTheBodysWeight) {
     ++elastic;
   }
   EXPECT_EQ(elastic, 1);
+}
+
+// The internal forces with the springs' Jacobian columns are the forces alone to the bit, and the
+// columns spring_jacobian_columns', at turned and moved positions (sdnv104's shoe on two springs off
+// its centre, a pad on a grounded spring, the every-force scene's bodies).
+TEST(Dynamics, InternalForcesWithTheSpringColumnsAreTheSameToTheBit) {
+  for (const std::string scene_file : {std::string(CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml"),
+                                       std::string(CSIM_SOURCE_DIR "/scenes/sdnd100-a/scene.yaml"), std::string(every_force::kScene)}) {
+    const auto scene = load_scene(scene_file, {});
+    const Dynamics dynamics(scene->world);
+    const State start = initial_state(scene->world);
+    std::vector<double> shared = {1.0, 2.0}, expected;  // stale entries, overwritten
+    for (int trial = 0; trial < 20; ++trial) {
+      Vector q = start.q;
+      for (int i = 0; i < q.size(); ++i) q(i) += 1e-3 * std::sin(1.7 * trial + 0.3 * i) * (trial % 3 == 0 ? 1e-20 : 1.0);
+      Vector alone = Vector::Constant(dynamics.size(), 0.25), with_columns = alone;
+      dynamics.add_internal_forces(q, alone);
+      dynamics.add_internal_forces(q, with_columns, &shared);
+      dynamics.spring_jacobian_columns(q, expected);
+      ASSERT_EQ(std::memcmp(alone.data(), with_columns.data(), alone.size() * sizeof(double)), 0) << scene_file;
+      ASSERT_EQ(shared.size(), expected.size()) << scene_file;
+      EXPECT_EQ(std::memcmp(shared.data(), expected.data(), shared.size() * sizeof(double)), 0) << scene_file;
+    }
+  }
 }
 
 }  // namespace
