@@ -368,21 +368,14 @@ Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) 
 }
 
 void Dynamics::add_spring_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns) const {
-  if (!spring_columns) {
-    for (const Spring& s : world_.springs) {
-      const Eigen::Vector3d force_on_a = -s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q));
-      for (const Entry& e : entries_of(spring_ends(world_, s, q))) f(e.index) += e.column.dot(force_on_a);
-    }
-    return;
-  }
   std::size_t size = 0;
-  for (const Spring& s : world_.springs) {  // the same forces, the ends' columns kept on the way
+  for (const Spring& s : world_.springs) {
     const Eigen::Vector3d force_on_a = -s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q));
     const SpringEnds ends = spring_ends(world_, s, q);
     for (const Entry& e : entries_of(ends)) f(e.index) += e.column.dot(force_on_a);
-    append_jacobian_columns(ends, *spring_columns, size);
+    if (spring_columns) append_jacobian_columns(ends, *spring_columns, size);  // the ends' columns, on the way
   }
-  spring_columns->resize(size);
+  if (spring_columns) spring_columns->resize(size);
 }
 
 // A lumped World's A is rebuilt from this whenever a body with a spring turns: P J_j is formed once

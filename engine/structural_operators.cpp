@@ -81,7 +81,7 @@ void StructuralOperators::update_coefficients(const Vector& q, double damping_co
   // A is a function of K and its coefficients, and the springs' K of their Jacobian columns: a body
   // that turned by round-off alone (a shoe held flat by its contacts turns by 1e-25 rad) has the same
   // columns to the bit, and a dense A and its inverse are kept.
-  const bool compare_columns = !sparse_ && !nonlinear_ && dynamics_.has_springs();
+  const bool compare_columns = compares_columns();
   if (compare_columns) {
     if (spring_columns) spring_columns_.swap(*spring_columns);  // the caller's, taken at q
     else dynamics_.spring_jacobian_columns(q, spring_columns_);
@@ -207,10 +207,17 @@ void StructuralOperators::apply_mass(const Vector& v, Vector& out) const {
   else out.noalias() = dense_mass_ * v;
 }
 
-double StructuralOperators::kinetic_energy(const Vector& v, Vector& work) const {
-  if (!mass_diagonal_) return dynamics_.kinetic_energy(v);
-  small_diagonal_multiply(mass_diagonal_entries_, v, work);
-  return 0.5 * v.dot(work);
+double StructuralOperators::kinetic_energy(const Vector& v, const Vector& x, Vector& Mx) const {
+  if (sparse_) return dynamics_.kinetic_energy(v, x, Mx);
+  double kinetic = 0.0;
+  if (mass_diagonal_) {
+    small_diagonal_multiply(mass_diagonal_entries_, v, Mx);  // M v, Mx as scratch
+    kinetic = 0.5 * v.dot(Mx);
+  } else {
+    kinetic = dynamics_.kinetic_energy(v);
+  }
+  apply_mass(x, Mx);
+  return kinetic;
 }
 
 void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {

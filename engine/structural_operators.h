@@ -29,12 +29,11 @@ class StructuralOperators {
   // Refreshes K at q and refactors A when needed (always the first time).
   void update(const Vector& q, double h, double theta) { update_coefficients(q, h * theta, h * h * theta * theta); }
   // Whether update(q, h, θ) compares the springs' Jacobian columns at q (a dense linear World with
-  // springs on turning bodies, whose orientation moved since A was formed; false also where update
-  // forms them itself, at the first step); then the caller may hand them over, taken with the springs'
-  // forces (Dynamics::add_internal_forces), and update uses (and takes) them instead of forming them.
+  // springs, whose A was not formed for q: the first step, or bodies with springs that turned since);
+  // then the caller may hand them over, taken with the springs' forces (Dynamics::add_internal_forces),
+  // and update uses (and takes) them instead of forming them.
   bool compares_spring_columns(const Vector& q, double h, double theta) const {
-    return !sparse_ && !nonlinear_ && !dynamics_.spring_stiffness_coordinates().empty() &&
-           !factored_for(q, h * theta, h * h * theta * theta);
+    return compares_columns() && !factored_for(q, h * theta, h * h * theta * theta);
   }
   void update(const Vector& q, double h, double theta, std::vector<double>* spring_columns) {
     update_coefficients(q, h * theta, h * h * theta * theta, spring_columns);
@@ -65,9 +64,10 @@ class StructuralOperators {
   // (delassus_cache.h).
   const SparseLdlt& sparse_factor() const { return sparse_factor_; }
   void apply_mass(const Vector& v, Vector& out) const;       // out = M v
-  // ½ vᵀ M v (J): Dynamics::kinetic_energy's value to the bit, a diagonal M applied by its diagonal
-  // (small_dense_products.h) into `work`.
-  double kinetic_energy(const Vector& v, Vector& work) const;
+  // ½ vᵀ M v (J), Dynamics::kinetic_energy's value to the bit, and Mx = M x (apply_mass's): a large M
+  // read once for both (Dynamics::kinetic_energy with a second product), a diagonal M applied by its
+  // diagonal (small_dense_products.h). Mx must not be x.
+  double kinetic_energy(const Vector& v, const Vector& x, Vector& Mx) const;
   void apply_stiffness(const Vector& v, Vector& out) const;  // out = K v
   void apply_damping(const Vector& v, Vector& out) const;    // out = C v
 
@@ -102,6 +102,8 @@ class StructuralOperators {
 
   const SparseMatrix& stiffness() const { return dynamics_.has_springs() ? sparse_stiffness_ : body_stiffness_; }
   bool factored_for(const Vector& q, double damping_coefficient, double stiffness_coefficient) const;
+  // A dense linear World with springs: A is kept while the springs' Jacobian columns are the same to the bit.
+  bool compares_columns() const { return !sparse_ && !nonlinear_ && dynamics_.has_springs(); }
   void factor_dense(const Matrix& A);
   void factor_regularized(const SparseMatrix& A);
   template <class PositiveDefiniteWith>

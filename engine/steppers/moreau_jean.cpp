@@ -445,15 +445,8 @@ void MoreauJean::account_energy(State& state) {
   for (int a = 0; a < static_cast<int>(r_.size()); ++a)
     e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a]->dot(v_theta_) : equality_dot(a - contact_rows, v_theta_));
   dv_ = v_next_ - state.v;
-  double kinetic = 0.0, numerical = 0.0;
-  if (operators_.sparse()) {  // M Δv and ½ vᵀ M v in one pass over a large M
-    kinetic = dynamics_.kinetic_energy(v_next_, dv_, work_);
-    numerical = dv_.dot(work_);
-  } else {
-    operators_.apply_mass(dv_, work_);
-    numerical = dv_.dot(work_);
-    kinetic = operators_.kinetic_energy(v_next_, work_);  // then work_ is scratch
-  }
+  const double kinetic = operators_.kinetic_energy(v_next_, dv_, work_);  // and M Δv into work_
+  double numerical = dv_.dot(work_);
   if (operators_.nonlinear()) {  // −Δq·(f(q_{k+1}) − f(q_k)), f at Newton's last iterate (see the header)
     numerical -= h * v_theta_.dot(f_iterate_ - f_start_);
   } else if (keeps_stiffness_velocity()) {

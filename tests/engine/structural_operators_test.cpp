@@ -215,7 +215,8 @@ namespace {
 
 // A lumped World's diagonal M gives Dynamics' kinetic energy to the bit through its diagonal (Moreau–
 // Jean's energy balance takes it a step), signed zeros and tiny products included; a World whose M
-// is not diagonal (an FE body) takes Dynamics' own.
+// is not diagonal (an FE body) takes Dynamics' own, with M x in the same pass. M x beside it is
+// apply_mass's to the bit.
 TEST(StructuralOperators, KineticEnergyIsDynamicsToTheBit) {
   World plane_body;
   plane_body.dimension = 2;
@@ -234,14 +235,20 @@ TEST(StructuralOperators, KineticEnergyIsDynamicsToTheBit) {
   for (const World* world : std::initializer_list<const World*>{&plane_body, &points, &cube->world, &pad->world, &plate->world}) {
     const Dynamics dynamics(*world);
     const StructuralOperators operators(dynamics);
-    Vector v(world->velocity_size), work;
+    Vector v(world->velocity_size), x(world->velocity_size), Mx, expected_Mx;
     for (int trial = 0; trial < 200; ++trial) {
-      for (int i = 0; i < v.size(); ++i) v(i) = std::sin(0.37 * trial + 1.1 * i) * std::pow(10.0, (trial % 7) - 3);
+      for (int i = 0; i < v.size(); ++i) {
+        v(i) = std::sin(0.37 * trial + 1.1 * i) * std::pow(10.0, (trial % 7) - 3);
+        x(i) = std::cos(0.53 * trial + 0.7 * i) * 1e-3;
+      }
       if (trial % 5 == 1) v(0) = -0.0;
       if (trial % 5 == 2) v(v.size() - 1) = 1e-170;  // its square underflows
       const double expected = dynamics.kinetic_energy(v);
-      const double energy = operators.kinetic_energy(v, work);
+      const double energy = operators.kinetic_energy(v, x, Mx);
       EXPECT_EQ(std::memcmp(&energy, &expected, sizeof(double)), 0) << "trial " << trial;
+      operators.apply_mass(x, expected_Mx);
+      ASSERT_EQ(Mx.size(), expected_Mx.size());
+      EXPECT_EQ(std::memcmp(Mx.data(), expected_Mx.data(), Mx.size() * sizeof(double)), 0) << "trial " << trial;
     }
   }
 }
