@@ -87,6 +87,7 @@ ContactDetector::ContactDetector(const World& world)
       }
       object_body_.resize(object + 1);
       object_shape_.resize(object + 1);
+      node_positions_.resize(object + 1);
       object_body_[object] = i;
       object_shape_[object] = -1;
       continue;
@@ -139,7 +140,6 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;
     if (object_shape_[o] < 0) {
-      if (node_positions_.size() <= o) node_positions_.resize(o + 1);
       b.body->surface_node_positions(b.positions(q), collision_->surface_nodes(static_cast<int>(o)), node_positions_[o]);
       collision_->set_node_positions(static_cast<int>(o), node_positions_[o]);
       continue;

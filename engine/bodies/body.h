@@ -161,12 +161,9 @@ class Body {
   // shapes of its BodyInstance (rigid bodies, point masses, fixed bodies). smoothed: also build the
   // smooth curve through the boundary nodes (a contact law asks for SurfaceFeatures::smoothed).
   virtual std::optional<ContactSurface> contact_surface(bool smoothed) const { return std::nullopt; }
-  // The world positions (m) of the contact surface's nodes at positions q, indexed as reference_nodes.
-  virtual void surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::Vector3d>& positions) const {
-    positions.clear();
-  }
-  // The same for the listed nodes alone (a detection refreshes the nodes its surface's geometry names,
-  // a small part of a large body's): positions is sized to every node, its other entries are kept.
+  // The world positions (m) at positions q of the listed nodes of the contact surface, into positions
+  // indexed as reference_nodes and sized to all of them; the other entries are kept (a detection
+  // refreshes the nodes its surface's geometry names, a small part of a large body's).
   virtual void surface_node_positions(const ConstVectorRef& q, const std::vector<int>& nodes,
                                       std::vector<Eigen::Vector3d>& positions) const {
     positions.clear();

@@ -214,12 +214,6 @@ std::optional<ContactSurface> FeBody::contact_surface(bool smoothed) const {
   return surface;
 }
 
-void FeBody::surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::Vector3d>& positions) const {
-  positions.resize(mesh_.nodes.size());
-  for (std::size_t n = 0; n < positions.size(); ++n)
-    positions[n] = mesh_.nodes[n] + node_displacement(q, static_cast<int>(n));
-}
-
 void FeBody::surface_node_positions(const ConstVectorRef& q, const std::vector<int>& nodes,
                                     std::vector<Eigen::Vector3d>& positions) const {
   if (positions.size() != mesh_.nodes.size()) positions.assign(mesh_.nodes.begin(), mesh_.nodes.end());

@@ -63,7 +63,6 @@ class FeBody final : public Body {
   // –corner), two triangles per face in space, the boundary nodes, and when smoothed the Catmull–Rom
   // curve through quad4 boundary nodes and the quadratic quad8 edges.
   std::optional<ContactSurface> contact_surface(bool smoothed) const override;
-  void surface_node_positions(const ConstVectorRef& q, std::vector<Eigen::Vector3d>& positions) const override;
   void surface_node_positions(const ConstVectorRef& q, const std::vector<int>& nodes,
                               std::vector<Eigen::Vector3d>& positions) const override;
   int node_count() const override { return static_cast<int>(mesh_.nodes.size()); }
