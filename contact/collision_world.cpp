@@ -3,12 +3,13 @@
 #include "contact/narrow_phase.h"
 
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
-#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/sphere.h>
 #include <fcl/math/bv/AABB.h>
 #include <fcl/narrowphase/collision_object.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -28,11 +29,9 @@ class MarginCollisionObject : public fcl::CollisionObjectd {
     aabb.min_ = centre - half_size;
     aabb.max_ = centre + half_size;
   }
-  // FCL's own world AABB (from the geometry's local AABB), widened by the margin.
-  void compute_inflated_aabb(double margin) {
-    computeAABB();
-    aabb.min_.array() -= margin;
-    aabb.max_.array() += margin;
+  void set_world_bounds(const Eigen::Vector3d& lower, const Eigen::Vector3d& upper, double margin) {
+    aabb.min_ = lower.array() - margin;
+    aabb.max_ = upper.array() + margin;
   }
 };
 
@@ -91,17 +90,15 @@ std::vector<int> geometry_nodes(const DeformableSurfaceGeometry& geometry, int n
 }  // namespace
 
 struct CollisionWorld::Impl {
-  // A deformable surface: its node positions and the FCL BVH of its triangles.
+  // A deformable surface: its node positions and the box that bounds them.
   struct Surface {
     DeformableSurfaceGeometry geometry;
-    // The nodes the geometry names (ascending): the BVH's vertices, and the positions kept current. A
-    // body's surface is a small part of its nodes (a 52k-DOF shoe: 0.5k of 26k), and refitting over
-    // every node made detection O(N).
+    // The nodes the geometry names (ascending): the positions kept current and bounded. A body's
+    // surface is a small part of its nodes (a 52k-DOF shoe: 0.5k of 26k), and reading every node made
+    // detection O(N).
     std::vector<int> nodes;
-    std::vector<Eigen::Vector3d> positions;      // m, world, by node: current on `nodes`, never read elsewhere
-    std::vector<fcl::Vector3d> vertices;         // BVH vertices, `nodes` in order (2D: each at z = ±½)
-    std::vector<fcl::Triangle> triangles;
-    std::shared_ptr<fcl::BVHModel<fcl::AABBd>> model;
+    std::vector<Eigen::Vector3d> positions;  // m, world, by node: current on `nodes`, never read elsewhere
+    Eigen::Vector3d lower, upper;            // m, the box of `nodes` (2D: extruded to z = ±½)
     std::vector<std::pair<int, SurfaceFeatures>> features_of_body;  // bodies not listed: nodes
 
     SurfaceFeatures features(int body) const {
@@ -119,17 +116,18 @@ struct CollisionWorld::Impl {
     std::unique_ptr<Surface> surface;                    // deformable surfaces only
   };
 
-  void fill_vertices(Surface& surface) const {
-    const std::size_t n = surface.nodes.size();
-    surface.vertices.resize(planar ? 2 * n : n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d& x = surface.positions[surface.nodes[i]];
-      if (planar) {
-        surface.vertices[2 * i] = x - 0.5 * Eigen::Vector3d::UnitZ();
-        surface.vertices[2 * i + 1] = x + 0.5 * Eigen::Vector3d::UnitZ();
-      } else {
-        surface.vertices[i] = x;
-      }
+  // The box of the surface's nodes: all the broad phase reads of a surface (its contacts are our closed
+  // forms, deformable_surface.h). In plane scenes it spans z = ±½, as the thin shapes' boxes do.
+  void bound_nodes(Surface& surface) const {
+    surface.lower = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    surface.upper = -surface.lower;
+    for (int node : surface.nodes) {
+      surface.lower = surface.lower.cwiseMin(surface.positions[node]);
+      surface.upper = surface.upper.cwiseMax(surface.positions[node]);
+    }
+    if (planar) {
+      surface.lower.z() -= 0.5;
+      surface.upper.z() += 0.5;
     }
   }
 
@@ -149,7 +147,7 @@ struct CollisionWorld::Impl {
 
   void refresh_aabb(Object& object) const {
     if (object.surface) {
-      object.fcl_object->compute_inflated_aabb(margin);
+      object.fcl_object->set_world_bounds(object.surface->lower, object.surface->upper, margin);
       return;
     }
     object.fcl_object->set_world_aabb(
@@ -290,24 +288,9 @@ int CollisionWorld::add_deformable_surface(int body, const std::vector<Eigen::Ve
   surface.geometry = geometry;
   surface.positions = node_positions;
   surface.nodes = geometry_nodes(geometry, static_cast<int>(node_positions.size()));
-  std::vector<int> vertex_of(node_positions.size(), -1);
-  for (std::size_t i = 0; i < surface.nodes.size(); ++i) vertex_of[surface.nodes[i]] = static_cast<int>(i);
-  impl_->fill_vertices(surface);
-  if (impl_->planar) {
-    for (const auto& [node_a, node_b] : geometry.segments) {  // the edge a-b as the quad (a−, b−, b+, a+)
-      const int a = vertex_of[node_a], b = vertex_of[node_b];
-      surface.triangles.emplace_back(2 * a, 2 * b, 2 * b + 1);
-      surface.triangles.emplace_back(2 * a, 2 * b + 1, 2 * a + 1);
-    }
-  } else {
-    for (const auto& t : geometry.triangles) surface.triangles.emplace_back(vertex_of[t[0]], vertex_of[t[1]], vertex_of[t[2]]);
-  }
-  surface.model = std::make_shared<fcl::BVHModel<fcl::AABBd>>();
-  surface.model->beginModel();
-  surface.model->addSubModel(surface.vertices, surface.triangles);
-  surface.model->endModel();
-  surface.model->computeLocalAABB();
-  object.fcl_object = std::make_unique<MarginCollisionObject>(surface.model);
+  impl_->bound_nodes(surface);
+  // FCL's object needs a geometry, which nothing queries: the manager reads the box set by refresh_aabb.
+  object.fcl_object = std::make_unique<MarginCollisionObject>(std::make_shared<fcl::Sphered>(0.0));
   object.fcl_object->setUserData(id_as_user_data(id));
   impl_->refresh_aabb(object);
   impl_->manager->registerObject(object.fcl_object.get());
@@ -332,12 +315,7 @@ void CollisionWorld::set_node_positions(int object, const std::vector<Eigen::Vec
     throw std::invalid_argument("set_node_positions: " + std::to_string(node_positions.size()) + " positions for " +
                                 std::to_string(surface.positions.size()) + " nodes");
   for (int node : surface.nodes) surface.positions[node] = node_positions[node];
-  impl_->fill_vertices(surface);
-  // The refit sequence of FCL 0.7: without computeLocalAABB() the object's AABB keeps the old extent.
-  surface.model->beginUpdateModel();
-  surface.model->updateSubModel(surface.vertices);
-  surface.model->endUpdateModel();
-  surface.model->computeLocalAABB();
+  impl_->bound_nodes(surface);
 }
 
 

@@ -18,14 +18,11 @@
 //   Coulomb solution unchanged, and the contact solver handles the redundant rows (more points
 //   than nodes). What the curve removes is the polygon's facets: its points follow the circle to
 //   O(h⁴) where the nodes' chords leave a sagitta R h²/8.
-// FCL does the broad phase: the surface's triangles form a BVHModel<AABB> refitted at every update
-// (beginUpdateModel / updateSubModel / endUpdateModel, then computeLocalAABB and the object's AABB,
-// then the manager's update: without all of these the broad phase silently misses contacts). The
-// tree's only use is that AABB (the features above are our own closed forms), so its bounding volumes
-// are boxes: an OBBRSS refit costs an eigendecomposition per volume, 0.63 of the 0.72 s that detection
-// took in a 68 × 10 rolling-ring run (0.09 s with boxes).
-// In plane scenes the boundary edges are extruded by ±½ along z into thin quads (two triangles), so
-// that FCL's 3D tree holds them; nodes and normals stay in z = 0.
+// FCL does the broad phase: its manager holds each surface as one object whose box is the bounding
+// box of the surface's nodes, set at every update (collision_world.cpp). Since every feature above is
+// a closed form of ours, that box is all FCL reads of a surface: a BVH of the surface's faces, refitted
+// at every update, gave the same box at many times the cost (docs/rolling.md, issue 31's sixth round).
+// In plane scenes the box spans z = ±½, like the thin shapes' boxes; nodes and normals stay in z = 0.
 #pragma once
 
 #include "contact/boundary_curve.h"
