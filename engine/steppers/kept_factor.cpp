@@ -1,5 +1,7 @@
 #include "engine/steppers/kept_factor.h"
 
+#include <limits>
+
 namespace csim {
 
 bool rows_hold(const HeldRows& rows, bool hub) {
@@ -13,10 +15,20 @@ void KeptFactor::record(Made made) {
   valid_ = true;
 }
 
-void KeptFactor::observe(double increment, bool kept) {
+void KeptFactor::observe(double increment, bool kept, bool whole_step) {
   increment_before_ = increment_;
   increment_ = increment;
+  whole_before_ = whole_;
+  whole_ = whole_step;
+  kept_before_ = last_kept_;
   last_kept_ = kept;
+}
+
+double KeptFactor::distance_bound() const {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  if (!valid_ || !last_kept_ || !kept_before_ || !whole_ || !whole_before_ || !(increment_before_ > 0.0)) return kNone;
+  const double theta = increment_ / increment_before_;
+  return theta <= kContraction ? theta / (1.0 - theta) * increment_ : kNone;
 }
 
 bool KeptFactor::fits(const HeldRows& rows, double held_weight, double hub_proximal, bool hub) const {

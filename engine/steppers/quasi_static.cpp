@@ -394,7 +394,7 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   previous_ = active_;  // forces, for the next iteration's warm start
   clock_.lap(timers_.update);
   const double increment = dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
-  kept_.observe(increment, keep);
+  kept_.observe(increment, keep, relaxation == 1.0);
   return increment;
 }
 
@@ -501,7 +501,8 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next, bool
     }
     ++iterations;
     if (!failure.empty()) break;
-    if (linear_ || increment <= parameters_.newton_tolerance * length_) {
+    const double tolerance = parameters_.newton_tolerance * length_;
+    if (linear_ || increment <= tolerance || kept_.distance_bound() <= tolerance) {
       failure = contact_failure_;
       break;
     }
