@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 namespace csim {
@@ -108,25 +109,37 @@ double SparseLdlt::factor_nonzeros() const {
   return count;
 }
 
-// The ordering once per pattern: CHOLMOD's AMD on A's lower triangle, followed by its postorder of
-// the elimination tree. The factor itself is analysed, with the natural ordering, for triu(P A Pᵀ),
-// whose entries are A's at a map kept here: CHOLMOD then factors the matrix it is handed as it is,
-// where with its own P it would make P A Pᵀ by a transpose at every factorization. The factor and its
-// arithmetic are those of CHOLMOD's own permutation, which forms the same triu(P A Pᵀ).
+// The ordering once per pattern: of CHOLMOD's AMD and METIS' nested dissection on A's lower triangle,
+// each followed by its postorder of the elimination tree, the one whose factor costs fewer flops (AMD
+// when both cost the same, or when METIS is not there). Neither wins everywhere: on a rolling ring's
+// tangent METIS needs a fifth fewer flops, on its frictionless press a tenth more (docs/rolling.md).
+// The factor itself is analysed, with the natural ordering, for triu(P A Pᵀ), whose entries are A's at
+// a map kept here: CHOLMOD then factors the matrix it is handed as it is, where with its own P it would
+// make P A Pᵀ by a transpose at every factorization. The factor and its arithmetic are those of
+// CHOLMOD's own permutation, which forms the same triu(P A Pᵀ).
 void SparseLdlt::analyse(const SparseMatrix& A) {
   Cholmod& c = *cholmod_;
   const int n = static_cast<int>(A.outerSize()), nnz = static_cast<int>(A.nonZeros());
   const int* outer = A.outerIndexPtr();
   const int* inner = A.innerIndexPtr();
   if (c.factor) cholmod_free_factor(&c.factor, &c.common);
-  c.common.method[0].ordering = CHOLMOD_AMD;
   c.common.postorder = 1;
   cholmod_sparse lower = view_triangle(n, outer, inner, A.valuePtr(), -1);
-  cholmod_factor* ordering = cholmod_analyze(&lower, &c.common);
-  if (!ordering) throw std::runtime_error("CHOLMOD could not analyse the matrix (out of memory?)");
-  const int* permutation = static_cast<const int*>(ordering->Perm);
-  c.permutation.assign(permutation, permutation + n);
-  cholmod_free_factor(&ordering, &c.common);
+  double fewest = std::numeric_limits<double>::infinity();
+  for (const int method : {CHOLMOD_AMD, CHOLMOD_METIS}) {
+    c.common.method[0].ordering = method;
+    cholmod_factor* ordering = cholmod_analyze(&lower, &c.common);
+    if (!ordering) {
+      if (method == CHOLMOD_AMD) throw std::runtime_error("CHOLMOD could not analyse the matrix (out of memory?)");
+      continue;  // METIS is optional
+    }
+    if (c.common.fl < fewest) {
+      fewest = c.common.fl;
+      const int* permutation = static_cast<const int*>(ordering->Perm);
+      c.permutation.assign(permutation, permutation + n);
+    }
+    cholmod_free_factor(&ordering, &c.common);
+  }
   c.inverse.resize(n);
   for (int k = 0; k < n; ++k) c.inverse[c.permutation[k]] = k;
   // A's entry (i, j), i ≥ j, goes to (min, max) of (P i, P j), in the order CHOLMOD's permuted transpose

@@ -1,6 +1,6 @@
 // The sparse LDLᵀ factor of a symmetric matrix A, P A Pᵀ = L D Lᵀ (CHOLMOD's simplicial LDLᵀ from
-// Debian's SuiteSparse, its AMD ordering), with what the steppers ask of it: whether A is positive
-// definite, solves, and the Delassus operator of contact rows. One class for the linear iteration
+// Debian's SuiteSparse, with the cheaper of its AMD and METIS orderings), with what the steppers ask of
+// it: whether A is positive definite, solves, and the Delassus operator of contact rows. One class for the linear iteration
 // matrix of finite elements, the finite-strain tangent and the quasi-static stiffness; CHOLMOD's
 // headers stay in the .cpp.
 //
