@@ -66,11 +66,6 @@ cholmod_sparse view_triangle(int n, const int* start, const int* row, const doub
   return view;
 }
 
-// Whether a and b hold the same numbers to the bit (−0 is not 0, a NaN equals its own bits).
-bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
-
 // A column of n numbers as CHOLMOD reads a right-hand side, without a copy.
 cholmod_dense dense_view(double* value, int n) {
   cholmod_dense view{};
@@ -324,78 +319,86 @@ double SparseLdlt::dot(const ForwardColumn& y, const Vector& x) {
   return sum;
 }
 
+// G = E_Sᵀ A⁻¹ E_S for the unknowns S that H's rows touch, from their unit forward columns, and then
+// W = H_S G H_Sᵀ (see the header).
 void SparseLdlt::delassus(const Matrix& H, Matrix& W) {
   const int m = static_cast<int>(H.rows()), n = static_cast<int>(H.cols());
   W.resize(m, m);
   if (m == 0) return;
-  // H's nonzeros, row by row: the right-hand sides of Y's columns, and what the kept W is checked with.
-  row_nonzeros_.assign(1, 0);
-  row_index_.clear();
-  row_value_.clear();
-  for (int a = 0; a < m; ++a) {
-    for (int k = 0; k < n; ++k)
+  touched_.clear();
+  for (int k = 0; k < n; ++k)
+    for (int a = 0; a < m; ++a)
       if (H(a, k) != 0.0) {
-        row_index_.push_back(k);
-        row_value_.push_back(H(a, k));
+        touched_.push_back(k);
+        break;
       }
-    row_nonzeros_.push_back(static_cast<int>(row_index_.size()));
-  }
-  if (kept_factorization_ == factorizations_ && row_nonzeros_ == kept_row_nonzeros_ && row_index_ == kept_row_index_ &&
-      same_bits(row_value_, kept_row_value_)) {
-    W = kept_W_;
+  const int s = static_cast<int>(touched_.size());
+  if (gram_factorization_ == factorizations_ && touched_ == unknowns_) {
     ++kept_delassus_;
-    return;
+  } else {
+    std::swap(unknowns_, touched_);
+    inverse_block();
+    gram_factorization_ = factorizations_;
   }
-  // Y = L⁻¹ P Hᵀ, column by column from H's nonzeros: its sparse columns, and Y_ dense, which is zero
-  // between calls of the same shape (the entries written are cleared at the end, not all n × m).
-  if (Y_.rows() != n || Y_.cols() != m) Y_.setZero(n, m);
-  columns_.resize(m);
-  for (int a = 0; a < m; ++a) {
-    const int first = row_nonzeros_[a];
-    forward(row_index_.data() + first, row_value_.data() + first, row_nonzeros_[a + 1] - first, columns_[a]);
-    for (std::size_t k = 0; k < columns_[a].index.size(); ++k) Y_(columns_[a].index[k], a) = columns_[a].value[k];
+  rows_on_unknowns_.resize(m, s);
+  for (int j = 0; j < s; ++j) rows_on_unknowns_.col(j) = H.col(unknowns_[j]);
+  rows_times_block_.noalias() = rows_on_unknowns_ * gram_;
+  // The lower triangle, mirrored: W symmetric to the bit, as the contact solvers read it.
+  for (int b = 0; b < m; ++b)
+    for (int a = b; a < m; ++a) W(a, b) = W(b, a) = rows_times_block_.row(a).dot(rows_on_unknowns_.row(b));
+}
+
+// gram_ ← E_Sᵀ A⁻¹ E_S = Yᵀ D⁻¹ Y, Y = L⁻¹ P E_S, S = unknowns_: each column of Y is the forward
+// substitution of one unknown, which fills only that unknown's path to the root of the elimination tree.
+void SparseLdlt::inverse_block() {
+  const int n = size(), s = static_cast<int>(unknowns_.size());
+  gram_.resize(s, s);
+  // Y's sparse columns, and Y_ dense, which is zero between calls (the entries written are cleared at the
+  // end, not all n × s).
+  if (Y_.rows() != n || Y_.cols() < s) Y_.setZero(n, std::max<Eigen::Index>(s, Y_.cols()));
+  columns_.resize(s);
+  const double one = 1.0;
+  for (int c = 0; c < s; ++c) {
+    forward(&unknowns_[c], &one, 1, columns_[c]);
+    for (std::size_t k = 0; k < columns_[c].index.size(); ++k) Y_(columns_[c].index[k], c) = columns_[c].value[k];
   }
   // The columns that reach each row of Y with a nonzero, in column order, from the sparse columns.
   row_start_.assign(n + 1, 0);
-  for (int c = 0; c < m; ++c)
+  for (int c = 0; c < s; ++c)
     for (std::size_t k = 0; k < columns_[c].index.size(); ++k)
       if (columns_[c].value[k] != 0.0) ++row_start_[columns_[c].index[k] + 1];
   for (int i = 0; i < n; ++i) row_start_[i + 1] += row_start_[i];
   row_columns_.resize(row_start_[n]);
   fill_.assign(row_start_.begin(), row_start_.end() - 1);
-  for (int c = 0; c < m; ++c)
+  for (int c = 0; c < s; ++c)
     for (std::size_t k = 0; k < columns_[c].index.size(); ++k)
       if (columns_[c].value[k] != 0.0) row_columns_[fill_[columns_[c].index[k]]++] = c;
-  // W = Σ_i y_i y_iᵀ / D_i over the rows y_i of Y (D > 0: a positive definite factor). A row that few
+  // G = Σ_i y_i y_iᵀ / D_i over the rows y_i of Y (D > 0: a positive definite factor). A row that few
   // columns reach (below the top separators of the elimination tree) adds its few products directly; the
   // denser rows, scaled by D^-1/2, go to one matrix product.
   const Vector& D = pivots_;
-  W.setZero();
+  gram_.setZero();
   rows_.clear();
   for (int i = 0; i < n; ++i) {
     const int* columns = row_columns_.data() + row_start_[i];
     const int k = row_start_[i + 1] - row_start_[i];
     if (k == 0) continue;
-    if (3 * k > m) {
+    if (3 * k > s) {
       rows_.push_back(i);
       continue;
     }
     for (int p = 0; p < k; ++p) {
       const double scaled = Y_(i, columns[p]) / D(i);
-      for (int q = 0; q <= p; ++q) W(columns[q], columns[p]) += scaled * Y_(i, columns[q]);
+      for (int q = 0; q <= p; ++q) gram_(columns[q], columns[p]) += scaled * Y_(i, columns[q]);
     }
   }
-  compact_.resize(static_cast<Eigen::Index>(rows_.size()), m);
-  for (int k = 0; k < static_cast<int>(rows_.size()); ++k) compact_.row(k) = Y_.row(rows_[k]) / std::sqrt(D(rows_[k]));
-  W.triangularView<Eigen::StrictlyLower>() = W.transpose().triangularView<Eigen::StrictlyLower>();
-  W.noalias() += compact_.transpose() * compact_;
-  for (int c = 0; c < m; ++c)
+  compact_.resize(static_cast<Eigen::Index>(rows_.size()), s);
+  for (int k = 0; k < static_cast<int>(rows_.size()); ++k)
+    compact_.row(k) = Y_.row(rows_[k]).head(s) / std::sqrt(D(rows_[k]));
+  gram_.triangularView<Eigen::StrictlyLower>() = gram_.transpose().triangularView<Eigen::StrictlyLower>();
+  gram_.noalias() += compact_.transpose() * compact_;
+  for (int c = 0; c < s; ++c)
     for (int i : columns_[c].index) Y_(i, c) = 0.0;
-  kept_W_ = W;
-  kept_factorization_ = factorizations_;
-  std::swap(kept_row_nonzeros_, row_nonzeros_);
-  std::swap(kept_row_index_, row_index_);
-  std::swap(kept_row_value_, row_value_);
 }
 
 }  // namespace csim

@@ -1,8 +1,8 @@
 // The sparse LDLᵀ factor of a symmetric matrix A, P A Pᵀ = L D Lᵀ (CHOLMOD's simplicial LDLᵀ from
 // Debian's SuiteSparse, with the cheaper of its AMD and METIS orderings), with what the steppers ask of
-// it: whether A is positive definite, solves, and the Delassus operator of contact rows. One class for the linear iteration
-// matrix of finite elements, the finite-strain tangent and the quasi-static stiffness; CHOLMOD's
-// headers stay in the .cpp.
+// it: whether A is positive definite, solves, and the Delassus operator of contact rows. One class for
+// the linear iteration matrix of finite elements, the finite-strain tangent and the quasi-static
+// stiffness; CHOLMOD's headers stay in the .cpp.
 //
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
 // iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
@@ -10,20 +10,20 @@
 // when the pattern changes, not at every factorization, with the map that writes A's lower triangle
 // into triu(P A Pᵀ), the matrix CHOLMOD's factorization reads (no transpose at each factorization).
 //
-// Delassus operator W = H A⁻¹ Hᵀ of rows H (m × n, each row touching a few unknowns), without A⁻¹ Hᵀ:
-//   Y = L⁻¹ P Hᵀ,   W = Yᵀ D⁻¹ Y.
-// A column of P Hᵀ has a handful of nonzeros; the forward substitution fills only the union of their
-// paths to the root of the elimination tree (Gilbert & Peierls 1988; Davis, Direct Methods for Sparse
-// Linear Systems, 2006, §3.2), and reads only L's columns on it, so that a column of Y costs a small
-// part of a solve (which reads all of L twice) and holds a small part of the n entries of A⁻¹ hᵀ.
-// forward gives one such sparse column (kept by the caller, e.g. per contact; delassus_cache.h),
-// delassus_entry one entry of W from two of them, delassus all of W for dense rows H.
-//
-// delassus keeps its last W with the nonzeros of the H it came from, and returns it while the factor
-// is the same (no factorization since) and H's nonzeros are the same to the bit: the quasi-static
-// stepper's modified Newton iterates solve with one factor (kept_factor.h), and a node on flat ground
-// keeps its rows exactly while nothing turns them (a ring whose hub turns has them turned with it,
-// reduced_coordinates.h). The same inputs give the same W, so keeping it changes no result.
+// Delassus operator W = H A⁻¹ Hᵀ of rows H (m × n, each row touching a few unknowns), without A⁻¹ Hᵀ.
+// For one row, Y = L⁻¹ P hᵀ: a column of P Hᵀ has a handful of nonzeros, and the forward substitution
+// fills only the union of their paths to the root of the elimination tree (Gilbert & Peierls 1988;
+// Davis, Direct Methods for Sparse Linear Systems, 2006, §3.2), reading only L's columns on it, so that
+// a column of Y costs a small part of a solve (which reads all of L twice) and holds a small part of the
+// n entries of A⁻¹ hᵀ. forward gives one such sparse column (kept by the caller, e.g. per contact;
+// delassus_cache.h), delassus_entry one entry of W from two of them.
+// delassus forms all of W for dense rows H through the unknowns S that the rows touch:
+//   G = E_Sᵀ A⁻¹ E_S = Yᵀ D⁻¹ Y,  Y = L⁻¹ P E_S (one forward column per unknown),   W = H_S G H_Sᵀ,
+// and keeps G while the factor and S stay the same: the quasi-static stepper's modified Newton iterates
+// solve with one factor (kept_factor.h) and their contacts touch the same nodes, while their rows turn
+// with a hub's frame (reduced_coordinates.h), so that such an iterate's W costs H_S G H_Sᵀ alone. Node
+// contacts' rows share their node's unknowns (d rows, d unknowns), so |S| is about m and G costs about
+// what Y of the rows would.
 #pragma once
 
 #include "engine/bodies/body.h"
@@ -51,8 +51,8 @@ class SparseLdlt {
   bool factor_positive_definite(const SparseMatrix& A);
   Vector solve(const Vector& b) const;  // A⁻¹ b
   void solve_in_place(Vector& x) const;  // x ← A⁻¹ x
-  // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage. The last W when neither the factor nor H's
-  // nonzeros changed since (see above).
+  // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage. With the last G when neither the factor nor the
+  // unknowns H touches changed since (see above).
   void delassus(const Matrix& H, Matrix& W);
   // y ← L⁻¹ P hᵀ for the row h = Σ_k value[k] e_{index[k]}ᵀ (count entries, distinct indices).
   void forward(const int* index, const double* value, int count, ForwardColumn& y) const;
@@ -70,7 +70,7 @@ class SparseLdlt {
   int size() const;                            // n
   long analyses() const { return analyses_; }  // symbolic analyses so far
   long factorizations() const { return factorizations_; }
-  long kept_delassus() const { return kept_delassus_; }  // delassus calls that returned the last W
+  long kept_delassus() const { return kept_delassus_; }  // delassus calls that took the last G
   double factor_nonzeros() const;              // entries of L, its diagonal (D) included
 
  private:
@@ -85,19 +85,18 @@ class SparseLdlt {
   mutable bool tree_ready_ = false;
   mutable std::vector<int> mark_, reach_;  // forward's work space: a visit mark by column, the reach
   mutable Vector work_;                    // forward's dense work vector, zero between calls
-  Matrix Y_, compact_;                     // delassus' work space (Y_ zero between calls)
+  Matrix Y_, compact_;                     // inverse_block's work space (Y_ zero between calls)
   std::vector<ForwardColumn> columns_;     // Y's columns
   std::vector<int> rows_, row_start_, row_columns_, fill_;
-  // H's nonzeros, row after row (row a: entries row_nonzeros_[a] to row_nonzeros_[a + 1]), and those
-  // of the H whose W is kept_W_, made with the factorization kept_factorization_ (−1: none).
-  std::vector<int> row_nonzeros_, row_index_;
-  std::vector<double> row_value_;
-  std::vector<int> kept_row_nonzeros_, kept_row_index_;
-  std::vector<double> kept_row_value_;
-  long kept_factorization_ = -1;
-  Matrix kept_W_;
+  // G = E_Sᵀ A⁻¹ E_S for the unknowns S (ascending), made with the factorization gram_factorization_
+  // (−1: none); touched_ the unknowns of the rows at hand.
+  std::vector<int> unknowns_, touched_;
+  Matrix gram_;
+  long gram_factorization_ = -1;
+  Matrix rows_on_unknowns_, rows_times_block_;  // H_S and H_S G
   void analyse(const SparseMatrix& A);  // the ordering and symbolic factor of A's pattern
   void prepare_tree() const;
+  void inverse_block();  // gram_ for unknowns_
 };
 
 }  // namespace csim

@@ -176,7 +176,7 @@ bool same_bits(const Matrix& a, const Matrix& b) {
          std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
 }
 
-TEST(SparseLdlt, KeepsTheDelassusOperatorWhileTheFactorAndTheRowsStayTheSameToTheBit) {
+TEST(SparseLdlt, KeepsTheInverseBlockWhileTheFactorAndTheUnknownsStayTheSame) {
   std::mt19937 random(5);
   const SparseMatrix A = random_grid(8, random);
   const int n = static_cast<int>(A.rows()), m = 6;
@@ -195,30 +195,44 @@ TEST(SparseLdlt, KeepsTheDelassusOperatorWhileTheFactorAndTheRowsStayTheSameToTh
   fresh.delassus(H, recomputed);
   EXPECT_TRUE(same_bits(kept, recomputed));
   EXPECT_TRUE(same_bits(kept, first));
-  // A value one ulp away, an entry moved to another unknown, a row fewer, another factor: W of its own.
-  const auto expect_recomputed = [&](const SparseMatrix& matrix, const Matrix& rows) {
+  // W from the kept G is W from a G of its own, to the bit; `kept` says whether G was kept.
+  const auto expect_fresh = [&](const SparseMatrix& matrix, const Matrix& rows, long kept_so_far) {
     SparseLdlt other;
     ASSERT_TRUE(other.factor_positive_definite(matrix));
     Matrix expected, W;
     other.delassus(rows, expected);
     factor.delassus(rows, W);
     EXPECT_TRUE(same_bits(W, expected));
-    EXPECT_EQ(factor.kept_delassus(), 1);
+    EXPECT_LE((W - rows * Matrix(matrix).ldlt().solve(rows.transpose())).lpNorm<Eigen::Infinity>(),
+              1e-12 * expected.lpNorm<Eigen::Infinity>());
+    EXPECT_EQ(factor.kept_delassus(), kept_so_far);
   };
   int row = 2, column = 0;
   while (H(row, column) == 0.0) ++column;
+  // Values changed on the same unknowns (a turned row): G kept.
   Matrix changed = H;
   changed(row, column) = std::nextafter(H(row, column), 2.0);
-  expect_recomputed(A, changed);
+  expect_fresh(A, changed, 2);
+  expect_fresh(A, 0.5 * H, 3);
+  // An entry moved to an unknown no row touched, a row fewer that leaves one untouched, another
+  // factor: G of its own.
+  int free_column = 0;
+  while (H.col(free_column).cwiseAbs().maxCoeff() > 0.0) ++free_column;
   Matrix moved = H;
   moved(row, column) = 0.0;
-  moved(row, (column + 1) % n) += H(row, column);
-  expect_recomputed(A, moved);
-  expect_recomputed(A, H.topRows(m - 1));
-  expect_recomputed(A, H);
+  moved(row, free_column) = H(row, column);
+  expect_fresh(A, moved, 3);
+  expect_fresh(A, H, 3);
+  Matrix fewer = H;
+  fewer.row(row).setZero();
+  const bool leaves_one = (H.colwise().squaredNorm().array() > 0.0).count() !=
+                          (fewer.colwise().squaredNorm().array() > 0.0).count();
+  ASSERT_TRUE(leaves_one);
+  expect_fresh(A, fewer, 3);
+  expect_fresh(A, H, 3);
   const SparseMatrix stiffer = 2.0 * A;
   ASSERT_TRUE(factor.factor_positive_definite(stiffer));
-  expect_recomputed(stiffer, H);
+  expect_fresh(stiffer, H, 3);
 }
 
 // A factor whose pattern map was released (a constant A, factored once) solves and gives forward
