@@ -319,6 +319,37 @@ double SparseLdlt::dot(const ForwardColumn& y, const Vector& x) {
   return sum;
 }
 
+void SparseLdlt::solve_free(const Vector& f, Vector& Hx) {
+  Cholmod& c = *cholmod_;
+  const int n = size(), s = static_cast<int>(unknowns_.size());
+  if (gram_factorization_ != factorizations_) throw std::logic_error("SparseLdlt::solve_free before delassus");
+  c.permuted.resize(n);
+  for (int k = 0; k < n; ++k) c.permuted(k) = f(c.permutation[k]);
+  cholmod_dense rhs = dense_view(c.permuted.data(), n);
+  if (!cholmod_solve2(CHOLMOD_L, c.factor, &rhs, nullptr, &c.x, nullptr, &c.y, &c.e, &c.common))
+    throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
+  free_forward_ = Eigen::Map<const Vector>(static_cast<const double*>(c.x->x), n);
+  // E_Sᵀ A⁻¹ f = Y_Sᵀ D⁻¹ w.
+  block_values_.resize(s);
+  for (int j = 0; j < s; ++j) {
+    double sum = 0.0;
+    const ForwardColumn& y = columns_[j];
+    for (std::size_t k = 0; k < y.index.size(); ++k) sum += y.value[k] * free_forward_(y.index[k]) / pivots_(y.index[k]);
+    block_values_(j) = sum;
+  }
+  Hx.noalias() = rows_on_unknowns_ * block_values_;
+}
+
+void SparseLdlt::solve_with_reactions(const Vector& r, Vector& x) {
+  const int s = static_cast<int>(unknowns_.size());
+  block_values_.noalias() = rows_on_unknowns_.transpose() * r;
+  for (int j = 0; j < s; ++j) {
+    const ForwardColumn& y = columns_[j];
+    for (std::size_t k = 0; k < y.index.size(); ++k) free_forward_(y.index[k]) += block_values_(j) * y.value[k];
+  }
+  back_substitute(free_forward_, x);
+}
+
 // G = E_Sᵀ A⁻¹ E_S for the unknowns S that H's rows touch, from their unit forward columns, and then
 // W = H_S G H_Sᵀ (see the header).
 void SparseLdlt::delassus(const Matrix& H, Matrix& W) {

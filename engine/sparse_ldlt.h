@@ -54,6 +54,12 @@ class SparseLdlt {
   // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage. With the last G when neither the factor nor the
   // unknowns H touches changed since (see above).
   void delassus(const Matrix& H, Matrix& W);
+  // The solve of a contact problem in two halves around its contact solve, after delassus(H, W) with the
+  // same H and factor: solve_free sets Hx = H A⁻¹ f and keeps w = L⁻¹ P f; solve_with_reactions then sets
+  // x = A⁻¹ (f + Hᵀ r) = Pᵀ L⁻ᵀ D⁻¹ (w + Y_S H_Sᵀ r) from the inverse block's forward columns Y_S: one
+  // forward and one backward substitution for the pair, where A⁻¹ f and A⁻¹ Hᵀ r take two of each.
+  void solve_free(const Vector& f, Vector& Hx);
+  void solve_with_reactions(const Vector& r, Vector& x);
   // y ← L⁻¹ P hᵀ for the row h = Σ_k value[k] e_{index[k]}ᵀ (count entries, distinct indices).
   void forward(const int* index, const double* value, int count, ForwardColumn& y) const;
   // y_aᵀ D⁻¹ y_b: the entry of W of the two rows whose forward columns these are.
@@ -94,6 +100,7 @@ class SparseLdlt {
   Matrix gram_;
   long gram_factorization_ = -1;
   Matrix rows_on_unknowns_, rows_times_block_;  // H_S and H_S G
+  Vector free_forward_, block_values_;         // solve_free's w = L⁻¹ P f, and E_Sᵀ A⁻¹ f or H_Sᵀ r
   void analyse(const SparseMatrix& A);  // the ordering and symbolic factor of A's pattern
   void prepare_tree() const;
   void inverse_block();  // gram_ for unknowns_

@@ -296,8 +296,7 @@ void QuasiStatic::assemble_problem() {
   problem_.b.resize(m);
   if (m == 0) return;
   factor_.delassus(H_, problem_.W);
-  free_increment_ = factor_.solve(f_aug_);
-  problem_.b.noalias() = H_ * free_increment_;
+  factor_.solve_free(f_aug_, problem_.b);
   problem_.b += offset_;
   problem_.W.diagonal() += compliance_;
 }
@@ -376,8 +375,8 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   if (!keep)
     kept_.record({held ? KeptFactor::Kind::held : factor_kind_, held_rows(), held_weight_, hub_proximal_, held_rho_,
                   factor_regularized_});
-  // Δz = K⁻¹ f_aug + K⁻¹ H_zᵀ r: the free increment from the last assemble_problem, with f_aug_ unchanged since.
-  if (problem_.size() > 0) dz_ = free_increment_ + factor_.solve(Vector(H_.transpose() * r_));
+  // Δz = K⁻¹ (f_aug + H_zᵀ r), the second half of assemble_problem's solve (f_aug_ unchanged since).
+  if (problem_.size() > 0) factor_.solve_with_reactions(r_, dz_);
   else dz_ = factor_.solve(f_aug_);
   // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
   update_contact_force();

@@ -196,7 +196,6 @@ class QuasiStatic final : public Stepper {
   std::vector<SparseRow> rows_;
   Matrix H_;                   // the contact rows over z, H_z
   std::vector<Eigen::Index> H_written_;  // the entries of H_ its last detection wrote (the others are zero)
-  Vector free_increment_;      // K⁻¹ f_aug: the increment without contact forces
   FrictionContactProblem problem_;
 };
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <stdexcept>
 
 namespace csim {
 namespace {
@@ -233,6 +234,42 @@ TEST(SparseLdlt, KeepsTheInverseBlockWhileTheFactorAndTheUnknownsStayTheSame) {
   const SparseMatrix stiffer = 2.0 * A;
   ASSERT_TRUE(factor.factor_positive_definite(stiffer));
   expect_fresh(stiffer, H, 3);
+}
+
+TEST(SparseLdlt, SolvesAroundAContactSolveWithTheRowsInverseBlock) {
+  std::mt19937 random(7);
+  const SparseMatrix A = random_grid(9, random);
+  const int n = static_cast<int>(A.rows()), m = 5;
+  std::uniform_int_distribution<int> unknown(0, n - 1);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Matrix H = Matrix::Zero(m, n);
+  for (int a = 0; a < m; ++a)
+    for (int k = 0; k < 3; ++k) H(a, unknown(random)) = uniform(random);
+  const Vector f = Vector::LinSpaced(n, -2.0, 1.0), r = Vector::LinSpaced(m, 0.5, -1.5);
+  const Eigen::LDLT<Matrix> dense(A);
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  Vector Hx, x;
+  EXPECT_THROW(factor.solve_free(f, Hx), std::logic_error);  // no inverse block for this factor yet
+  Matrix W;
+  factor.delassus(H, W);
+  factor.solve_free(f, Hx);
+  const Vector free = dense.solve(f);
+  EXPECT_LE((Hx - H * free).lpNorm<Eigen::Infinity>(), 1e-12 * (H * free).lpNorm<Eigen::Infinity>());
+  factor.solve_with_reactions(r, x);
+  const Vector expected = dense.solve(f + H.transpose() * r);
+  EXPECT_LE((x - expected).lpNorm<Eigen::Infinity>(), 1e-12 * expected.lpNorm<Eigen::Infinity>());
+  // With the block kept (the same unknowns, turned rows): the same halves.
+  const Matrix turned = 1.5 * H;
+  factor.delassus(turned, W);
+  EXPECT_EQ(factor.kept_delassus(), 1);
+  factor.solve_free(f, Hx);
+  EXPECT_LE((Hx - turned * free).lpNorm<Eigen::Infinity>(), 1e-12 * (turned * free).lpNorm<Eigen::Infinity>());
+  factor.solve_with_reactions(r, x);
+  const Vector turned_expected = dense.solve(f + turned.transpose() * r);
+  EXPECT_LE((x - turned_expected).lpNorm<Eigen::Infinity>(), 1e-12 * turned_expected.lpNorm<Eigen::Infinity>());
+  ASSERT_TRUE(factor.factor_positive_definite(2.0 * A));
+  EXPECT_THROW(factor.solve_free(f, Hx), std::logic_error);  // the block is the last factor's
 }
 
 // A factor whose pattern map was released (a constant A, factored once) solves and gives forward
