@@ -428,10 +428,29 @@ void ReducedCoordinates::reduce_stiffness(const Vector& q, const Vector& f, cons
   const bool planned = world_from > 0 && same_frame_positions(K, world_from);
   if (planned) {
     frame_sums_.assign(assembly_.nonzeros(), 0.0);
-    for (std::size_t t = 0; t < world_from; ++t) {
-      const double value = K[t].value();
-      if (frame_slot_[t] >= 0) frame_sums_[frame_slot_[t]] += value;
-      if (hubs > 0) hub_part(K[t].row(), K[t].col(), value);
+    if (hubs == 1) {  // hub_part with its one column as plain arrays (every tied ring): the same sums
+      const double* C = C_.data();
+      double* KC = KC_.data();
+      double* CK = CK_.data();
+      for (std::size_t t = 0; t < world_from; ++t) {
+        const int i = K[t].row(), j = K[t].col();
+        const double value = K[t].value();
+        if (frame_slot_[t] >= 0) frame_sums_[frame_slot_[t]] += value;
+        if (floating_of_[j] >= 0) {
+          KC[i] += value * C[j];
+          reaches_hub_row_[i] = 1;
+        }
+        if (floating_of_[i] >= 0) {
+          CK[j] += value * C[i];
+          reaches_hub_column_[j] = 1;
+        }
+      }
+    } else {
+      for (std::size_t t = 0; t < world_from; ++t) {
+        const double value = K[t].value();
+        if (frame_slot_[t] >= 0) frame_sums_[frame_slot_[t]] += value;
+        if (hubs > 0) hub_part(K[t].row(), K[t].col(), value);
+      }
     }
     assembly_.resume(frame_entries_, frame_sums_);
   } else {
