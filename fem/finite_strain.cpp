@@ -83,10 +83,18 @@ const Reference<E>& reference() {
 template <class E>
 struct PointKinematics {
   typename E::Gradients gradients;  // ∂N_a/∂X, 1/m
-  Eigen::Matrix3d F;                // deformation gradient, plane strain F33 = 1
+  typename E::Square F;             // deformation gradient; plane strain: its in-plane block
   double J = 1.0;                   // det F
   double volume = 0.0;              // dV, m³
 };
+
+// The whole 3×3 F of a plane one's in-plane block (F33 = 1, no out-of-plane shear).
+template <class E>
+Eigen::Matrix3d whole_gradient(const typename E::Square& F) {
+  Eigen::Matrix3d whole = Eigen::Matrix3d::Identity();
+  whole.topLeftCorner<E::dimension, E::dimension>() = F;
+  return whole;
+}
 
 template <class E>
 PointKinematics<E> kinematics(const typename E::Gradients& X, const typename E::Nodal& u,
@@ -100,7 +108,7 @@ PointKinematics<E> kinematics(const typename E::Gradients& X, const typename E::
              natural);
   p.gradients.noalias() = derivatives * jacobian.inverse();
   p.F.setIdentity();
-  p.F.template topLeftCorner<E::dimension, E::dimension>() += u * p.gradients;
+  p.F += u * p.gradients;
   p.J = p.F.determinant();
   if (!(p.J > 0.0) || !std::isfinite(p.J))
     throw_at(element, " is inverted: det F = ", p.J, natural);
@@ -281,13 +289,13 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
     HyperelasticResponseOf<D> response =
         split ? isochoric_response<D>(in.material, p.F, with_tangent)
               : hyperelastic_response<D>(in.material, p.F, with_tangent);
-    typename E::Square P = response.stress.template topLeftCorner<D, D>();
+    typename E::Square& P = response.stress;    // the in-plane (or whole) block
     typename E::Tangent& A = response.tangent;  // the in-plane (or whole) block
     if constexpr (split) {
       // p ∂J/∂F and p ∂²J/∂F∂F, ∂J/∂F = J H, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ).
       const Eigen::Matrix<double, M, 1>& phi = dilatation.basis[g];
       const double pressure = phi.dot(dilatation.pressure);
-      const typename E::Square H = p.F.template topLeftCorner<D, D>().inverse().transpose();
+      const typename E::Square H = p.F.inverse().transpose();
       P += pressure * p.J * H;
       if (with_tangent) {
         Eigen::Matrix<double, E::gradient, 1> dJ;
@@ -345,16 +353,17 @@ Stress centroid_stress(const typename E::Gradients& X, const typename E::Nodal& 
   const Reference<E>& ref = reference<E>();
   const PointKinematics<E> centre =
       kinematics<E>(X, u, ref.centroid, 1.0, 1.0, in.element, Eigen::Vector3d::Zero());
+  const Eigen::Matrix3d F = whole_gradient<E>(centre.F);  // the 3D response, for σzz
   Eigen::Matrix3d sigma;
   if (in.formulation == FiniteStrainFormulation::standard) {
-    const HyperelasticResponse r = hyperelastic_response(in.material, centre.F, false);
-    sigma = r.stress * centre.F.transpose() / centre.J;
+    const HyperelasticResponse r = hyperelastic_response(in.material, F, false);
+    sigma = r.stress * F.transpose() / centre.J;
   } else {
     const double pressure = in.formulation == FiniteStrainFormulation::mean_dilatation
                                 ? centroid_pressure<E, 1>(X, u, in)
                                 : centroid_pressure<E, E::dimension + 1>(X, u, in);
-    const HyperelasticResponse r = isochoric_response(in.material, centre.F, false);
-    sigma = r.stress * centre.F.transpose() / centre.J + pressure * Eigen::Matrix3d::Identity();
+    const HyperelasticResponse r = isochoric_response(in.material, F, false);
+    sigma = r.stress * F.transpose() / centre.J + pressure * Eigen::Matrix3d::Identity();
   }
   Stress stress;
   stress << sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(0, 2);
@@ -507,9 +516,10 @@ Eigen::Matrix3d finite_strain_centroid_gradient(const ElementGeometry& element,
     using E = decltype(kind);
     check_size(element.index, "the displacement", displacement.size(), E::dofs);
     const typename E::Nodal u = Eigen::Map<const typename E::Nodal>(displacement.data());
-    return kinematics<E>(reference_coordinates<E>(element), u, reference<E>().centroid, 1.0, 1.0,
-                         element.index, Eigen::Vector3d::Zero())
-        .F;
+    return whole_gradient<E>(kinematics<E>(reference_coordinates<E>(element), u,
+                                           reference<E>().centroid, 1.0, 1.0, element.index,
+                                           Eigen::Vector3d::Zero())
+                                 .F);
   });
 }
 
