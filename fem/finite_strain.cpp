@@ -267,6 +267,47 @@ Dilatation<E::points, Modes> project_dilatation(const ElementPoints<E>& points, 
   return d;
 }
 
+// ∂J/∂F = J H, H = F⁻ᵀ: the cofactor matrix of F, which in plane strain is [[F22, −F21], [−F12, F11]]
+// (no inverse needed).
+template <class E>
+typename E::Square volume_derivative(const typename E::Square& F, double det_F) {
+  if constexpr (E::dimension == 2) {
+    typename E::Square cofactor;
+    cofactor << F(1, 1), -F(1, 0), -F(0, 1), F(0, 0);
+    return cofactor;
+  } else {
+    return det_F * F.inverse().transpose();
+  }
+}
+
+// A += p ∂²J/∂F∂F, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ). In plane strain J = F11 F22 − F12 F21
+// is bilinear: its Hessian is the constant ±1 on the pairs (F11, F22) and (F12, F21).
+template <class E>
+void add_volume_hessian(typename E::Tangent& A, double pressure, const typename E::Square& F,
+                        double det_F) {
+  constexpr int D = E::dimension;
+  if constexpr (D == 2) {
+    A(0, 3) += pressure, A(3, 0) += pressure;
+    A(1, 2) -= pressure, A(2, 1) -= pressure;
+  } else {
+    const typename E::Square H = F.inverse().transpose();
+    for (int i = 0; i < D; ++i)
+      for (int J = 0; J < D; ++J)
+        for (int k = 0; k < D; ++k)
+          for (int L = 0; L < D; ++L)
+            A(D * i + J, D * k + L) += pressure * det_F * (H(i, J) * H(k, L) - H(i, L) * H(k, J));
+  }
+}
+
+// X's entries row by row, the order of A's rows and columns.
+template <class E>
+Eigen::Matrix<double, E::gradient, 1> by_rows(const typename E::Square& X) {
+  Eigen::Matrix<double, E::gradient, 1> flat;
+  for (int i = 0; i < E::dimension; ++i)
+    for (int J = 0; J < E::dimension; ++J) flat(E::dimension * i + J) = X(i, J);
+  return flat;
+}
+
 // Modes = 0: the standard element; otherwise W_iso at the points and U on the projected
 // dilatation of Modes modes.
 template <class E, int Modes>
@@ -292,22 +333,14 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
     typename E::Square& P = response.stress;    // the in-plane (or whole) block
     typename E::Tangent& A = response.tangent;  // the in-plane (or whole) block
     if constexpr (split) {
-      // p ∂J/∂F and p ∂²J/∂F∂F, ∂J/∂F = J H, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ).
       const Eigen::Matrix<double, M, 1>& phi = dilatation.basis[g];
       const double pressure = phi.dot(dilatation.pressure);
-      const typename E::Square H = p.F.inverse().transpose();
-      P += pressure * p.J * H;
+      const typename E::Square dJ = volume_derivative<E>(p.F, p.J);
+      P += pressure * dJ;
       if (with_tangent) {
-        Eigen::Matrix<double, E::gradient, 1> dJ;
-        for (int i = 0; i < D; ++i)
-          for (int J = 0; J < D; ++J) {
-            dJ(D * i + J) = p.J * H(i, J);
-            for (int k = 0; k < D; ++k)
-              for (int L = 0; L < D; ++L)
-                A(D * i + J, D * k + L) += pressure * p.J * (H(i, J) * H(k, L) - H(i, L) * H(k, J));
-          }
+        add_volume_hessian<E>(A, pressure, p.F, p.J);
         volume_gradient.noalias() +=
-            p.volume * (gradient_transpose_times<E>(p.gradients, dJ) * phi.transpose());
+            p.volume * (gradient_transpose_times<E>(p.gradients, by_rows<E>(dJ)) * phi.transpose());
       }
     }
     out.energy += p.volume * response.energy;
