@@ -9,7 +9,10 @@
 // out-of-plane slot: their in-plane blocks are the 2×2 products of the in-plane blocks (H2 = F2⁻ᵀ,
 // C2 = F2ᵀF2, (bF)2 = b2 F2, det F = det F2), and each term of A on in-plane indices involves
 // in-plane entries only. The out-of-plane 1 shows only in traces and norms (I1 = tr C2 + 1,
-// tr C² = ‖C2‖² + 1, ‖F‖² = ‖F2‖² + 1): whole_trace and whole_squared_norm add it. The 3D code
+// tr C² = ‖C2‖² + 1, ‖F‖² = ‖F2‖² + 1): whole_trace and whole_squared_norm add it. Two 2×2
+// identities make plane strain cheaper still: X_iL X_kJ = X_iJ X_kL − det X ε_ik ε_JL for any 2×2 X
+// (add_cross), and Cayley–Hamilton, which collapses Mooney–Rivlin's bF and I2 to F, H and J: its
+// plane variant, mooney_rivlin_plane_part, stands beside the general mooney_rivlin_part. The 3D code
 // (Dim = 3) is the general one; tests/fem/hyperelastic_test.cpp checks the plane one against it.
 #include "fem/hyperelastic.h"
 
@@ -66,13 +69,23 @@ void add_dyad(MaterialTangentOf<Dim>& A, double c, const Square<Dim>& X) {
   A.noalias() += c * (x * x.transpose());
 }
 
-// A_iJkL += c X_iL X_kJ (from the derivative of an inverse or of a product FᵀF).
+// A_iJkL += c X_iL X_kJ (from the derivative of an inverse or of a product FᵀF). A 2×2 X has
+// X_iL X_kJ = X_iJ X_kL − det X ε_ik ε_JL (ε the 2D permutation symbol; both sides vanish unless
+// i ≠ k and J ≠ L), so in plane strain it is a dyad and ∓c det X on the (F11, F22) and (F12, F21)
+// pairs, a third of the loop's cost.
 template <int Dim>
 void add_cross(MaterialTangentOf<Dim>& A, double c, const Square<Dim>& X) {
-  for (int i = 0; i < Dim; ++i)
-    for (int J = 0; J < Dim; ++J)
-      for (int k = 0; k < Dim; ++k)
-        for (int L = 0; L < Dim; ++L) A(Dim * i + J, Dim * k + L) += c * X(i, L) * X(k, J);
+  if constexpr (Dim == 2) {
+    add_dyad<2>(A, c, X);
+    const double d = c * X.determinant();
+    A(0, 3) -= d, A(3, 0) -= d;
+    A(1, 2) += d, A(2, 1) += d;
+  } else {
+    for (int i = 0; i < Dim; ++i)
+      for (int J = 0; J < Dim; ++J)
+        for (int k = 0; k < Dim; ++k)
+          for (int L = 0; L < Dim; ++L) A(Dim * i + J, Dim * k + L) += c * X(i, L) * X(k, J);
+  }
 }
 
 // A_iJkL += c (δik S_JL + T_ik δJL), S and T symmetric; S = T = I gives 2c δik δJL.
@@ -171,6 +184,46 @@ void mooney_rivlin_part(const HyperelasticMaterial& m, const Square<Dim>& F, dou
   add_dyad<Dim>(r.tangent, 4.0 * second, F);
   add_kronecker<Dim>(r.tangent, 1.0, kronecker * I - 2.0 * second * C, kronecker * I - 2.0 * second * b);
   add_cross<Dim>(r.tangent, -2.0 * second, F);
+}
+
+// The same in plane strain, where the 2×2 identities collapse the law. Cayley–Hamilton for b2,
+// b2² = tr b2 b2 − J² I, gives bF = (I1 − 1) F − J² H, hence D = 2(F + J² H) and
+// I2 = I1 − 1 + J²; and X_iL X_kJ = X_iJ X_kL − det X ε_ik ε_JL (add_cross) turns both cross terms
+// into dyads. A is then a quadratic form in H and F, the Kronecker terms and a multiple of
+// ε_ik ε_JL (det H = 1/J, det F = J):
+//   A = a_HH H⊗H + a_FF F⊗F + a_HF (H⊗F + F⊗H) + δik S_JL + T_ik δJL + e ε_ik ε_JL,
+//   a_HH = α + β − (16/3) C01 c J², a_FF = 2 C01 c, a_HF = −(4/3)(C10 a + 2 C01 c),
+//   e = 2 C01 c J − β/J, with α, β the coefficients of H⊗H and H_iL H_kJ above.
+void mooney_rivlin_plane_part(const HyperelasticMaterial& m, const Square<2>& F, double J,
+                              bool with_tangent, HyperelasticResponseOf<2>& r) {
+  const Square<2> H = F.inverse().transpose();
+  const Square<2> C = F.transpose() * F;
+  const double I1 = whole_trace<2>(C);
+  const double I2 = I1 - 1.0 + J * J;
+  const double root = inverse_cube_root(J);
+  const double a = root * root, c = a * a;
+  const double first = m.c10 * a, second = m.c01 * c;
+  r.energy = m.c10 * (a * I1 - 3.0) + m.c01 * (c * I2 - 3.0);
+  // C10 a (2F − ⅔ I1 H) + C01 c (D − (4/3) I2 H), D = 2(F + J² H)
+  r.stress = 2.0 * (first + second) * F +
+             (second * (2.0 * J * J - (4.0 / 3.0) * I2) - first * (2.0 / 3.0) * I1) * H;
+  if (!with_tangent) return;
+  const double alpha = first * (4.0 / 9.0) * I1 + second * (16.0 / 9.0) * I2;
+  const double beta = first * (2.0 / 3.0) * I1 + second * (4.0 / 3.0) * I2;
+  Eigen::Matrix<double, 4, 2> basis;  // H and F flattened
+  basis.col(0) = flatten<2>(H);
+  basis.col(1) = flatten<2>(F);
+  Eigen::Matrix2d form;
+  form << alpha + beta - (16.0 / 3.0) * second * J * J, -(4.0 / 3.0) * (first + 2.0 * second),
+      -(4.0 / 3.0) * (first + 2.0 * second), 2.0 * second;
+  r.tangent.noalias() += basis * form * basis.transpose();
+  const double kronecker = first + second * I1;
+  const Square<2> I = Square<2>::Identity();
+  add_kronecker<2>(r.tangent, 1.0, kronecker * I - 2.0 * second * C,
+                   kronecker * I - 2.0 * second * F * F.transpose());
+  const double e = 2.0 * second * J - beta / J;
+  r.tangent(0, 3) += e, r.tangent(3, 0) += e;
+  r.tangent(1, 2) -= e, r.tangent(2, 1) -= e;
 }
 
 }  // namespace
@@ -273,7 +326,8 @@ HyperelasticResponseOf<Dim> isochoric_response(const HyperelasticMaterial& mater
       neo_hookean_part(material, F, J, with_tangent, response);
       break;
     case HyperelasticLaw::mooney_rivlin:
-      mooney_rivlin_part(material, F, J, with_tangent, response);
+      if constexpr (Dim == 2) mooney_rivlin_plane_part(material, F, J, with_tangent, response);
+      else mooney_rivlin_part(material, F, J, with_tangent, response);
       break;
   }
   return response;
