@@ -136,7 +136,9 @@ typename E::Vector gradient_transpose_times(const typename E::Gradients& g,
 // A B first (its column D·b + k is A's columns D·k … D·k + D − 1 times g_b), with its rows in the
 // order D·J + i, then Bᵀ (A B) column by column, so that both are read and written contiguously
 // (row by row, with K column-major, took a fifth of a 3D ring's run). Each entry of K gets the same
-// products in the same order (J = 0 … D − 1) as row by row: the same result bit for bit.
+// products in the same order (J = 0 … D − 1) as row by row: the same result bit for bit. K is
+// symmetric: only its node blocks on and above the diagonal (a ≤ b) are summed here, and
+// evaluate_with mirrors the upper triangle once all terms are in.
 template <class E>
 void add_material_stiffness(const typename E::Gradients& g, const typename E::Tangent& A, double dV,
                             typename E::Matrix& K) {
@@ -149,13 +151,14 @@ void add_material_stiffness(const typename E::Gradients& g, const typename E::Ta
     for (int k = 0; k < D; ++k)
       AB.col(D * b + k).noalias() = A_by_J.template middleCols<D>(D * k) * g.row(b).transpose();
   const typename E::Gradients weighted = dV * g;
-  for (int c = 0; c < E::dofs; ++c) {
-    auto column = K.col(c);
-    const auto products = AB.col(c);
-    for (int a = 0; a < E::nodes; ++a)
-      for (int J = 0; J < D; ++J)
-        column.template segment<D>(D * a) += weighted(a, J) * products.template segment<D>(D * J);
-  }
+  for (int b = 0; b < E::nodes; ++b)
+    for (int k = 0; k < D; ++k) {
+      auto column = K.col(D * b + k);
+      const auto products = AB.col(D * b + k);
+      for (int a = 0; a <= b; ++a)
+        for (int J = 0; J < D; ++J)
+          column.template segment<D>(D * a) += weighted(a, J) * products.template segment<D>(D * J);
+    }
 }
 
 struct KernelInput {
@@ -253,11 +256,15 @@ Dilatation<E::points, Modes> project_dilatation(const ElementPoints<E>& points, 
   const typename D::Basis c = d.inverse_gram * volume_change;
   typename D::Basis mean_stress = D::Basis::Zero();
   d.stiffness.setZero();
+  VolumetricResponse v;
   for (int g = 0; g < E::points; ++g) {
-    const double theta = phi[g].dot(c);
-    if (!(theta > 0.0) || !std::isfinite(theta))
-      throw_at(in.element, " is inverted: its projected volume ratio θ = ", theta, ref.natural[g]);
-    const VolumetricResponse v = volumetric_response(in.material, theta);
+    // One mode (φ = 1): θ = J̄ at every point, so U and its derivatives are evaluated once.
+    if (Modes > 1 || g == 0) {
+      const double theta = phi[g].dot(c);
+      if (!(theta > 0.0) || !std::isfinite(theta))
+        throw_at(in.element, " is inverted: its projected volume ratio θ = ", theta, ref.natural[g]);
+      v = volumetric_response(in.material, theta);
+    }
     const double dV = points.kinematics[g].volume;
     d.energy += dV * v.energy;
     mean_stress += dV * v.mean_stress * phi[g];
@@ -354,8 +361,10 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
         dilatation.inverse_gram * dilatation.stiffness * dilatation.inverse_gram;
     out.tangent.noalias() += volume_gradient * (volumetric * volume_gradient.transpose());
   }
-  // Exactly symmetric (round-off in Bᵀ A B is not), as symmetric factorizations assume.
-  out.tangent = 0.5 * (out.tangent + out.tangent.transpose()).eval();
+  // Exactly symmetric, as symmetric factorizations assume: the upper triangle, on which
+  // add_material_stiffness summed, mirrored into the lower.
+  for (int c = 0; c < E::dofs; ++c)
+    for (int r = c + 1; r < E::dofs; ++r) out.tangent(r, c) = out.tangent(c, r);
 }
 
 template <class E>
@@ -449,7 +458,7 @@ double assemble(const FiniteStrainModel& model, const Eigen::VectorXd& displacem
     constexpr int D = E::dimension;
     const int element_count = static_cast<int>(mesh.elements.size());
     if (triplets) triplets->reserve(triplets->size() + static_cast<std::size_t>(element_count) * E::dofs * E::dofs);
-    std::array<int, E::dofs> numbered;
+    std::array<int, E::dofs> kept, numbered;  // the element's unfixed dofs and their numbers
     double energy = 0.0;
     KernelOutput<E> out;
     std::array<int, E::dofs> dofs;
@@ -471,13 +480,14 @@ double assemble(const FiniteStrainModel& model, const Eigen::VectorXd& displacem
           for (int r = 0; r < E::dofs; ++r)
             triplets->emplace_back(dofs[r], dofs[c], out.tangent(r, c));
       if (triplets && numbering) {
-        for (int r = 0; r < E::dofs; ++r) numbered[r] = numbering->numbering[dofs[r]];
-        for (int c = 0; c < E::dofs; ++c) {
-          if (numbered[c] < 0) continue;
-          for (int r = 0; r < E::dofs; ++r)
-            if (numbered[r] >= 0)
-              triplets->emplace_back(numbering->offset + numbered[r], numbering->offset + numbered[c], out.tangent(r, c));
-        }
+        // The unfixed dofs listed once, so that the E::dofs² entries need no test each.
+        int count = 0;
+        for (int r = 0; r < E::dofs; ++r)
+          if (const int n = numbering->numbering[dofs[r]]; n >= 0)
+            kept[count] = r, numbered[count++] = numbering->offset + n;
+        for (int c = 0; c < count; ++c)
+          for (int r = 0; r < count; ++r)
+            triplets->emplace_back(numbered[r], numbered[c], out.tangent(kept[r], kept[c]));
       }
     }
     return energy;
