@@ -100,14 +100,17 @@ void add_kronecker(MaterialTangentOf<Dim>& A, double c, const Square<Dim>& S,
       }
 }
 
+[[noreturn]] void throw_inverted(double J) {
+  std::ostringstream message;
+  message << "hyperelastic material: det F = " << J << " ≤ 0 or not finite (inverted)";
+  throw FemError(message.str());
+}
+
+// The message is built out of line, so that this check inlines into every evaluation.
 template <int Dim>
 double checked_determinant(const Square<Dim>& F) {
   const double J = F.determinant();
-  if (!(J > 0.0) || !std::isfinite(J)) {
-    std::ostringstream message;
-    message << "hyperelastic material: det F = " << J << " ≤ 0 or not finite (inverted)";
-    throw FemError(message.str());
-  }
+  if (!(J > 0.0) || !std::isfinite(J)) throw_inverted(J);
   return J;
 }
 
