@@ -88,7 +88,8 @@ struct PointKinematics {
   double volume = 0.0;              // dV, m³
 };
 
-// The whole 3×3 F of a plane one's in-plane block (F33 = 1, no out-of-plane shear).
+// The 3×3 F of a point: a plane element's in-plane block with F33 = 1 and no out-of-plane shear, a
+// solid's F itself.
 template <class E>
 Eigen::Matrix3d whole_gradient(const typename E::Square& F) {
   Eigen::Matrix3d whole = Eigen::Matrix3d::Identity();
@@ -340,6 +341,7 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
     typename E::Square& P = response.stress;    // the in-plane (or whole) block
     typename E::Tangent& A = response.tangent;  // the in-plane (or whole) block
     if constexpr (split) {
+      // The pressure's share: p ∂J/∂F in P, p ∂²J/∂F∂F in A, ∂J/∂F in the volume gradient G.
       const Eigen::Matrix<double, M, 1>& phi = dilatation.basis[g];
       const double pressure = phi.dot(dilatation.pressure);
       const typename E::Square dJ = volume_derivative<E>(p.F, p.J);

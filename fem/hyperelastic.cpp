@@ -213,12 +213,13 @@ void mooney_rivlin_plane_part(const HyperelasticMaterial& m, const Square<2>& F,
   if (!with_tangent) return;
   const double alpha = first * (4.0 / 9.0) * I1 + second * (16.0 / 9.0) * I2;
   const double beta = first * (2.0 / 3.0) * I1 + second * (4.0 / 3.0) * I2;
+  const double a_HH = alpha + beta - (16.0 / 3.0) * second * J * J;
+  const double a_HF = -(4.0 / 3.0) * (first + 2.0 * second), a_FF = 2.0 * second;
   Eigen::Matrix<double, 4, 2> basis;  // H and F flattened
   basis.col(0) = flatten<2>(H);
   basis.col(1) = flatten<2>(F);
   Eigen::Matrix2d form;
-  form << alpha + beta - (16.0 / 3.0) * second * J * J, -(4.0 / 3.0) * (first + 2.0 * second),
-      -(4.0 / 3.0) * (first + 2.0 * second), 2.0 * second;
+  form << a_HH, a_HF, a_HF, a_FF;
   r.tangent.noalias() += basis * form * basis.transpose();
   const double kronecker = first + second * I1;
   const Square<2> I = Square<2>::Identity();

@@ -88,9 +88,9 @@ using MaterialTangent = MaterialTangentOf<3>;
 // with_tangent = false leaves tangent at zero.
 template <int D>
 struct HyperelasticResponseOf {
-  double energy = 0.0;                                                // W, J/m³
+  double energy = 0.0;                                                       // W, J/m³
   Eigen::Matrix<double, D, D> stress = Eigen::Matrix<double, D, D>::Zero();  // P, Pa
-  MaterialTangentOf<D> tangent = MaterialTangentOf<D>::Zero();        // A, Pa
+  MaterialTangentOf<D> tangent = MaterialTangentOf<D>::Zero();               // A, Pa
 };
 using HyperelasticResponse = HyperelasticResponseOf<3>;
 // F is not deduced (type_identity_t): D is 3 unless given, and F may be any expression.
