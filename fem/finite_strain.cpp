@@ -83,10 +83,19 @@ const Reference<E>& reference() {
 template <class E>
 struct PointKinematics {
   typename E::Gradients gradients;  // ∂N_a/∂X, 1/m
-  Eigen::Matrix3d F;                // deformation gradient, plane strain F33 = 1
+  typename E::Square F;             // deformation gradient; plane strain: its in-plane block
   double J = 1.0;                   // det F
   double volume = 0.0;              // dV, m³
 };
+
+// The 3×3 F of a point: a plane element's in-plane block with F33 = 1 and no out-of-plane shear, a
+// solid's F itself.
+template <class E>
+Eigen::Matrix3d whole_gradient(const typename E::Square& F) {
+  Eigen::Matrix3d whole = Eigen::Matrix3d::Identity();
+  whole.topLeftCorner<E::dimension, E::dimension>() = F;
+  return whole;
+}
 
 template <class E>
 PointKinematics<E> kinematics(const typename E::Gradients& X, const typename E::Nodal& u,
@@ -100,7 +109,7 @@ PointKinematics<E> kinematics(const typename E::Gradients& X, const typename E::
              natural);
   p.gradients.noalias() = derivatives * jacobian.inverse();
   p.F.setIdentity();
-  p.F.template topLeftCorner<E::dimension, E::dimension>() += u * p.gradients;
+  p.F += u * p.gradients;
   p.J = p.F.determinant();
   if (!(p.J > 0.0) || !std::isfinite(p.J))
     throw_at(element, " is inverted: det F = ", p.J, natural);
@@ -128,7 +137,9 @@ typename E::Vector gradient_transpose_times(const typename E::Gradients& g,
 // A B first (its column D·b + k is A's columns D·k … D·k + D − 1 times g_b), with its rows in the
 // order D·J + i, then Bᵀ (A B) column by column, so that both are read and written contiguously
 // (row by row, with K column-major, took a fifth of a 3D ring's run). Each entry of K gets the same
-// products in the same order (J = 0 … D − 1) as row by row: the same result bit for bit.
+// products in the same order (J = 0 … D − 1) as row by row: the same result bit for bit. K is
+// symmetric: only its node blocks on and above the diagonal (a ≤ b) are summed here, and
+// evaluate_with mirrors the upper triangle once all terms are in.
 template <class E>
 void add_material_stiffness(const typename E::Gradients& g, const typename E::Tangent& A, double dV,
                             typename E::Matrix& K) {
@@ -141,13 +152,14 @@ void add_material_stiffness(const typename E::Gradients& g, const typename E::Ta
     for (int k = 0; k < D; ++k)
       AB.col(D * b + k).noalias() = A_by_J.template middleCols<D>(D * k) * g.row(b).transpose();
   const typename E::Gradients weighted = dV * g;
-  for (int c = 0; c < E::dofs; ++c) {
-    auto column = K.col(c);
-    const auto products = AB.col(c);
-    for (int a = 0; a < E::nodes; ++a)
-      for (int J = 0; J < D; ++J)
-        column.template segment<D>(D * a) += weighted(a, J) * products.template segment<D>(D * J);
-  }
+  for (int b = 0; b < E::nodes; ++b)
+    for (int k = 0; k < D; ++k) {
+      auto column = K.col(D * b + k);
+      const auto products = AB.col(D * b + k);
+      for (int a = 0; a <= b; ++a)
+        for (int J = 0; J < D; ++J)
+          column.template segment<D>(D * a) += weighted(a, J) * products.template segment<D>(D * J);
+    }
 }
 
 struct KernelInput {
@@ -245,11 +257,15 @@ Dilatation<E::points, Modes> project_dilatation(const ElementPoints<E>& points, 
   const typename D::Basis c = d.inverse_gram * volume_change;
   typename D::Basis mean_stress = D::Basis::Zero();
   d.stiffness.setZero();
+  VolumetricResponse v;
   for (int g = 0; g < E::points; ++g) {
-    const double theta = phi[g].dot(c);
-    if (!(theta > 0.0) || !std::isfinite(theta))
-      throw_at(in.element, " is inverted: its projected volume ratio θ = ", theta, ref.natural[g]);
-    const VolumetricResponse v = volumetric_response(in.material, theta);
+    // One mode (φ = 1): θ = J̄ at every point, so U and its derivatives are evaluated once.
+    if (Modes > 1 || g == 0) {
+      const double theta = phi[g].dot(c);
+      if (!(theta > 0.0) || !std::isfinite(theta))
+        throw_at(in.element, " is inverted: its projected volume ratio θ = ", theta, ref.natural[g]);
+      v = volumetric_response(in.material, theta);
+    }
     const double dV = points.kinematics[g].volume;
     d.energy += dV * v.energy;
     mean_stress += dV * v.mean_stress * phi[g];
@@ -257,6 +273,47 @@ Dilatation<E::points, Modes> project_dilatation(const ElementPoints<E>& points, 
   }
   d.pressure = d.inverse_gram * mean_stress;
   return d;
+}
+
+// ∂J/∂F = J H, H = F⁻ᵀ: the cofactor matrix of F, which in plane strain is [[F22, −F21], [−F12, F11]]
+// (no inverse needed).
+template <class E>
+typename E::Square volume_derivative(const typename E::Square& F, double det_F) {
+  if constexpr (E::dimension == 2) {
+    typename E::Square cofactor;
+    cofactor << F(1, 1), -F(1, 0), -F(0, 1), F(0, 0);
+    return cofactor;
+  } else {
+    return det_F * F.inverse().transpose();
+  }
+}
+
+// A += p ∂²J/∂F∂F, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ). In plane strain J = F11 F22 − F12 F21
+// is bilinear: its Hessian is the constant ±1 on the pairs (F11, F22) and (F12, F21).
+template <class E>
+void add_volume_hessian(typename E::Tangent& A, double pressure, const typename E::Square& F,
+                        double det_F) {
+  constexpr int D = E::dimension;
+  if constexpr (D == 2) {
+    A(0, 3) += pressure, A(3, 0) += pressure;
+    A(1, 2) -= pressure, A(2, 1) -= pressure;
+  } else {
+    const typename E::Square H = F.inverse().transpose();
+    for (int i = 0; i < D; ++i)
+      for (int J = 0; J < D; ++J)
+        for (int k = 0; k < D; ++k)
+          for (int L = 0; L < D; ++L)
+            A(D * i + J, D * k + L) += pressure * det_F * (H(i, J) * H(k, L) - H(i, L) * H(k, J));
+  }
+}
+
+// X's entries row by row, the order of A's rows and columns.
+template <class E>
+Eigen::Matrix<double, E::gradient, 1> by_rows(const typename E::Square& X) {
+  Eigen::Matrix<double, E::gradient, 1> flat;
+  for (int i = 0; i < E::dimension; ++i)
+    for (int J = 0; J < E::dimension; ++J) flat(E::dimension * i + J) = X(i, J);
+  return flat;
 }
 
 // Modes = 0: the standard element; otherwise W_iso at the points and U on the projected
@@ -281,25 +338,18 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
     HyperelasticResponseOf<D> response =
         split ? isochoric_response<D>(in.material, p.F, with_tangent)
               : hyperelastic_response<D>(in.material, p.F, with_tangent);
-    typename E::Square P = response.stress.template topLeftCorner<D, D>();
+    typename E::Square& P = response.stress;    // the in-plane (or whole) block
     typename E::Tangent& A = response.tangent;  // the in-plane (or whole) block
     if constexpr (split) {
-      // p ∂J/∂F and p ∂²J/∂F∂F, ∂J/∂F = J H, ∂²J/∂F_iJ∂F_kL = J (H_iJ H_kL − H_iL H_kJ).
+      // The pressure's share: p ∂J/∂F in P, p ∂²J/∂F∂F in A, ∂J/∂F in the volume gradient G.
       const Eigen::Matrix<double, M, 1>& phi = dilatation.basis[g];
       const double pressure = phi.dot(dilatation.pressure);
-      const typename E::Square H = p.F.template topLeftCorner<D, D>().inverse().transpose();
-      P += pressure * p.J * H;
+      const typename E::Square dJ = volume_derivative<E>(p.F, p.J);
+      P += pressure * dJ;
       if (with_tangent) {
-        Eigen::Matrix<double, E::gradient, 1> dJ;
-        for (int i = 0; i < D; ++i)
-          for (int J = 0; J < D; ++J) {
-            dJ(D * i + J) = p.J * H(i, J);
-            for (int k = 0; k < D; ++k)
-              for (int L = 0; L < D; ++L)
-                A(D * i + J, D * k + L) += pressure * p.J * (H(i, J) * H(k, L) - H(i, L) * H(k, J));
-          }
+        add_volume_hessian<E>(A, pressure, p.F, p.J);
         volume_gradient.noalias() +=
-            p.volume * (gradient_transpose_times<E>(p.gradients, dJ) * phi.transpose());
+            p.volume * (gradient_transpose_times<E>(p.gradients, by_rows<E>(dJ)) * phi.transpose());
       }
     }
     out.energy += p.volume * response.energy;
@@ -313,8 +363,10 @@ void evaluate_with(const typename E::Gradients& X, const typename E::Nodal& u,
         dilatation.inverse_gram * dilatation.stiffness * dilatation.inverse_gram;
     out.tangent.noalias() += volume_gradient * (volumetric * volume_gradient.transpose());
   }
-  // Exactly symmetric (round-off in Bᵀ A B is not), as symmetric factorizations assume.
-  out.tangent = 0.5 * (out.tangent + out.tangent.transpose()).eval();
+  // Exactly symmetric, as symmetric factorizations assume: the upper triangle, on which
+  // add_material_stiffness summed, mirrored into the lower.
+  for (int c = 0; c < E::dofs; ++c)
+    for (int r = c + 1; r < E::dofs; ++r) out.tangent(r, c) = out.tangent(c, r);
 }
 
 template <class E>
@@ -345,16 +397,17 @@ Stress centroid_stress(const typename E::Gradients& X, const typename E::Nodal& 
   const Reference<E>& ref = reference<E>();
   const PointKinematics<E> centre =
       kinematics<E>(X, u, ref.centroid, 1.0, 1.0, in.element, Eigen::Vector3d::Zero());
+  const Eigen::Matrix3d F = whole_gradient<E>(centre.F);  // the 3D response, for σzz
   Eigen::Matrix3d sigma;
   if (in.formulation == FiniteStrainFormulation::standard) {
-    const HyperelasticResponse r = hyperelastic_response(in.material, centre.F, false);
-    sigma = r.stress * centre.F.transpose() / centre.J;
+    const HyperelasticResponse r = hyperelastic_response(in.material, F, false);
+    sigma = r.stress * F.transpose() / centre.J;
   } else {
     const double pressure = in.formulation == FiniteStrainFormulation::mean_dilatation
                                 ? centroid_pressure<E, 1>(X, u, in)
                                 : centroid_pressure<E, E::dimension + 1>(X, u, in);
-    const HyperelasticResponse r = isochoric_response(in.material, centre.F, false);
-    sigma = r.stress * centre.F.transpose() / centre.J + pressure * Eigen::Matrix3d::Identity();
+    const HyperelasticResponse r = isochoric_response(in.material, F, false);
+    sigma = r.stress * F.transpose() / centre.J + pressure * Eigen::Matrix3d::Identity();
   }
   Stress stress;
   stress << sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(0, 2);
@@ -407,7 +460,7 @@ double assemble(const FiniteStrainModel& model, const Eigen::VectorXd& displacem
     constexpr int D = E::dimension;
     const int element_count = static_cast<int>(mesh.elements.size());
     if (triplets) triplets->reserve(triplets->size() + static_cast<std::size_t>(element_count) * E::dofs * E::dofs);
-    std::array<int, E::dofs> numbered;
+    std::array<int, E::dofs> kept, numbered;  // the element's unfixed dofs and their numbers
     double energy = 0.0;
     KernelOutput<E> out;
     std::array<int, E::dofs> dofs;
@@ -429,13 +482,14 @@ double assemble(const FiniteStrainModel& model, const Eigen::VectorXd& displacem
           for (int r = 0; r < E::dofs; ++r)
             triplets->emplace_back(dofs[r], dofs[c], out.tangent(r, c));
       if (triplets && numbering) {
-        for (int r = 0; r < E::dofs; ++r) numbered[r] = numbering->numbering[dofs[r]];
-        for (int c = 0; c < E::dofs; ++c) {
-          if (numbered[c] < 0) continue;
-          for (int r = 0; r < E::dofs; ++r)
-            if (numbered[r] >= 0)
-              triplets->emplace_back(numbering->offset + numbered[r], numbering->offset + numbered[c], out.tangent(r, c));
-        }
+        // The unfixed dofs listed once, so that the E::dofs² entries need no test each.
+        int count = 0;
+        for (int r = 0; r < E::dofs; ++r)
+          if (const int n = numbering->numbering[dofs[r]]; n >= 0)
+            kept[count] = r, numbered[count++] = numbering->offset + n;
+        for (int c = 0; c < count; ++c)
+          for (int r = 0; r < count; ++r)
+            triplets->emplace_back(numbered[r], numbered[c], out.tangent(kept[r], kept[c]));
       }
     }
     return energy;
@@ -507,9 +561,10 @@ Eigen::Matrix3d finite_strain_centroid_gradient(const ElementGeometry& element,
     using E = decltype(kind);
     check_size(element.index, "the displacement", displacement.size(), E::dofs);
     const typename E::Nodal u = Eigen::Map<const typename E::Nodal>(displacement.data());
-    return kinematics<E>(reference_coordinates<E>(element), u, reference<E>().centroid, 1.0, 1.0,
-                         element.index, Eigen::Vector3d::Zero())
-        .F;
+    return whole_gradient<E>(kinematics<E>(reference_coordinates<E>(element), u,
+                                           reference<E>().centroid, 1.0, 1.0, element.index,
+                                           Eigen::Vector3d::Zero())
+                                 .F);
   });
 }
 

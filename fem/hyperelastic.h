@@ -4,7 +4,8 @@
 // Conventions:
 //   F = ∂x/∂X, the 3×3 deformation gradient (dimensionless), J = det F > 0; C = FᵀF, b = FFᵀ.
 //   Plane strain is the 3D law at F33 = 1, F13 = F23 = F31 = F32 = 0: P33 is then the out-of-plane
-//   stress that keeps the thickness fixed.
+//   stress that keeps the thickness fixed. The responses below take it as F's in-plane block F2 and
+//   return P's and A's in-plane blocks, computed with 2×2 algebra (hyperelastic.cpp).
 //   P = ∂W/∂F, first Piola–Kirchhoff stress, Pa (current force per reference area), tension
 //   positive; the Cauchy stress is σ = J⁻¹ P Fᵀ.
 //   A = ∂P/∂F = ∂²W/∂F∂F, Pa, a 9×9 matrix with A(3i + J, 3k + L) = ∂P_iJ/∂F_kL (F flattened row
@@ -36,6 +37,7 @@
 #include "fem/mesh.h"
 
 #include <Eigen/Dense>
+#include <type_traits>
 
 namespace csim {
 
@@ -74,28 +76,32 @@ struct InitialModuli {
 InitialModuli initial_moduli(const HyperelasticMaterial& material);
 
 // A on the indices i, J, k, L < D, flattened with stride D (A(D i + J, D k + L)): D = 3 is the whole
-// tangent; D = 2 its in-plane block, all that a plane-strain element needs (F33 = 1 is held), at a
-// fifth of the cost.
+// tangent; D = 2 its in-plane block, all that a plane-strain element needs (F33 = 1 is held).
 template <int D>
 using MaterialTangentOf = Eigen::Matrix<double, D * D, D * D>;  // Pa
 using MaterialTangent = MaterialTangentOf<3>;
 
-// W, P and (if asked) A of the whole law, or of its W_iso part, at F (always the 3×3 F; P is always
-// the whole 3×3 stress). The material is not checked (the callers check it once); with_tangent =
-// false leaves tangent at zero.
+// W, P and (if asked) A of the whole law, or of its W_iso part, at F. D = 3: F, P and A whole.
+// D = 2, plane strain: F is the in-plane block F2 of F = [[F2, 0], [0, 1]], P and A the in-plane
+// blocks of the 3D law's (the same values up to round-off, at a fraction of the cost; P33 is left
+// out: the 3D response at that F has it). The material is not checked (the callers check it once);
+// with_tangent = false leaves tangent at zero.
 template <int D>
 struct HyperelasticResponseOf {
-  double energy = 0.0;                                                   // W, J/m³
-  Eigen::Matrix3d stress = Eigen::Matrix3d::Zero();                      // P, Pa
-  MaterialTangentOf<D> tangent = MaterialTangentOf<D>::Zero();           // A, Pa
+  double energy = 0.0;                                                       // W, J/m³
+  Eigen::Matrix<double, D, D> stress = Eigen::Matrix<double, D, D>::Zero();  // P, Pa
+  MaterialTangentOf<D> tangent = MaterialTangentOf<D>::Zero();               // A, Pa
 };
 using HyperelasticResponse = HyperelasticResponseOf<3>;
+// F is not deduced (type_identity_t): D is 3 unless given, and F may be any expression.
+template <int D = 3>
+using GradientOf = std::type_identity_t<Eigen::Matrix<double, D, D>>;
 template <int D = 3>
 HyperelasticResponseOf<D> hyperelastic_response(const HyperelasticMaterial& material,
-                                                const Eigen::Matrix3d& F, bool with_tangent = true);
+                                                const GradientOf<D>& F, bool with_tangent = true);
 template <int D = 3>
 HyperelasticResponseOf<D> isochoric_response(const HyperelasticMaterial& material,
-                                             const Eigen::Matrix3d& F, bool with_tangent = true);
+                                             const GradientOf<D>& F, bool with_tangent = true);
 
 // U(J) and its derivatives. U'(J) is the mean (hydrostatic) Cauchy stress of the volumetric part,
 // tension positive: its share of σ is U'(J) I, of P is U'(J) J F⁻ᵀ.
