@@ -227,14 +227,14 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
   }
   // The floating nodes last: their rigid body's coordinates are set by now.
   const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
+  const std::vector<Eigen::Matrix3d> relative_of = relative_rotations(poses);
   for (const Floating& f : floating_) {
     const Hub& hub = hubs_[f.hub];
     const Eigen::Isometry3d& pose = poses[f.hub];
     Eigen::Vector3d w = Eigen::Vector3d::Zero();
     for (int c = 0; c < 3; ++c)
       if (f.unknown[c] >= 0) w(c) = z(f.unknown[c]);
-    const Eigen::Vector3d u =
-        pose.translation() + relative_rotation(hub, pose) * (f.arm + w) - hub.centre_ref - f.arm;
+    const Eigen::Vector3d u = pose.translation() + relative_of[f.hub] * (f.arm + w) - hub.centre_ref - f.arm;
     for (int c = 0; c < 3; ++c)
       if (f.position[c] >= 0) q(f.position[c]) = u(c);
   }
@@ -242,6 +242,12 @@ void ReducedCoordinates::expand(const Vector& z, double t, Vector& q) const {
 
 Eigen::Matrix3d ReducedCoordinates::relative_rotation(const Hub& hub, const Eigen::Isometry3d& pose) const {
   return pose.linear() * hub.rotation_ref.transpose();
+}
+
+std::vector<Eigen::Matrix3d> ReducedCoordinates::relative_rotations(const std::vector<Eigen::Isometry3d>& poses) const {
+  std::vector<Eigen::Matrix3d> relative(hubs_.size());
+  for (std::size_t h = 0; h < hubs_.size(); ++h) relative[h] = relative_rotation(hubs_[h], poses[h]);
+  return relative;
 }
 
 PointJacobian ReducedCoordinates::hub_columns(const Floating& node, const Vector& q,
@@ -282,11 +288,11 @@ void ReducedCoordinates::tangent(const Vector& q, SparseRowMatrix& T) const {
   for (int i = 0; i < n; ++i)
     if (unknown_of_[i] >= 0 && floating_of_[i] < 0) entries.emplace_back(i, unknown_of_[i], 1.0);
   const std::vector<Eigen::Isometry3d> poses = hub_poses(q), inverse = inverses(poses);
+  const std::vector<Eigen::Matrix3d> relative_of = relative_rotations(poses);
   for (const Floating& f : floating_) {
     const Hub& hub = hubs_[f.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const Eigen::Isometry3d& pose = poses[f.hub];
-    const Eigen::Matrix3d relative = relative_rotation(hub, pose);
+    const Eigen::Matrix3d& relative = relative_of[f.hub];
     const PointJacobian J = hub_columns(f, q, inverse[f.hub]);
     for (int c = 0; c < 3; ++c) {
       if (f.dof[c] < 0) continue;
@@ -343,9 +349,7 @@ void ReducedCoordinates::add_turned_to_frame(const Vector& q, const Triplets& K,
     std::array<double, 3> weight{1.0, 0.0, 0.0};
   };
   if (from == K.size()) return;
-  std::vector<Eigen::Matrix3d> relative(hubs_.size());
-  const std::vector<Eigen::Isometry3d> poses = hub_poses(q);
-  for (std::size_t h = 0; h < hubs_.size(); ++h) relative[h] = relative_rotation(hubs_[h], poses[h]);
+  const std::vector<Eigen::Matrix3d> relative = relative_rotations(hub_poses(q));
   auto side = [&](int i) {
     Side s;
     s.index[0] = i;
@@ -373,11 +377,11 @@ void ReducedCoordinates::add_turned_to_frame(const Vector& q, const Triplets& K,
 void ReducedCoordinates::hub_frame_columns(const Vector& q, Matrix& C) const {
   C.setZero(static_cast<Eigen::Index>(unknown_of_.size()), static_cast<Eigen::Index>(hub_unknowns_.size()));
   const std::vector<Eigen::Isometry3d> poses = hub_poses(q), inverse = inverses(poses);
+  const std::vector<Eigen::Matrix3d> relative_of = relative_rotations(poses);
   for (const Floating& node : floating_) {
     const Hub& hub = hubs_[node.hub];
     const BodyInstance& rigid = world_->bodies[hub.body];
-    const Eigen::Isometry3d& pose = poses[node.hub];
-    const Eigen::Matrix3d relative = relative_rotation(hub, pose);
+    const Eigen::Matrix3d& relative = relative_of[node.hub];
     const PointJacobian J = hub_columns(node, q, inverse[node.hub]);
     for (int k = 0; k < J.count; ++k) {
       const int u = unknown_of_[rigid.velocity_offset + J.index[k]];

@@ -122,6 +122,7 @@ class ReducedCoordinates final : public BodyFrames {
   Eigen::Vector3d node_position(const Floating& node, const Vector& q) const;  // x_a at q (m)
   // R_rel = R_B R_B,ref⁻¹, the hub's rotation since the reference, at its pose.
   Eigen::Matrix3d relative_rotation(const Hub& hub, const Eigen::Isometry3d& pose) const;
+  std::vector<Eigen::Matrix3d> relative_rotations(const std::vector<Eigen::Isometry3d>& poses) const;  // per hub
   // ∂x_a/∂(hub velocity components): the node moves as the hub's material point at its place (its
   // body-frame position from the inverse of the hub's pose, inverted once per hub, not per node).
   PointJacobian hub_columns(const Floating& node, const Vector& q, const Eigen::Isometry3d& inverse_pose) const;
