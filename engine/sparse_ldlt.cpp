@@ -319,6 +319,10 @@ double SparseLdlt::dot(const ForwardColumn& y, const Vector& x) {
   return sum;
 }
 
+void SparseLdlt::add_scaled(double a, const ForwardColumn& y, Vector& x) {
+  for (std::size_t k = 0; k < y.index.size(); ++k) x(y.index[k]) += a * y.value[k];
+}
+
 void SparseLdlt::solve_free(const Vector& f, Vector& Hx) {
   Cholmod& c = *cholmod_;
   const int n = size(), s = static_cast<int>(unknowns_.size());
@@ -343,10 +347,7 @@ void SparseLdlt::solve_free(const Vector& f, Vector& Hx) {
 void SparseLdlt::solve_with_reactions(const Vector& r, Vector& x) {
   const int s = static_cast<int>(unknowns_.size());
   block_values_.noalias() = rows_on_unknowns_.transpose() * r;
-  for (int j = 0; j < s; ++j) {
-    const ForwardColumn& y = columns_[j];
-    for (std::size_t k = 0; k < y.index.size(); ++k) free_forward_(y.index[k]) += block_values_(j) * y.value[k];
-  }
+  for (int j = 0; j < s; ++j) add_scaled(block_values_(j), columns_[j], free_forward_);
   back_substitute(free_forward_, x);
 }
 

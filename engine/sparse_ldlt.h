@@ -70,6 +70,7 @@ class SparseLdlt {
   // x(i) ← y(i) / D_i on y's rows (x dense, in the factor's order): then y_bᵀ D⁻¹ y = dot(y_b, x).
   void scatter_scaled(const ForwardColumn& y, Vector& x) const;
   static double dot(const ForwardColumn& y, const Vector& x);
+  static void add_scaled(double a, const ForwardColumn& y, Vector& x);  // x(i) += a y(i) on y's rows
   // Frees what only a refactorization reads (A's pattern and its map into triu(P A Pᵀ), about 20 bytes
   // an entry of A's lower triangle): for a matrix factored once. A later factorization analyses again.
   void release_pattern();

@@ -404,10 +404,7 @@ void MoreauJean::update(State& state) {
     // A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r): the forward columns kept for W, then a backward substitution alone.
     const SparseLdlt& factor = operators_.sparse_factor();
     forward_sum_.setZero(factor.size());
-    for (int a = 0; a < rows; ++a) {
-      const SparseLdlt::ForwardColumn& y = delassus_cache_.forward(delassus_slots_[a]);
-      for (std::size_t k = 0; k < y.index.size(); ++k) forward_sum_(y.index[k]) += r_(a) * y.value[k];
-    }
+    for (int a = 0; a < rows; ++a) SparseLdlt::add_scaled(r_(a), delassus_cache_.forward(delassus_slots_[a]), forward_sum_);
     factor.back_substitute(forward_sum_, work_);
     v_next_ += work_;
   } else if (rows > 0 && operators_.sparse()) {

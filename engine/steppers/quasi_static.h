@@ -23,10 +23,11 @@
 //              steady linear rate (then Aitken's extrapolation; secant_relaxation.h);
 // until |Δz|∞ ≤ newton_tolerance · L (L: the largest body's bounding radius, m; angles count as
 // lengths on a unit arm), or, on modified Newton's iterates (below), until the bound θ/(1−θ) |Δz|∞ on
-// the distance to the equilibrium that their observed contraction θ gives is (kept_factor.h). A World of linear bodies without ties takes one iteration, its contact
-// geometry linearized at q_k (small displacements), as the stepper always did. For the others, a step
-// whose Newton does not converge in newton_max_iterations (or meets an inverted element, or ends on a
-// failed contact solve) is taken again as two half steps, each halved again if it fails, down to
+// the distance to the equilibrium that their observed contraction θ gives is (kept_factor.h). A World
+// of linear bodies without ties takes one iteration, its contact geometry linearized at q_k (small
+// displacements), as the stepper always did. For the others, a step whose Newton does not converge in
+// newton_max_iterations (or meets an inverted element, or ends on a failed contact solve) is taken
+// again as two half steps, each halved again if it fails, down to
 // max_cutbacks halvings (counted in the summary); only then does the run stop (exit 2). The
 // loading path being a function of t, a half step is a load step like any other; the step's outputs
 // (velocities Δq/h, impulses) stay those of the whole step. The predictor only moves the first iterate
