@@ -171,6 +171,7 @@ void SparseLdlt::analyse(const SparseMatrix& A) {
   outer_.assign(outer, outer + n + 1);
   inner_.assign(inner, inner + nnz);
   ++analyses_;
+  cholmod_complete_ = supernodal_ready_ = false;
 }
 
 bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
@@ -188,13 +189,26 @@ bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
   const double* value = A.valuePtr();
   for (int p = 0; p < nnz; ++p)
     if (c.slot[p] >= 0) c.upper_value[c.slot[p]] = value[p];
+  ++factorizations_;
+  tree_ready_ = false;
+  // A refactorization: supernodal, once CHOLMOD's storage is known to hold the pattern (see the header).
+  if (cholmod_complete_ && !supernodal_ready_) {
+    supernodal_.analyse(n, c.upper_start.data(), c.upper_row.data());
+    supernodal_ready_ = supernodal_.matches(c.column_start(), c.column_count(), c.row_index());
+  }
+  if (supernodal_ready_) {
+    ++supernodal_factorizations_;
+    if (supernodal_.factor(c.upper_value.data(), c.column_start(), c.values())) return true;
+  }
   cholmod_sparse upper = view_triangle(n, c.upper_start.data(), c.upper_row.data(), c.upper_value.data(), 1);
   double no_shift[2] = {0.0, 0.0};
   cholmod_factorize_p(&upper, no_shift, nullptr, 0, c.factor, &c.common);
-  ++factorizations_;
-  tree_ready_ = false;
   if (c.common.status < CHOLMOD_OK) throw std::runtime_error("CHOLMOD could not factor the matrix (out of memory?)");
-  if (c.factor->minor != c.factor->n || c.factor->is_ll) return false;  // a zero pivot
+  cholmod_complete_ = c.factor->minor == c.factor->n && !c.factor->is_ll;
+  if (!cholmod_complete_) {
+    supernodal_ready_ = false;  // its storage may no longer hold every column
+    return false;               // a zero pivot
+  }
   const int* start = c.column_start();
   const double* x = c.values();
   for (int j = 0; j < n; ++j)

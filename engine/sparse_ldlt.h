@@ -4,6 +4,12 @@
 // the linear iteration matrix of finite elements, the finite-strain tangent and the quasi-static
 // stiffness; CHOLMOD's headers stay in the .cpp.
 //
+// Refactorizations. A pattern's first factorization is CHOLMOD's; the later ones of the same pattern
+// (a Newton iteration's tangents) are numerically supernodal (supernodal_ldlt.h) into CHOLMOD's storage,
+// whose solves then read them: the same L and D at round-off, in a fraction of the up-looking
+// factorization's time. A matrix that is not positive definite is factored again by CHOLMOD, so that
+// the factor left is its complete LDLᵀ, as before.
+//
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
 // iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
 // that couple nodes not yet coupled, such as a smoothed surface's, change it); they are recomputed
@@ -27,6 +33,7 @@
 #pragma once
 
 #include "engine/bodies/body.h"
+#include "engine/supernodal_ldlt.h"
 
 #include <memory>
 #include <vector>
@@ -78,6 +85,7 @@ class SparseLdlt {
   long analyses() const { return analyses_; }  // symbolic analyses so far
   long factorizations() const { return factorizations_; }
   long kept_delassus() const { return kept_delassus_; }  // delassus calls that took the last G
+  long supernodal_factorizations() const { return supernodal_factorizations_; }  // of factorizations()
   double factor_nonzeros() const;              // entries of L, its diagonal (D) included
 
  private:
@@ -85,6 +93,11 @@ class SparseLdlt {
   std::unique_ptr<Cholmod> cholmod_;
   std::vector<int> outer_, inner_;  // the pattern the analysis was made for
   long analyses_ = 0, factorizations_ = 0, kept_delassus_ = 0;
+  // Refactorizations of a pattern go through supernodal_ (supernodal_ldlt.h) into the storage of
+  // CHOLMOD's last complete factor of it, whose row indices they keep: ready once its pattern is checked.
+  SupernodalLdlt supernodal_;
+  bool cholmod_complete_ = false, supernodal_ready_ = false;
+  long supernodal_factorizations_ = 0;
   // The elimination tree (parent of each column of L, −1 at a root) and the diagonal D, read from L
   // after each factorization when forward asks.
   mutable std::vector<int> parent_;

@@ -196,9 +196,12 @@ TEST(SparseLdlt, KeepsTheInverseBlockWhileTheFactorAndTheUnknownsStayTheSame) {
   fresh.delassus(H, recomputed);
   EXPECT_TRUE(same_bits(kept, recomputed));
   EXPECT_TRUE(same_bits(kept, first));
-  // W from the kept G is W from a G of its own, to the bit; `kept` says whether G was kept.
-  const auto expect_fresh = [&](const SparseMatrix& matrix, const Matrix& rows, long kept_so_far) {
+  // W from the kept G is W from a G of its own, to the bit; `kept` says whether G was kept. The other
+  // factor is made the same way as factor's (a refactorization of a pattern is supernodal: `before`).
+  const auto expect_fresh = [&](const SparseMatrix& matrix, const Matrix& rows, long kept_so_far,
+                                const SparseMatrix* before = nullptr) {
     SparseLdlt other;
+    if (before) ASSERT_TRUE(other.factor_positive_definite(*before));
     ASSERT_TRUE(other.factor_positive_definite(matrix));
     Matrix expected, W;
     other.delassus(rows, expected);
@@ -233,7 +236,7 @@ TEST(SparseLdlt, KeepsTheInverseBlockWhileTheFactorAndTheUnknownsStayTheSame) {
   expect_fresh(A, H, 3);
   const SparseMatrix stiffer = 2.0 * A;
   ASSERT_TRUE(factor.factor_positive_definite(stiffer));
-  expect_fresh(stiffer, H, 3);
+  expect_fresh(stiffer, H, 3, &A);
 }
 
 TEST(SparseLdlt, SolvesAroundAContactSolveWithTheRowsInverseBlock) {

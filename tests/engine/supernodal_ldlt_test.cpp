@@ -1,0 +1,167 @@
+// The supernodal numeric LDLᵀ (engine/supernodal_ldlt.h): L D Lᵀ against the matrix it factors, on
+// patterns with supernodes of every width (a grid of two-unknown nodes, a random sparse matrix whose
+// elimination tree branches inside supernodes, an arrow matrix with dense last rows like a hub's);
+// its verdict on matrices that are not positive definite; and, inside SparseLdlt, refactorizations of
+// one pattern through CHOLMOD's storage that solve as a dense factorization does.
+#include "engine/sparse_ldlt.h"
+#include "engine/supernodal_ldlt.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace csim {
+namespace {
+
+SparseMatrix from_triplets(int n, const Triplets& t) {
+  SparseMatrix A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+// Two unknowns a node on a side × side grid, springs to the neighbours and between a node's unknowns.
+SparseMatrix grid(int side, std::mt19937& random) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Triplets t;
+  auto couple = [&](int i, int j, double k) {
+    t.emplace_back(i, i, k);
+    t.emplace_back(j, j, k);
+    t.emplace_back(i, j, -k);
+    t.emplace_back(j, i, -k);
+  };
+  for (int x = 0; x < side; ++x)
+    for (int y = 0; y < side; ++y) {
+      const int node = x * side + y;
+      couple(2 * node, 2 * node + 1, 0.5 + 0.4 * uniform(random));
+      if (x + 1 < side)
+        for (int c = 0; c < 2; ++c) couple(2 * node + c, 2 * (node + side) + c, 1.5 + uniform(random));
+      if (y + 1 < side)
+        for (int c = 0; c < 2; ++c) couple(2 * node + c, 2 * (node + 1) + c, 1.5 + uniform(random));
+      for (int c = 0; c < 2; ++c) t.emplace_back(2 * node + c, 2 * node + c, 1e-2 * (1.2 + uniform(random)));
+    }
+  return from_triplets(2 * side * side, t);
+}
+
+// Random couplings (a few per row), diagonally dominant.
+SparseMatrix random_sparse(int n, std::mt19937& random) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::uniform_int_distribution<int> other(0, n - 1);
+  Triplets t;
+  Vector diagonal = Vector::Constant(n, 0.1);
+  for (int i = 0; i < n; ++i)
+    for (int e = 0; e < 2; ++e) {
+      const int j = other(random);
+      if (j == i) continue;
+      const double v = uniform(random);
+      t.emplace_back(i, j, v);
+      t.emplace_back(j, i, v);
+      diagonal(i) += std::abs(v);
+      diagonal(j) += std::abs(v);
+    }
+  for (int i = 0; i < n; ++i) t.emplace_back(i, i, diagonal(i));
+  return from_triplets(n, t);
+}
+
+// A chain whose last `hub` unknowns couple to every other one (a rigid hub carrying a ring).
+SparseMatrix arrow(int n, int hub) {
+  Triplets t;
+  for (int i = 0; i < n; ++i) {
+    t.emplace_back(i, i, 4.0 + 0.01 * i);
+    if (i > 0 && i < n - hub) {
+      t.emplace_back(i, i - 1, -1.0);
+      t.emplace_back(i - 1, i, -1.0);
+    }
+    for (int h = n - hub; h < n; ++h)
+      if (h != i) {
+        t.emplace_back(i, h, 0.1 / (1 + h - i + n));
+        t.emplace_back(h, i, 0.1 / (1 + h - i + n));
+      }
+  }
+  return from_triplets(n, t);
+}
+
+// Factors A (its upper triangle, natural order) into a storage of L's own pattern; returns
+// |L D Lᵀ − A|∞ / |A|∞ (NaN when the factorization reports a pivot that is not > 0).
+double reconstruction_error(const SparseMatrix& A, int* supernodes = nullptr) {
+  const SparseMatrix upper = A.triangularView<Eigen::Upper>();
+  const int n = static_cast<int>(A.rows());
+  SupernodalLdlt factor;
+  factor.analyse(n, upper.outerIndexPtr(), upper.innerIndexPtr());
+  if (supernodes) *supernodes = factor.supernodes();
+  std::vector<int> start, row;
+  factor.pattern(start, row);
+  std::vector<int> count(n);
+  for (int j = 0; j < n; ++j) count[j] = start[j + 1] - start[j];
+  EXPECT_TRUE(factor.matches(start.data(), count.data(), row.data()));
+  std::vector<double> x(start[n], 0.0);
+  if (!factor.factor(upper.valuePtr(), start.data(), x.data())) return NAN;
+  Matrix L = Matrix::Identity(n, n);
+  Vector D(n);
+  for (int j = 0; j < n; ++j) {
+    EXPECT_EQ(row[start[j]], j);  // the diagonal first
+    D(j) = x[start[j]];
+    for (int q = start[j] + 1; q < start[j + 1]; ++q) L(row[q], j) = x[q];
+  }
+  const Matrix dense(A);
+  return (L * D.asDiagonal() * L.transpose() - dense).lpNorm<Eigen::Infinity>() / dense.lpNorm<Eigen::Infinity>();
+}
+
+TEST(SupernodalLdlt, FactorsGridsRandomAndArrowPatterns) {
+  std::mt19937 random(11);
+  int supernodes = 0;
+  EXPECT_LE(reconstruction_error(grid(9, random), &supernodes), 1e-14);
+  EXPECT_LT(supernodes, 162);  // a node's two unknowns share a supernode
+  for (int trial = 0; trial < 5; ++trial) EXPECT_LE(reconstruction_error(random_sparse(120, random)), 1e-14);
+  EXPECT_LE(reconstruction_error(arrow(60, 3), &supernodes), 1e-14);
+  EXPECT_LE(reconstruction_error(from_triplets(1, {{0, 0, 2.0}})), 1e-15);
+  Triplets diagonal;
+  for (int i = 0; i < 7; ++i) diagonal.emplace_back(i, i, 1.0 + i);
+  EXPECT_EQ(reconstruction_error(from_triplets(7, diagonal)), 0.0);
+}
+
+TEST(SupernodalLdlt, ReportsAPivotThatIsNotPositive) {
+  std::mt19937 random(3);
+  SparseMatrix A = grid(5, random);
+  EXPECT_TRUE(std::isnan(reconstruction_error(-1.0 * A)));
+  A.coeffRef(17, 17) = -50.0;  // one unknown's own stiffness negative: indefinite
+  EXPECT_TRUE(std::isnan(reconstruction_error(A)));
+}
+
+TEST(SupernodalLdlt, RefactorizationsInSparseLdltSolveAsTheDenseFactorization) {
+  std::mt19937 random(5);
+  SparseMatrix A = random_sparse(150, random);
+  const int n = static_cast<int>(A.rows());
+  const Vector b = Vector::LinSpaced(n, -1.0, 2.0);
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  EXPECT_EQ(factor.supernodal_factorizations(), 0);  // a pattern's first factorization is CHOLMOD's
+  for (int round = 0; round < 3; ++round) {
+    for (int p = 0; p < A.nonZeros(); ++p) A.valuePtr()[p] *= 1.0 + 0.2 * std::sin(3.0 * p + round);
+    A = 0.5 * (A + SparseMatrix(A.transpose()));
+    A.diagonal().array() += 2.0 * n;  // stays positive definite
+    ASSERT_TRUE(factor.factor_positive_definite(A));
+    EXPECT_EQ(factor.supernodal_factorizations(), round + 1);
+    const Vector expected = Matrix(A).ldlt().solve(b);
+    EXPECT_LE((factor.solve(b) - expected).lpNorm<Eigen::Infinity>(), 1e-13 * expected.lpNorm<Eigen::Infinity>());
+    // The forward columns read the new factor: a diagonal entry of A⁻¹.
+    const int index[] = {round * 7};
+    const double value[] = {1.0};
+    SparseLdlt::ForwardColumn y;
+    factor.forward(index, value, 1, y);
+    const double inverse = Matrix(A).ldlt().solve(Vector::Unit(n, index[0]))(index[0]);
+    EXPECT_NEAR(factor.delassus_entry(y, y), inverse, 1e-13 * inverse);
+  }
+  // Not positive definite: refused, and the factor left is CHOLMOD's complete LDLᵀ, as before; the
+  // next positive definite matrix is supernodal again.
+  EXPECT_FALSE(factor.factor_positive_definite(-1.0 * A));
+  EXPECT_EQ(factor.supernodal_factorizations(), 4);
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  EXPECT_EQ(factor.supernodal_factorizations(), 5);
+  EXPECT_EQ(factor.analyses(), 1);
+  const Vector expected = Matrix(A).ldlt().solve(b);
+  EXPECT_LE((factor.solve(b) - expected).lpNorm<Eigen::Infinity>(), 1e-13 * expected.lpNorm<Eigen::Infinity>());
+}
+
+}  // namespace
+}  // namespace csim
