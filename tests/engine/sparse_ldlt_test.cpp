@@ -3,6 +3,7 @@
 // positive-definiteness verdict, the reuse of its symbolic analysis while the pattern stays, and the
 // Delassus operator it keeps while neither the factor nor the rows change.
 #include "engine/sparse_ldlt.h"
+#include "tests/engine/test_matrices.h"
 
 #include <gtest/gtest.h>
 
@@ -95,36 +96,9 @@ TEST(SparseLdlt, AnalysesThePatternOnlyWhenItChanges) {
   EXPECT_LE((factor.solve(b) - Matrix(coupled).ldlt().solve(b)).lpNorm<Eigen::Infinity>(), 1e-10);
 }
 
-// A random symmetric positive definite matrix with the pattern of a 2D grid's 5-point stencil (an
-// elimination tree with long paths, as a mesh has), two unknowns a node, and some random couplings.
-SparseMatrix random_grid(int side, std::mt19937& random) {
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  const int n = 2 * side * side;
-  Triplets t;
-  auto couple = [&](int i, int j, double k) {
-    t.emplace_back(i, i, k);
-    t.emplace_back(j, j, k);
-    t.emplace_back(i, j, -k);
-    t.emplace_back(j, i, -k);
-  };
-  for (int x = 0; x < side; ++x)
-    for (int y = 0; y < side; ++y) {
-      const int node = x * side + y;
-      couple(2 * node, 2 * node + 1, 0.5 + 0.4 * uniform(random));
-      if (x + 1 < side)
-        for (int c = 0; c < 2; ++c) couple(2 * node + c, 2 * (node + side) + c, 1.5 + uniform(random));
-      if (y + 1 < side)
-        for (int c = 0; c < 2; ++c) couple(2 * node + c, 2 * (node + 1) + c, 1.5 + uniform(random));
-      for (int c = 0; c < 2; ++c) t.emplace_back(2 * node + c, 2 * node + c, 1e-2 * (1.2 + uniform(random)));
-    }
-  SparseMatrix A(n, n);
-  A.setFromTriplets(t.begin(), t.end());
-  return A;
-}
-
 TEST(SparseLdlt, ForwardColumnsGiveTheDelassusOperatorOfARandomSparseMatrix) {
   std::mt19937 random(31);
-  const SparseMatrix A = random_grid(12, random);
+  const SparseMatrix A = test::random_grid(12, random);
   const int n = static_cast<int>(A.rows()), m = 9;
   SparseLdlt factor;
   ASSERT_TRUE(factor.factor_positive_definite(A));
@@ -179,7 +153,7 @@ bool same_bits(const Matrix& a, const Matrix& b) {
 
 TEST(SparseLdlt, KeepsTheInverseBlockWhileTheFactorAndTheUnknownsStayTheSame) {
   std::mt19937 random(5);
-  const SparseMatrix A = random_grid(8, random);
+  const SparseMatrix A = test::random_grid(8, random);
   const int n = static_cast<int>(A.rows()), m = 6;
   std::uniform_int_distribution<int> unknown(0, n - 1);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -241,7 +215,7 @@ TEST(SparseLdlt, KeepsTheInverseBlockWhileTheFactorAndTheUnknownsStayTheSame) {
 
 TEST(SparseLdlt, SolvesAroundAContactSolveWithTheRowsInverseBlock) {
   std::mt19937 random(7);
-  const SparseMatrix A = random_grid(9, random);
+  const SparseMatrix A = test::random_grid(9, random);
   const int n = static_cast<int>(A.rows()), m = 5;
   std::uniform_int_distribution<int> unknown(0, n - 1);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -279,7 +253,7 @@ TEST(SparseLdlt, SolvesAroundAContactSolveWithTheRowsInverseBlock) {
 // columns as before, to the bit; a later factorization analyses the pattern again and gives the same factor.
 TEST(SparseLdlt, ReleasedPatternKeepsTheFactorAndIsAnalysedAgain) {
   std::mt19937 random(11);
-  const SparseMatrix A = random_grid(6, random);
+  const SparseMatrix A = test::random_grid(6, random);
   SparseLdlt factor;
   ASSERT_TRUE(factor.factor_positive_definite(A));
   const Vector b = Vector::LinSpaced(A.rows(), -1.0, 3.0);
@@ -300,7 +274,7 @@ TEST(SparseLdlt, ReleasedPatternKeepsTheFactorAndIsAnalysedAgain) {
 
 TEST(SparseLdlt, SolvesLikeADenseFactorizationAfterARefactorization) {
   std::mt19937 random(7);
-  SparseMatrix A = random_grid(6, random);
+  SparseMatrix A = test::random_grid(6, random);
   SparseLdlt factor;
   ASSERT_TRUE(factor.factor_positive_definite(A));
   const Vector b = Vector::LinSpaced(A.rows(), 1.0, -2.0);

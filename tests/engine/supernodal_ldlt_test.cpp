@@ -5,6 +5,7 @@
 // one pattern through CHOLMOD's storage that solve as a dense factorization does.
 #include "engine/sparse_ldlt.h"
 #include "engine/supernodal_ldlt.h"
+#include "tests/engine/test_matrices.h"
 
 #include <gtest/gtest.h>
 
@@ -18,29 +19,6 @@ SparseMatrix from_triplets(int n, const Triplets& t) {
   A.setFromTriplets(t.begin(), t.end());
   A.makeCompressed();
   return A;
-}
-
-// Two unknowns a node on a side × side grid, springs to the neighbours and between a node's unknowns.
-SparseMatrix grid(int side, std::mt19937& random) {
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  Triplets t;
-  auto couple = [&](int i, int j, double k) {
-    t.emplace_back(i, i, k);
-    t.emplace_back(j, j, k);
-    t.emplace_back(i, j, -k);
-    t.emplace_back(j, i, -k);
-  };
-  for (int x = 0; x < side; ++x)
-    for (int y = 0; y < side; ++y) {
-      const int node = x * side + y;
-      couple(2 * node, 2 * node + 1, 0.5 + 0.4 * uniform(random));
-      if (x + 1 < side)
-        for (int c = 0; c < 2; ++c) couple(2 * node + c, 2 * (node + side) + c, 1.5 + uniform(random));
-      if (y + 1 < side)
-        for (int c = 0; c < 2; ++c) couple(2 * node + c, 2 * (node + 1) + c, 1.5 + uniform(random));
-      for (int c = 0; c < 2; ++c) t.emplace_back(2 * node + c, 2 * node + c, 1e-2 * (1.2 + uniform(random)));
-    }
-  return from_triplets(2 * side * side, t);
 }
 
 // Random couplings (a few per row), diagonally dominant.
@@ -110,7 +88,7 @@ double reconstruction_error(const SparseMatrix& A, int* supernodes = nullptr) {
 TEST(SupernodalLdlt, FactorsGridsRandomAndArrowPatterns) {
   std::mt19937 random(11);
   int supernodes = 0;
-  EXPECT_LE(reconstruction_error(grid(9, random), &supernodes), 1e-14);
+  EXPECT_LE(reconstruction_error(test::random_grid(9, random), &supernodes), 1e-14);
   EXPECT_LT(supernodes, 162);  // a node's two unknowns share a supernode
   for (int trial = 0; trial < 5; ++trial) EXPECT_LE(reconstruction_error(random_sparse(120, random)), 1e-14);
   EXPECT_LE(reconstruction_error(arrow(60, 3), &supernodes), 1e-14);
@@ -122,7 +100,7 @@ TEST(SupernodalLdlt, FactorsGridsRandomAndArrowPatterns) {
 
 TEST(SupernodalLdlt, ReportsAPivotThatIsNotPositive) {
   std::mt19937 random(3);
-  SparseMatrix A = grid(5, random);
+  SparseMatrix A = test::random_grid(5, random);
   EXPECT_TRUE(std::isnan(reconstruction_error(-1.0 * A)));
   A.coeffRef(17, 17) = -50.0;  // one unknown's own stiffness negative: indefinite
   EXPECT_TRUE(std::isnan(reconstruction_error(A)));
