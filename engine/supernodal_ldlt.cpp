@@ -150,7 +150,11 @@ void add_product(const double* P, int ldp, const double* S, int lds, Block42& ac
 void lower_product(int m, int w, const double* P, int ldp, const double* S, double* U) {
   const int lds = m + 1;
   for (int a = 0; a < m; a += 2) {
-    int b = a;
+    // Blocks of four rows ending at row m − 1, the first reaching up past a when m − a is not a multiple
+    // of four (entries above the diagonal, not read), so that no row is left for a scalar loop; rows
+    // from a when m is under four.
+    int b = m - 4 * ((m - a + 3) / 4);
+    if (b < 0) b = a;
     for (; b + 4 <= m; b += 4) {
       Block42 acc = Block42::Zero();
       int k = 0;
@@ -177,6 +181,19 @@ void lower_product(int m, int w, const double* P, int ldp, const double* S, doub
       U[static_cast<long>(a + 1) * m + b] = c1;
     }
   }
+}
+
+// target[position[i]] −= value[i] for i < count: distinct positions, so that the four of a group do
+// not depend on each other (restrict tells the compiler so).
+void subtract_at(int count, const double* __restrict value, const int* __restrict position, double* __restrict target) {
+  int i = 0;
+  for (; i + 4 <= count; i += 4) {
+    target[position[i]] -= value[i];
+    target[position[i + 1]] -= value[i + 1];
+    target[position[i + 2]] -= value[i + 2];
+    target[position[i + 3]] -= value[i + 3];
+  }
+  for (; i < count; ++i) target[position[i]] -= value[i];
 }
 
 }  // namespace
@@ -212,7 +229,7 @@ bool SupernodalLdlt::factor(const double* upper_value, const int* start, double*
       for (int a = group.first; a < group.last; ++a) {
         double* target_column = blocks_.data() + (group.origin + static_cast<long>(rows[w + a]) * group.rows);
         const double* u = update_.data() + static_cast<long>(a) * m;
-        for (int b = a; b < m; ++b) target_column[relative[b]] -= u[b];
+        subtract_at(m - a, u + a, relative + a, target_column);
       }
     }
   }
