@@ -92,6 +92,8 @@ void SparseLdlt::release_pattern() {
   std::vector<int>().swap(c.upper_row);
   std::vector<int>().swap(c.slot);
   std::vector<double>().swap(c.upper_value);
+  supernodal_ = SupernodalLdlt();  // the blocks go with the pattern; the factor stays CHOLMOD's storage
+  supernodal_ready_ = false;
 }
 
 int SparseLdlt::size() const { return cholmod_->factor ? static_cast<int>(cholmod_->factor->n) : 0; }
