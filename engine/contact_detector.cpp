@@ -30,6 +30,32 @@ void append_columns(int offset, const PointJacobian& J, double sign, const Eigen
   for (int k = 0; k < D; ++k) rows[k].count = n;
 }
 
+// One side's projected Jacobian into a contact's D rows (sign: −1 on side A). Two distinct bodies own
+// disjoint components, so that a side whose components ascend appends its entries without
+// SparseRow::add's search; the rows' common count and the side's data are kept in locals (a store
+// through a row's arrays may alias them, and they would be read again for every entry).
+template <int D>
+void append_projections(int offset, const ProjectedJacobian& P, double sign, SparseRow* rows) {
+  const int count = P.count;
+  bool ascending = true;
+  for (int j = 1; j < count; ++j) ascending = ascending && P.index[j] > P.index[j - 1];
+  if (!ascending) {  // a component named twice: summed by SparseRow::add
+    for (int k = 0; k < D; ++k)
+      for (int j = 0; j < count; ++j) rows[k].add(offset + P.index[j], sign * P.value(k, j));
+    return;
+  }
+  const int first = rows[0].count;
+  for (int j = 0; j < count; ++j) {
+    const int index = offset + P.index[j];
+    const Eigen::Matrix<double, D, 1> column = sign * P.value.template block<D, 1>(0, j);
+    for (int k = 0; k < D; ++k) {
+      rows[k].index[first + j] = index;
+      rows[k].value[first + j] = column(k);
+    }
+  }
+  for (int k = 0; k < D; ++k) rows[k].count = first + count;
+}
+
 }  // namespace
 
 void contact_rows(const World& world, int body_a, const PointJacobian& point_a, int body_b,
@@ -113,6 +139,24 @@ PointJacobian ContactDetector::side_jacobian(const Vector& q, int object, const 
   return b.body->world_point_jacobian(b.positions(q), world_point);
 }
 
+void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b, const ContactPoint& c,
+                                         SparseRow* rows) const {
+  const int d = dimension_;
+  const Eigen::Vector3d* axes[3] = {&c.normal, &c.t1, &c.t2};
+  for (int k = 0; k < d; ++k) rows[k].clear();
+  const int ids[2] = {body_a, body_b};
+  const Eigen::Vector3d* points[2] = {&c.point_a, &c.point_b};
+  ProjectedJacobian P;
+  for (int side = 0; side < 2; ++side) {
+    const BodyInstance& b = world_.bodies[ids[side]];
+    if (b.body->fixed()) continue;
+    b.body->project_world_point_jacobian(b.positions(q), *points[side], axes, d, P);
+    const double sign = side == 0 ? -1.0 : 1.0;
+    if (d == 2) append_projections<2>(b.velocity_offset, P, sign, rows);
+    else append_projections<3>(b.velocity_offset, P, sign, rows);
+  }
+}
+
 double ContactDetector::travel_bound(const Vector& v, double h) const {
   double speed = 0.0;
   for (const BodyInstance& b : world_.bodies) {
@@ -160,8 +204,11 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     const ContactLaw& law = world_.contact_laws[law_index];
     if (!law.isotropic()) complete_frame(point, world_.dimension == 2, law.friction_direction);
     const int i = static_cast<int>(contacts.size());
-    contact_rows(world_, body_a, side_jacobian(q, point.key.object_a, point, point.point_a), body_b,
-                 side_jacobian(q, point.key.object_b, point, point.point_b), point, d, &rows[d * i]);
+    if (body_a != body_b && object_shape_[point.key.object_a] >= 0 && object_shape_[point.key.object_b] >= 0)
+      shape_contact_rows(q, body_a, body_b, point, &rows[d * i]);
+    else
+      contact_rows(world_, body_a, side_jacobian(q, point.key.object_a, point, point.point_a), body_b,
+                   side_jacobian(q, point.key.object_b, point, point.point_b), point, d, &rows[d * i]);
     ActiveContact& c = contacts.emplace_back();
     c.point = point;
     c.law = law_index;

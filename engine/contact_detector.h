@@ -35,6 +35,11 @@ class ContactDetector {
   double travel_bound(const Vector& v, double h) const;
 
  private:
+  // The rows of a contact between shapes of two distinct bodies (no deformable surface): each side's
+  // point Jacobian projected on the contact's axes by its body (Body::project_world_point_jacobian),
+  // the same rows as contact_rows' to round-off.
+  void shape_contact_rows(const Vector& q, int body_a, int body_b, const ContactPoint& c, SparseRow* rows) const;
+
   const World& world_;
   int dimension_;
   std::unique_ptr<CollisionWorld> collision_;

@@ -367,10 +367,22 @@ Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) 
   return d;
 }
 
+const std::vector<Eigen::Vector3d>& Dynamics::spring_strains(const Vector& q) const {
+  if (kept_spring_positions_.size() == q.size() &&
+      std::equal(q.data(), q.data() + q.size(), kept_spring_positions_.data()))
+    return kept_spring_strains_;
+  kept_spring_strains_.resize(world_.springs.size());
+  for (std::size_t i = 0; i < world_.springs.size(); ++i)
+    kept_spring_strains_[i].noalias() = projectors_[i] * spring_displacement(world_.springs[i], q);
+  kept_spring_positions_ = q;
+  return kept_spring_strains_;
+}
+
 void Dynamics::add_spring_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns) const {
   std::size_t size = 0;
+  const std::vector<Eigen::Vector3d>* strains = world_.springs.empty() ? nullptr : &spring_strains(q);
   for (const Spring& s : world_.springs) {
-    const Eigen::Vector3d force_on_a = -s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q));
+    const Eigen::Vector3d force_on_a = -s.stiffness * (*strains)[&s - world_.springs.data()];
     const SpringEnds ends = spring_ends(world_, s, q);
     for (const Entry& e : entries_of(ends)) f(e.index) += e.column.dot(force_on_a);
     if (spring_columns) append_jacobian_columns(ends, *spring_columns, size);  // the ends' columns, on the way
@@ -408,8 +420,9 @@ double Dynamics::elastic_energy(const Vector& q) const {
     if (b.body->nonlinear()) energy += b.body->strain_energy(b.positions(q));
     else energy += 0.5 * b.positions(q).dot(products->segment(b.velocity_offset, b.body->velocity_size()));
   }
-  for (const Spring& s : world_.springs)
-    energy += 0.5 * s.stiffness * (projectors_[&s - world_.springs.data()] * spring_displacement(s, q)).squaredNorm();
+  if (world_.springs.empty()) return energy;
+  const std::vector<Eigen::Vector3d>& strains = spring_strains(q);
+  for (const Spring& s : world_.springs) energy += 0.5 * s.stiffness * strains[&s - world_.springs.data()].squaredNorm();
   return energy;
 }
 

@@ -140,6 +140,12 @@ class Dynamics {
   bool has_linear_bodies_ = false;
   mutable Vector kept_positions_, kept_products_;
   const Vector& linear_body_products(const Vector& q) const;
+  // Each spring's projected displacement P d (m) at kept_spring_positions_ (empty before the first
+  // call), in the same way: a step's elastic energy at q_{k+1} and the next step's spring forces there
+  // share them (each is P d at that q, computed once).
+  mutable Vector kept_spring_positions_;
+  mutable std::vector<Eigen::Vector3d> kept_spring_strains_;
+  const std::vector<Eigen::Vector3d>& spring_strains(const Vector& q) const;
   // The elastic bodies' weight M g (each in its velocity segment, zero elsewhere), formed once: it does
   // not depend on q, and forming it reads all of M, at every step otherwise.
   Vector elastic_weight_;

@@ -51,6 +51,27 @@ void symmetric_gram(const Matrix& X, const Matrix& G, Matrix& W) {
   }
 }
 
+template <int N>
+void transpose_multiply(const Matrix& X, const Vector& v, Vector& out) {
+  const Eigen::Index n = X.rows(), m = X.cols();
+  out.resize(m);
+  const Eigen::Map<const Column<N>> x(v.data(), n);
+  for (Eigen::Index a = 0; a < m; ++a) out(a) = Eigen::Map<const Column<N>>(X.col(a).data(), n).dot(x);
+}
+
+template <int N>
+double column_dot(const Matrix& X, Eigen::Index a, const Vector& v) {
+  const Eigen::Index n = X.rows();
+  return Eigen::Map<const Column<N>>(X.col(a).data(), n).dot(Eigen::Map<const Column<N>>(v.data(), n));
+}
+
+template <int N>
+void add_columns(const Matrix& G, const Vector& r, Vector& v) {
+  const Eigen::Index n = G.rows();
+  Eigen::Map<Column<N>> y(v.data(), n);
+  for (Eigen::Index a = 0; a < G.cols(); ++a) y += r(a) * Eigen::Map<const Column<N>>(G.col(a).data(), n);
+}
+
 // f<N>(...) for N = n when n is one of the compiled sizes, else f<Eigen::Dynamic>.
 template <class Kernel>
 void dispatch(Eigen::Index n, Kernel&& kernel) {
@@ -72,6 +93,24 @@ inline void small_multiply(const Matrix& A, const Vector& x, Vector& out) {
 // (X = Hᵀ: a contact row has a handful).
 inline void small_combine_columns(const Matrix& A, const Matrix& X, Matrix& G) {
   small_dense_detail::dispatch(A.rows(), [&](auto N) { small_dense_detail::combine_columns<N()>(A, X, G); });
+}
+
+// out = Xᵀ v (X = Hᵀ: the problem's rows applied to a velocity, a dense dot a row).
+inline void small_transpose_multiply(const Matrix& X, const Vector& v, Vector& out) {
+  small_dense_detail::dispatch(X.rows(), [&](auto N) { small_dense_detail::transpose_multiply<N()>(X, v, out); });
+}
+
+// Column a of X dotted with v: one entry of small_transpose_multiply's product, to the bit.
+inline double small_column_dot(const Matrix& X, Eigen::Index a, const Vector& v) {
+  double result = 0.0;
+  small_dense_detail::dispatch(X.rows(), [&](auto N) { result = small_dense_detail::column_dot<N()>(X, a, v); });
+  return result;
+}
+
+// v += Σ_a r_a G.col(a), column by column in a's order: each entry the same sum as the dynamic-size
+// axpys', to the bit (no reassociation: an axpy is entry by entry).
+inline void small_add_columns(const Matrix& G, const Vector& r, Vector& v) {
+  small_dense_detail::dispatch(G.rows(), [&](auto N) { small_dense_detail::add_columns<N()>(G, r, v); });
 }
 
 // A diagonal matrix (a point's or an unsprung rigid body's mass, and then A⁻¹): its products go by its

@@ -61,6 +61,16 @@ struct PointJacobian {
   }
 };
 
+// A material point's velocity along up to three world axes a_k: u_k = Σ_j value(k, j) · v[index[j]],
+// value(k, j) = a_k · (column j of its PointJacobian). A contact's rows of H on one side, before the
+// side's sign (contact_detector.h).
+struct ProjectedJacobian {
+  ProjectedJacobian() {}  // user-provided: nothing filled beyond what a body sets
+  int count = 0;
+  std::array<int, 9> index;            // body velocity components
+  Eigen::Matrix<double, 3, 9> value;   // (axis, component), m/s per unit component along the axis
+};
+
 // A deformable contact surface: the world positions of its nodes in the reference configuration (m)
 // and the features built on them (segments, triangles, the nodes that may touch, a smoothed curve).
 struct ContactSurface {
@@ -174,6 +184,19 @@ class Body {
   // The Jacobian of the material point at world position x (m): a contact point on one of the body's shapes.
   PointJacobian world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x) const {
     return point_jacobian(q, pose(q).inverse() * x);
+  }
+  // That Jacobian projected on axes[0 .. axis_count) (axis_count ≤ 3). Lumped bodies write it from the
+  // lever arm x − (their origin) in world axes, without the inverse pose and the body-frame point
+  // (the same values to round-off, at a fifth of the cost); the others project world_point_jacobian.
+  virtual void project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x,
+                                            const Eigen::Vector3d* const* axes, int axis_count,
+                                            ProjectedJacobian& out) const {
+    const PointJacobian J = world_point_jacobian(q, x);
+    out.count = J.count;
+    for (int j = 0; j < J.count; ++j) {
+      out.index[j] = J.index[j];
+      for (int k = 0; k < axis_count; ++k) out.value(k, j) = axes[k]->dot(J.column.col(j));
+    }
   }
 
   // Nodes of a body discretized by nodes (an elastic body's mesh nodes); none for a lumped body.

@@ -18,6 +18,15 @@ PointJacobian PointMass::point_jacobian(const ConstVectorRef&, const Eigen::Vect
   return J;
 }
 
+void PointMass::project_world_point_jacobian(const ConstVectorRef&, const Eigen::Vector3d&,
+                                             const Eigen::Vector3d* const* axes, int axis_count,
+                                             ProjectedJacobian& out) const {
+  out.count = dimension_;
+  for (int j = 0; j < dimension_; ++j) out.index[j] = j;
+  for (int k = 0; k < axis_count; ++k)
+    for (int j = 0; j < dimension_; ++j) out.value(k, j) = (*axes[k])(j);
+}
+
 void PointMass::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                                    VectorRef q_next) const {
   q_next = q + h * v_theta;

@@ -48,6 +48,21 @@ PointJacobian RigidBody2d::point_jacobian(const ConstVectorRef& q, const Eigen::
   return J;
 }
 
+// The rotation column e_z × r with r = x − c, the world lever arm: (−r_y, r_x, 0).
+void RigidBody2d::project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x,
+                                               const Eigen::Vector3d* const* axes, int axis_count,
+                                               ProjectedJacobian& out) const {
+  const double rx = x.x() - q(0), ry = x.y() - q(1);
+  out.count = 3;
+  for (int j = 0; j < 3; ++j) out.index[j] = j;
+  for (int k = 0; k < axis_count; ++k) {
+    const Eigen::Vector3d& a = *axes[k];
+    out.value(k, 0) = a.x();
+    out.value(k, 1) = a.y();
+    out.value(k, 2) = a.y() * rx - a.x() * ry;
+  }
+}
+
 void RigidBody2d::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta,
                                      double h, VectorRef q_next) const {
   q_next = q + h * v_theta;

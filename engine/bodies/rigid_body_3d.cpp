@@ -44,6 +44,25 @@ PointJacobian RigidBody3d::point_jacobian(const ConstVectorRef& q, const Eigen::
   return J;
 }
 
+// a · (R_i × r) = R_i · (r × a), r = x − c the world lever arm: a translation column's projection is
+// a itself, a rotation column's R_i · (r × a).
+void RigidBody3d::project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x,
+                                               const Eigen::Vector3d* const* axes, int axis_count,
+                                               ProjectedJacobian& out) const {
+  const Eigen::Matrix3d& R = rotation(q);
+  const Eigen::Vector3d r = x - q.head<3>();
+  out.count = 6;
+  for (int j = 0; j < 6; ++j) out.index[j] = j;
+  for (int k = 0; k < axis_count; ++k) {
+    const Eigen::Vector3d& a = *axes[k];
+    const Eigen::Vector3d moment = r.cross(a);
+    for (int i = 0; i < 3; ++i) {
+      out.value(k, i) = a(i);
+      out.value(k, 3 + i) = R.col(i).dot(moment);
+    }
+  }
+}
+
 void RigidBody3d::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta,
                                      double h, VectorRef q_next) const {
   q_next.head<3>() = q.head<3>() + h * v_theta.head<3>();

@@ -341,11 +341,19 @@ void MoreauJean::assemble(const State& state) {
       for (int b = 0; b < m; ++b)
         problem_.W(a, b) = a < d * nc ? rows_[a]->dot(*columns_[b]) : equality_dot(a - d * nc, *columns_[b]);
   }
-  for (int a = 0; a < m; ++a)
-    problem_.b(a) = a < d * nc ? rows_[a]->dot(v_free_) : equality_dot(a - d * nc, v_free_);
+  // A lumped World has the rows as Hᵀ's dense columns (dense_delassus): b = H v_free by dense dots of
+  // n entries, a few instructions each at the compiled sizes (the sparse rows' dots cost about five
+  // an entry; the sums differ in their order, so in their last bits).
+  const bool dense_rows = operators_.explicit_inverse();
+  if (dense_rows) {
+    small_transpose_multiply(problem_columns_, v_free_, problem_.b);
+  } else {
+    for (int a = 0; a < m; ++a)
+      problem_.b(a) = a < d * nc ? rows_[a]->dot(v_free_) : equality_dot(a - d * nc, v_free_);
+  }
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
-    const double approach = rows_[d * i]->dot(state.v);
+    const double approach = dense_rows ? small_column_dot(problem_columns_, d * i, state.v) : rows_[d * i]->dot(state.v);
     if (e > 0.0) {
       problem_.b(d * i) += e * approach;
     } else if (parameters_.close_gaps) {
@@ -416,7 +424,7 @@ void MoreauJean::update(State& state) {
   } else if (operators_.explicit_inverse()) {
     // G r column by column, in the rows' order: a resting contact's velocity then cancels exactly, as
     // with the factored path's columns.
-    for (int a = 0; a < rows; ++a) v_next_ += r_(a) * dense_columns_.col(a);
+    small_add_columns(dense_columns_, r_, v_next_);
   } else {
     for (int a = 0; a < rows; ++a) v_next_ += r_(a) * *columns_[a];
   }
@@ -439,8 +447,13 @@ void MoreauJean::account_energy(State& state) {
   EnergyBalance& e = state.energy;
   e.work_of_loads += h * f_loads_.dot(v_theta_);
   const int contact_rows = static_cast<int>(rows_.size());
-  for (int a = 0; a < static_cast<int>(r_.size()); ++a)
-    e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a]->dot(v_theta_) : equality_dot(a - contact_rows, v_theta_));
+  if (operators_.explicit_inverse()) {  // H v_θ by Hᵀ's dense columns, as b in assemble()
+    for (int a = 0; a < static_cast<int>(r_.size()); ++a)
+      e.contact_dissipation -= r_(a) * small_column_dot(problem_columns_, a, v_theta_);
+  } else {
+    for (int a = 0; a < static_cast<int>(r_.size()); ++a)
+      e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a]->dot(v_theta_) : equality_dot(a - contact_rows, v_theta_));
+  }
   dv_ = v_next_ - state.v;
   const double kinetic = operators_.kinetic_energy(v_next_, dv_, work_);  // and M Δv into work_
   double numerical = dv_.dot(work_);

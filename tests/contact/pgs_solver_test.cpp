@@ -424,6 +424,44 @@ TEST(PgsSolver, ResidualAfterASweepIsTheFullResidualToTheBit) {
   EXPECT_FALSE(statistics.converged);
 }
 
+// A sweep's local problem at contact c sees b_c + Σ_{d≠c} W_cd r_d: the impulses of the contacts before
+// it from this sweep, those after it from the last (pgs_solver.cpp, frozen_free_velocity). With every
+// contact in stick (a wide cone, pressed), one sweep is block Gauss–Seidel written out here.
+TEST(PgsSolver, ASweepIsBlockGaussSeidelOnTheOtherContactsImpulses) {
+  for (const int dimension : {2, 3}) {
+    const int contacts = 4, m = dimension * contacts, n = 9;
+    Eigen::MatrixXd H(m, n);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < n; ++j) H(i, j) = std::sin(0.4 + 2.3 * i + 1.1 * j + 0.7 * i * j);
+    FrictionContactProblem problem;
+    problem.dimension = dimension;
+    problem.contacts = contacts;
+    problem.W = H * H.transpose();
+    Eigen::VectorXd target = Eigen::VectorXd::Constant(m, 0.1);
+    for (int c = 0; c < contacts; ++c) target(dimension * c) = 10.0 + c;
+    problem.b = -problem.W * target;  // the solution: target, deep in its cones
+    problem.mu.assign(contacts, Eigen::Vector2d(5.0, 5.0));
+    PgsParameters parameters;
+    parameters.max_iterations = 1;
+    parameters.tolerance = 1e300;
+    parameters.polish = false;
+    Eigen::VectorXd start(m);
+    for (int a = 0; a < m; ++a) start(a) = target(a) + 0.3 * std::cos(1.0 + 2.0 * a);
+    Eigen::VectorXd r = start, expected = start;
+    PgsSolver(parameters).solve(problem, r);
+    for (int c = 0; c < contacts; ++c) {
+      const int first = dimension * c;
+      Eigen::VectorXd others = expected;
+      others.segment(first, dimension).setZero();
+      const Eigen::VectorXd b_c = problem.b.segment(first, dimension) + problem.W.middleRows(first, dimension) * others;
+      expected.segment(first, dimension) =
+          -problem.W.block(first, first, dimension, dimension).partialPivLu().solve(b_c);
+    }
+    EXPECT_LE((r - expected).norm(), 1e-11 * expected.norm()) << "dimension " << dimension;
+    EXPECT_GT((r - target).norm(), 1e-3) << "one sweep, not the solution";
+  }
+}
+
 TEST(PgsSolver, WarmStartFromSolutionTakesOneSweep) {
   const BoxOnTwoCorners box;
   for (const double push : {0.5, 2.0}) {

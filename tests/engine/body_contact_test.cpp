@@ -75,6 +75,48 @@ TEST(BodyContact, RigidBody2dPointJacobianIsTheDerivativeOfItsPositionMap) {
   EXPECT_FALSE(body.contact_surface(true).has_value());
 }
 
+// The lumped bodies project a world point's Jacobian on the contact axes from the world lever arm
+// (Body::project_world_point_jacobian); it must be the base's projection of world_point_jacobian
+// (pose⁻¹, the body-frame point, its Jacobian) to round-off, component for component, at turned poses.
+TEST(BodyContact, LumpedBodiesProjectTheirWorldPointJacobianToRoundOff) {
+  const RigidBody3d rigid_3d(2.0, Eigen::Vector3d(0.1, 0.2, 0.3));
+  const RigidBody2d rigid_2d(3.0, 0.4);
+  const PointMass point_3d(3, 1.5), point_2d(2, 1.5);
+  Eigen::VectorXd q3(7), q2(3), p3(3), p2(2);
+  const Eigen::Quaterniond turn = Eigen::Quaterniond(0.8, -0.3, 0.4, 0.33).normalized();
+  q3 << 0.7, -1.2, 2.5, turn.w(), turn.x(), turn.y(), turn.z();
+  q2 << -0.4, 1.3, 2.2;
+  p3 << 0.1, 0.2, -0.3;
+  p2 << 0.1, 0.2;
+  const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+  const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+  const Eigen::Vector3d n_plane = Eigen::Vector3d(0.6, -0.8, 0.0), t_plane(0.8, 0.6, 0.0);
+  struct Case {
+    const Body* body;
+    const Eigen::VectorXd* q;
+    Eigen::Vector3d x;  // m, world
+    int axis_count;
+  };
+  const Case cases[] = {{&rigid_3d, &q3, Eigen::Vector3d(1.1, -0.9, 2.2), 3},
+                        {&rigid_2d, &q2, Eigen::Vector3d(0.3, 0.8, 0.0), 2},
+                        {&point_3d, &p3, Eigen::Vector3d(0.1, 0.2, -0.4), 3},
+                        {&point_2d, &p2, Eigen::Vector3d(0.1, 0.25, 0.0), 2}};
+  for (const Case& c : cases) {
+    const Eigen::Vector3d* axes[3] = {c.axis_count == 3 ? &n : &n_plane, c.axis_count == 3 ? &t1 : &t_plane, &t2};
+    ProjectedJacobian projected, expected;
+    c.body->project_world_point_jacobian(*c.q, c.x, axes, c.axis_count, projected);
+    c.body->Body::project_world_point_jacobian(*c.q, c.x, axes, c.axis_count, expected);
+    ASSERT_EQ(projected.count, expected.count);
+    ASSERT_EQ(projected.count, c.body->velocity_size());
+    for (int j = 0; j < expected.count; ++j) {
+      EXPECT_EQ(projected.index[j], expected.index[j]);
+      for (int k = 0; k < c.axis_count; ++k)
+        EXPECT_NEAR(projected.value(k, j), expected.value(k, j), 4e-16 * (1.0 + std::abs(expected.value(k, j))))
+            << "body of " << c.body->velocity_size() << " components, axis " << k << ", component " << j;
+    }
+  }
+}
+
 TEST(BodyContact, PointMassAndFixedBodyNeitherRotateNorHaveASurface) {
   const PointMass point(3, 1.0);
   const FixedBody ground(Eigen::Isometry3d::Identity());

@@ -156,28 +156,40 @@ TEST(ContactDetector, ContactRowsAreThoseOfSparseRowAddToTheBit) {
     }
 }
 
-// A detection forms each body's inverse pose once, at its first contact: the rows are those of
-// side_jacobian (Body::world_point_jacobian) at every contact, and at the next detection's q, not the
-// last one's.
-TEST(ContactDetector, RowsAreThoseOfEachSidesJacobianAtTheDetectionsQ) {
-  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/incline-3d/scene.yaml", {});
-  const World& world = scene->world;
-  ContactDetector detector(world);
-  State state = initial_state(world);
-  const int block = world.body_index("block");
-  std::vector<ActiveContact> contacts;
-  std::vector<SparseRow> rows;
-  for (const double shift : {0.0, 0.3, -0.2}) {
-    Vector q = state.q;
-    q(world.bodies[block].position_offset + 1) += shift;  // along y, in the slope: elsewhere on it
-    detector.detect(q, 1e-6, contacts, rows);
-    ASSERT_EQ(contacts.size(), 4u) << shift;
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-      const ContactPoint& c = contacts[i].point;
-      SparseRow expected[3];
-      contact_rows(world, contacts[i].body_a, detector.side_jacobian(q, c.key.object_a, c, c.point_a),
-                   contacts[i].body_b, detector.side_jacobian(q, c.key.object_b, c, c.point_b), c, 3, expected);
-      for (int k = 0; k < 3; ++k) EXPECT_TRUE(rows[3 * i + k] == expected[k]) << shift << ", contact " << i << ", row " << k;
+// A detection's rows between two bodies' shapes come from each side's Jacobian projected by its body
+// (Body::project_world_point_jacobian, from the world lever arm): the rows of contact_rows with
+// side_jacobian (Body::world_point_jacobian: pose⁻¹, the body-frame point) to round-off, entry for
+// entry, at the next detection's q and not the last one's.
+TEST(ContactDetector, RowsAreThoseOfEachSidesJacobianAtTheDetectionsQToRoundOff) {
+  for (const char* name : {"incline-3d", "sdnv104-rigid"}) {
+    const auto scene = load_scene(std::string(CSIM_SOURCE_DIR "/scenes/") + name + "/scene.yaml", {});
+    const World& world = scene->world;
+    ContactDetector detector(world);
+    const int d = detector.dimension();
+    State state = initial_state(world);
+    const int moving = world.body_index(d == 3 ? "block" : "shoe");
+    std::vector<ActiveContact> contacts;
+    std::vector<SparseRow> rows;
+    for (const double shift : {0.0, 0.3, -0.2}) {
+      Vector q = state.q;
+      q(world.bodies[moving].position_offset + (d == 3 ? 1 : 0)) += shift;  // along the surface: elsewhere on it
+      detector.detect(q, 1e-6, contacts, rows);
+      ASSERT_EQ(contacts.size(), d == 3 ? 4u : 2u) << name << " " << shift;
+      for (std::size_t i = 0; i < contacts.size(); ++i) {
+        const ContactPoint& c = contacts[i].point;
+        SparseRow expected[3];
+        contact_rows(world, contacts[i].body_a, detector.side_jacobian(q, c.key.object_a, c, c.point_a),
+                     contacts[i].body_b, detector.side_jacobian(q, c.key.object_b, c, c.point_b), c, d, expected);
+        for (int k = 0; k < d; ++k) {
+          const SparseRow& row = rows[d * i + k];
+          ASSERT_EQ(row.count, expected[k].count) << name << " " << shift << ", contact " << i << ", row " << k;
+          for (int j = 0; j < row.count; ++j) {
+            EXPECT_EQ(row.index[j], expected[k].index[j]);
+            EXPECT_NEAR(row.value[j], expected[k].value[j], 1e-15 * (1.0 + std::abs(expected[k].value[j])))
+                << name << " " << shift << ", contact " << i << ", row " << k << ", entry " << j;
+          }
+        }
+      }
     }
   }
 }

@@ -60,6 +60,27 @@ TEST(SmallDenseProducts, AgreeWithEigensProducts) {
   }
 }
 
+// The rows applied to a velocity (Xᵀ v, and one entry of it) agree with Eigen's product, and
+// small_column_dot is small_transpose_multiply's entry to the bit; v += G r column by column is the
+// dynamic-size axpys' result to the bit (each entry the same sum in the same order).
+TEST(SmallDenseProducts, RowsAppliedAndColumnsAddedAgreeWithEigens) {
+  for (int n : {2, 3, 6, 7}) {
+    const Matrix A = spd(n);
+    const Matrix X = A.leftCols(std::min(n, 5));  // n × min(n, 5)
+    const Vector v = Vector::LinSpaced(n, -1.5, 2.5);
+    Vector Xt_v;
+    small_transpose_multiply(X, v, Xt_v);
+    ASSERT_EQ(Xt_v.size(), X.cols());
+    EXPECT_LT((Xt_v - X.transpose() * v).cwiseAbs().maxCoeff(), 1e-13 * (X.transpose() * v).cwiseAbs().maxCoeff()) << n;
+    for (Eigen::Index a = 0; a < X.cols(); ++a) EXPECT_EQ(small_column_dot(X, a, v), Xt_v(a)) << n << ", column " << a;
+    const Vector r = Vector::LinSpaced(X.cols(), 0.3, -0.7);
+    Vector summed = v, expected = v;
+    small_add_columns(A.leftCols(X.cols()), r, summed);
+    for (Eigen::Index a = 0; a < X.cols(); ++a) expected += r(a) * A.col(a);
+    EXPECT_EQ(std::memcmp(summed.data(), expected.data(), n * sizeof(double)), 0) << n;
+  }
+}
+
 // A diagonal matrix's products by its diagonal alone give the full products' results to the bit, the
 // signs of their zeros included (the lumped step takes them for a point's or an unsprung body's M
 // and A⁻¹); a matrix with one off-diagonal entry is not taken for diagonal.

@@ -259,6 +259,36 @@ TEST(Dynamics, KeptStiffnessProductFollowsThePositions) {
   EXPECT_GT((f1 - f2).norm(), 1e-3 * f1.norm());
 }
 
+// The springs' projected displacements are kept for the last q (a step's elastic energy at q_{k+1},
+// the next step's spring forces there): forces and energies are a fresh Dynamics' to the bit, at the
+// kept q and at another one that differs in the shoe's angle alone (by round-off of it).
+TEST(Dynamics, KeptSpringStrainsFollowThePositions) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml", {});
+  const World& world = scene->world;
+  const Dynamics dynamics(world);
+  const int angle = world.bodies[world.body_index("shoe")].position_offset + 2;
+  Vector q1 = initial_state(world).q;
+  q1(0) += 0.3;
+  q1(angle) += 0.2;
+  Vector q2 = q1;
+  q2(angle) = std::nextafter(q2(angle), 1.0);
+  auto internal = [&](const Dynamics& d, const Vector& q) {
+    Vector f = Vector::Zero(d.size());
+    d.add_internal_forces(q, f);
+    return f;
+  };
+  const double energy1 = dynamics.elastic_energy(q1);
+  const Vector f1 = internal(dynamics, q1);  // from the kept strains
+  const Vector f2 = internal(dynamics, q2);  // another q: new strains
+  const double energy2 = dynamics.elastic_energy(q2);
+  EXPECT_EQ(std::memcmp(f1.data(), internal(Dynamics(world), q1).data(), f1.size() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(f2.data(), internal(Dynamics(world), q2).data(), f2.size() * sizeof(double)), 0);
+  EXPECT_EQ(energy1, Dynamics(world).elastic_energy(q1));
+  EXPECT_EQ(energy2, Dynamics(world).elastic_energy(q2));
+  EXPECT_GT(energy1, 0.0);
+  EXPECT_FALSE(f1 == f2);  // the angle's last bit moves the torques
+}
+
 // ½ vᵀ M v with M x in the same pass over M (a Moreau–Jean step's energy balance) gives each the same
 // bits as its own product, on an elastic body's consistent mass.
 TEST(Dynamics, KineticEnergyWithAMassProductIsBothProducts) {

@@ -51,16 +51,18 @@ std::uint64_t lumped_run_bits(const std::string& scene_name, double step, int st
   return hash.value;
 }
 
-// The lumped benchmark runs (bench/lumped_vs_bullet.md) step for step, to the bit, as before the
-// sixth pass over their instructions: every change of that pass computes the same numbers in the same
-// order. Expected values from bfa4226's code, 20 000 steps each (the callgrind runs).
+// The lumped benchmark runs (bench/lumped_vs_bullet.md) step for step, to the bit: a change that moves
+// them must say so and by how much (issue 31 asks for the same summaries to round-off). Expected
+// values from bfa4226's code, 20 000 steps each (the callgrind runs), but incline-3d's, which the
+// seventh pass moved by round-off (its commits give the sizes: the rows of H from the world lever arm,
+// b = H v_free and H v_θ by dense dots).
 TEST(MoreauJean, LumpedBenchmarkRunsAreTheSameToTheBit) {
   struct Case {
     const char* scene;
     double step;
     std::uint64_t bits;
   };
-  for (const Case& c : {Case{"sdnv104-rigid", 1e-5, 0xd1ee95c3bc543ab7ull}, Case{"incline-3d", 1e-5, 0xbfd817809564e6efull},
+  for (const Case& c : {Case{"sdnv104-rigid", 1e-5, 0xd1ee95c3bc543ab7ull}, Case{"incline-3d", 1e-5, 0xa08f6d3ac70ea311ull},
                         Case{"sdnd100-a", 2e-6, 0xae50ecee7cfff9f8ull}}) {
     const std::uint64_t bits = lumped_run_bits(c.scene, c.step, 20000);
     EXPECT_EQ(bits, c.bits) << c.scene << ": 0x" << std::hex << bits;

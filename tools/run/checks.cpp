@@ -92,15 +92,19 @@ CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& sc
     : run_(run), scope_(scope), trackers_(run.probes.size()), windows_(run.probes.size()),
       at_values_(run.checks.size()), mean_sums_(run.checks.size(), {0.0, 0.0}) {
   // Listed once: add_sample runs at every step.
+  sampled_.assign(run.probes.size(), false);
   for (std::size_t c = 0; c < run.checks.size(); ++c) {
     if (run.checks[c].mode == CheckDefinition::Mode::at) at_checks_.push_back(c);
     if (run.checks[c].mode == CheckDefinition::Mode::mean) mean_checks_.push_back(c);
+    if (run.checks[c].mode != CheckDefinition::Mode::final_value && run.checks[c].probe >= 0)
+      sampled_[run.checks[c].probe] = true;
   }
 }
 
 void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact) {
   for (std::size_t p = 0; p < values.size(); ++p) {
     if (!run_.probes[p].undefined.empty()) continue;  // NaN; its checks are not evaluated
+    if (!sampled_[p]) continue;  // read by final checks alone (last_values_): no tracker, no window
     trackers_[p].add(t, values[p], exact);
     Window& w = windows_[p];
     for (int i = 0; i < 2; ++i) { w.t[i] = w.t[i + 1]; w.value[i] = w.value[i + 1]; }

@@ -73,6 +73,11 @@ class CheckEvaluator {
  public:
   CheckEvaluator(const RunSettings& run, const ExpressionScope& scope);
   void add_sample(double t, const std::vector<double>& probe_values, bool exact = false);
+  // The probes whose every sample a check reads (an extremum, a value at a time, a mean): the others
+  // are read by final checks alone, at the last sample, so that a run may leave their values stale
+  // between its output rows (their entries are not read). The first and the last samples must hold
+  // every probe's value (a reference may name the initial one).
+  const std::vector<bool>& sampled_probes() const { return sampled_; }
   std::vector<CheckResult> finish(double end_time);
 
  private:
@@ -84,6 +89,7 @@ class CheckEvaluator {
   std::vector<std::optional<double>> at_values_;        // per check (Mode::at)
   std::vector<std::pair<double, double>> mean_sums_;    // per check (Mode::mean): Σ w·value, Σ w
   std::vector<std::size_t> at_checks_, mean_checks_;   // the checks of Mode::at and Mode::mean
+  std::vector<bool> sampled_;                           // per probe: see sampled_probes()
   double last_time_ = 0.0;
   std::vector<double> last_values_;
   std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`

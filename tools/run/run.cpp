@@ -146,6 +146,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   double next_output = rate;
 
   const bool energy_probes = probes.reads_energy();
+  const std::vector<bool>& sampled = checks.sampled_probes();
+  const bool every_probe_sampled = std::find(sampled.begin(), sampled.end(), false) == sampled.end();
   Progress progress(options.progress);
   const auto start = std::chrono::steady_clock::now();
   for (long k = 0; k < steps; ++k) {
@@ -161,9 +163,13 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
       probes.evaluate(at_event, values);
       checks.add_sample(event.t, values, true);
     }
-    probes.evaluate(state, values);
+    // Between output rows, only the probes whose every sample a check reads (CheckEvaluator::
+    // sampled_probes); an output row, and so the last step, has every probe's value.
+    const bool row = state.t >= next_output - 0.5 * h || k + 1 == steps;
+    if (row || every_probe_sampled) probes.evaluate(state, values);
+    else probes.evaluate(state, values, sampled);
     checks.add_sample(state.t, values);
-    if (state.t >= next_output - 0.5 * h || k + 1 == steps) {
+    if (row) {
       output_row(values);
       while (next_output <= state.t + 0.5 * h) next_output += rate;
     }

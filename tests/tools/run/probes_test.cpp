@@ -5,6 +5,8 @@
 #include "engine/state.h"
 #include "engine/world.h"
 #include "tools/scene/scene.h"
+#include "tools/run/checks.h"
+#include "tools/run/run.h"
 
 #include <gtest/gtest.h>
 
@@ -104,6 +106,63 @@ TEST(ProbeEvaluator, EachKindAgainstHandValues) {
   probes.evaluate(state, values);
   EXPECT_EQ(values[9], 0.0);
   EXPECT_EQ(values[6], 0.0);
+}
+
+// A run evaluates between its output rows only the probes whose every sample a check reads
+// (CheckEvaluator::sampled_probes: extrema, values at a time, means); the others serve final checks
+// and rows alone. The checks and the rows must be those of a run that samples every probe at every
+// step (an output row at every step): on the incline (final checks only) and on SDNV104 (extrema and
+// times of dx; the forces and the balance read by no check).
+TEST(ProbeEvaluator, ProbesThatNoCheckSamplesAreReadAtRowsAndTheEndAlone) {
+  for (const char* name : {"incline-3d", "sdnv104-rigid"}) {
+    const std::string file = std::string(CSIM_SOURCE_DIR "/scenes/") + name + "/scene.yaml";
+    const auto sparse = load_scene(file, {"time.end=2", "time.step=2e-3", "output.rate=0.5"});
+    const auto dense = load_scene(file, {"time.end=2", "time.step=2e-3", "output.rate=2e-3"});
+    const std::vector<bool> sampled = CheckEvaluator(sparse->run, sparse->document.scope).sampled_probes();
+    ASSERT_EQ(sampled.size(), sparse->run.probes.size());
+    for (std::size_t p = 0; p < sampled.size(); ++p)
+      EXPECT_EQ(sampled[p], std::string(name) == "sdnv104-rigid" && sparse->run.probes[p].name == "dx")
+          << name << ", probe " << sparse->run.probes[p].name;
+    const RunReport a = run_scene(*sparse, {}), b = run_scene(*dense, {});
+    ASSERT_EQ(a.checks.size(), b.checks.size());
+    int evaluated = 0;
+    for (std::size_t c = 0; c < a.checks.size(); ++c) {
+      EXPECT_EQ(a.checks[c].evaluated, b.checks[c].evaluated) << name << ", " << a.checks[c].name;
+      if (a.checks[c].evaluated) EXPECT_EQ(a.checks[c].value, b.checks[c].value) << name << ", " << a.checks[c].name;
+      evaluated += a.checks[c].evaluated;
+    }
+    EXPECT_GE(evaluated, std::string(name) == "sdnv104-rigid" ? 3 : 4) << name;  // x1, t1 and the rest at least
+    ASSERT_EQ(a.sample_times.size(), 5u) << name;  // t = 0, 0.5, …, 2
+    for (std::size_t i = 0; i < a.sample_times.size(); ++i) {
+      std::size_t j = 0;
+      while (j < b.sample_times.size() && std::abs(b.sample_times[j] - a.sample_times[i]) > 1e-9) ++j;
+      ASSERT_LT(j, b.sample_times.size()) << name << ", row at " << a.sample_times[i];
+      EXPECT_TRUE(a.samples[i] == b.samples[j]) << name << ", row at " << a.sample_times[i];
+    }
+  }
+}
+
+// evaluate with a mask sets the flagged probes and leaves the others' entries as they were.
+TEST(ProbeEvaluator, AMaskedEvaluationLeavesTheOtherEntries) {
+  const World world = ball_on_floor();
+  RunSettings run;
+  run.step = 0.01;
+  ProbeDefinition p;
+  p.kind = ProbeDefinition::Kind::velocity;
+  p.velocity_index = 1;
+  run.probes.push_back(p);
+  p.velocity_index = 0;
+  run.probes.push_back(p);
+  const ProbeEvaluator probes(world, run);
+  State state;
+  state.q = Vector::Zero(world.position_size);
+  state.v = Vector::LinSpaced(world.velocity_size, 1.0, 4.0);
+  std::vector<double> values = {-7.0, -8.0};
+  probes.evaluate(state, values, {false, true});
+  EXPECT_EQ(values[0], -7.0);
+  EXPECT_EQ(values[1], state.v(0));
+  probes.evaluate(state, values, {true, false});
+  EXPECT_EQ(values[0], state.v(1));
 }
 
 }  // namespace
