@@ -52,17 +52,15 @@ void symmetric_gram(const Matrix& X, const Matrix& G, Matrix& W) {
 }
 
 template <int N>
-void transpose_multiply(const Matrix& X, const Vector& v, Vector& out) {
-  const Eigen::Index n = X.rows(), m = X.cols();
-  out.resize(m);
-  const Eigen::Map<const Column<N>> x(v.data(), n);
-  for (Eigen::Index a = 0; a < m; ++a) out(a) = Eigen::Map<const Column<N>>(X.col(a).data(), n).dot(x);
-}
-
-template <int N>
 double column_dot(const Matrix& X, Eigen::Index a, const Vector& v) {
   const Eigen::Index n = X.rows();
   return Eigen::Map<const Column<N>>(X.col(a).data(), n).dot(Eigen::Map<const Column<N>>(v.data(), n));
+}
+
+template <int N>
+void transpose_multiply(const Matrix& X, const Vector& v, Vector& out) {
+  out.resize(X.cols());
+  for (Eigen::Index a = 0; a < X.cols(); ++a) out(a) = column_dot<N>(X, a, v);
 }
 
 template <int N>

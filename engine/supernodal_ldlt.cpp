@@ -13,7 +13,6 @@ namespace csim {
 // when j + 1 is j's parent and column j's pattern is column j + 1's with j: equal below the diagonal
 // block. Only each supernode's first column keeps its rows: the other columns' are a tail of them.
 void SupernodalLdlt::analyse(int n, const int* upper_start, const int* upper_row) {
-  n_ = n;
   std::vector<int> parent(n, -1), ancestor(n, -1);
   for (int k = 0; k < n; ++k)
     for (int q = upper_start[k]; q < upper_start[k + 1]; ++q)

@@ -37,11 +37,9 @@ class SupernodalLdlt {
 
   // L's pattern by columns, each column's rows ascending from its diagonal (start has n + 1 entries).
   void pattern(std::vector<int>& start, std::vector<int>& row) const;
-  int size() const { return n_; }
   int supernodes() const { return static_cast<int>(first_column_.size()) - 1; }
 
  private:
-  int n_ = 0;
   // Supernode s: columns first_column_[s] … first_column_[s + 1] − 1; its rows (the first ones its own
   // columns) rows_[row_start_[s] … row_start_[s + 1]).
   std::vector<int> first_column_, row_start_, rows_;

@@ -65,6 +65,11 @@ double MoreauJean::equality_dot(int e, const Vector& v) const {
   return e < nw ? equalities_.rows.row(e).dot(v) : ties_.rows()[e - nw].dot(v);
 }
 
+double MoreauJean::problem_row_dot(int a, const Vector& v) const {
+  const int contact_rows = static_cast<int>(rows_.size());
+  return a < contact_rows ? rows_[a]->dot(v) : equality_dot(a - contact_rows, v);
+}
+
 template <class Dense>
 void MoreauJean::add_problem_row(int a, double scale, Dense&& out) const {
   const int contact_rows = static_cast<int>(rows_.size());
@@ -338,8 +343,7 @@ void MoreauJean::assemble(const State& state) {
   } else {
     gather_columns();
     for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b)
-        problem_.W(a, b) = a < d * nc ? rows_[a]->dot(*columns_[b]) : equality_dot(a - d * nc, *columns_[b]);
+      for (int b = 0; b < m; ++b) problem_.W(a, b) = problem_row_dot(a, *columns_[b]);
   }
   // A lumped World has the rows as Hᵀ's dense columns (dense_delassus): b = H v_free by dense dots of
   // n entries, a few instructions each at the compiled sizes (the sparse rows' dots cost about five
@@ -348,8 +352,7 @@ void MoreauJean::assemble(const State& state) {
   if (dense_rows) {
     small_transpose_multiply(problem_columns_, v_free_, problem_.b);
   } else {
-    for (int a = 0; a < m; ++a)
-      problem_.b(a) = a < d * nc ? rows_[a]->dot(v_free_) : equality_dot(a - d * nc, v_free_);
+    for (int a = 0; a < m; ++a) problem_.b(a) = problem_row_dot(a, v_free_);
   }
   for (int i = 0; i < nc; ++i) {
     const double e = world_.contact_laws[active_[i].law].restitution;
@@ -446,13 +449,11 @@ void MoreauJean::account_energy(State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
   EnergyBalance& e = state.energy;
   e.work_of_loads += h * f_loads_.dot(v_theta_);
-  const int contact_rows = static_cast<int>(rows_.size());
   if (operators_.explicit_inverse()) {  // H v_θ by Hᵀ's dense columns, as b in assemble()
     for (int a = 0; a < static_cast<int>(r_.size()); ++a)
       e.contact_dissipation -= r_(a) * small_column_dot(problem_columns_, a, v_theta_);
   } else {
-    for (int a = 0; a < static_cast<int>(r_.size()); ++a)
-      e.contact_dissipation -= r_(a) * (a < contact_rows ? rows_[a]->dot(v_theta_) : equality_dot(a - contact_rows, v_theta_));
+    for (int a = 0; a < static_cast<int>(r_.size()); ++a) e.contact_dissipation -= r_(a) * problem_row_dot(a, v_theta_);
   }
   dv_ = v_next_ - state.v;
   const double kinetic = operators_.kinetic_energy(v_next_, dv_, work_);  // and M Δv into work_

@@ -88,6 +88,8 @@ class MoreauJean final : public Stepper {
   void linearize_ties(const State& state, const Vector& v_iterate);
   int equality_count() const { return static_cast<int>(equalities_.rows.rows()) + ties_.size(); }
   double equality_dot(int e, const Vector& v) const;  // row e of the equalities (constraints, then ties) · v
+  // Row a of the problem (its sparse contact rows, then the equalities) · v.
+  double problem_row_dot(int a, const Vector& v) const;
   void compute_loads(const State& state);
   void compute_free_velocity(const State& state);
   void compute_newton_free_velocity(const State& state, const Vector& v_iterate);
