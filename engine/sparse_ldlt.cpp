@@ -338,16 +338,28 @@ void SparseLdlt::add_scaled(double a, const ForwardColumn& y, Vector& x) {
   for (std::size_t k = 0; k < y.index.size(); ++k) x(y.index[k]) += a * y.value[k];
 }
 
-void SparseLdlt::solve_free(const Vector& f, Vector& Hx) {
+// L⁻¹ P f into w (CHOLMOD's forward sweep on the permuted right-hand side).
+void SparseLdlt::forward_sweep(const Vector& f, Vector& w) const {
   Cholmod& c = *cholmod_;
-  const int n = size(), s = static_cast<int>(unknowns_.size());
-  if (gram_factorization_ != factorizations_) throw std::logic_error("SparseLdlt::solve_free before delassus");
+  const int n = size();
   c.permuted.resize(n);
   for (int k = 0; k < n; ++k) c.permuted(k) = f(c.permutation[k]);
   cholmod_dense rhs = dense_view(c.permuted.data(), n);
   if (!cholmod_solve2(CHOLMOD_L, c.factor, &rhs, nullptr, &c.x, nullptr, &c.y, &c.e, &c.common))
     throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
-  free_forward_ = Eigen::Map<const Vector>(static_cast<const double*>(c.x->x), n);
+  w = Eigen::Map<const Vector>(static_cast<const double*>(c.x->x), n);
+}
+
+void SparseLdlt::forward_substitute(const Vector& f, Vector& w, Vector& z) const {
+  prepare_tree();
+  forward_sweep(f, w);
+  z = w.cwiseQuotient(pivots_);
+}
+
+void SparseLdlt::solve_free(const Vector& f, Vector& Hx) {
+  const int s = static_cast<int>(unknowns_.size());
+  if (gram_factorization_ != factorizations_) throw std::logic_error("SparseLdlt::solve_free before delassus");
+  forward_sweep(f, free_forward_);
   // E_Sᵀ A⁻¹ f = Y_Sᵀ D⁻¹ w.
   block_values_.resize(s);
   for (int j = 0; j < s; ++j) {

@@ -67,6 +67,9 @@ class SparseLdlt {
   // forward and one backward substitution for the pair, where A⁻¹ f and A⁻¹ Hᵀ r take two of each.
   void solve_free(const Vector& f, Vector& Hx);
   void solve_with_reactions(const Vector& r, Vector& x);
+  // The first half of a solve: w ← L⁻¹ P f and z ← D⁻¹ w (the factor's order), so that a row's
+  // h A⁻¹ f = dot(y_h, z) from its forward column y_h, and A⁻¹ (f + Hᵀ r) = back_substitute(w + Σ r_a y_a).
+  void forward_substitute(const Vector& f, Vector& w, Vector& z) const;
   // y ← L⁻¹ P hᵀ for the row h = Σ_k value[k] e_{index[k]}ᵀ (count entries, distinct indices).
   void forward(const int* index, const double* value, int count, ForwardColumn& y) const;
   // y_aᵀ D⁻¹ y_b: the entry of W of the two rows whose forward columns these are.
@@ -117,6 +120,7 @@ class SparseLdlt {
   Vector free_forward_, block_values_;         // solve_free's w = L⁻¹ P f, and E_Sᵀ A⁻¹ f or H_Sᵀ r
   void analyse(const SparseMatrix& A);  // the ordering and symbolic factor of A's pattern
   void prepare_tree() const;
+  void forward_sweep(const Vector& f, Vector& w) const;  // w ← L⁻¹ P f
   void inverse_block();  // gram_ for unknowns_
 };
 

@@ -42,6 +42,7 @@ struct SolverCounters {
   long newton_backtracks = 0;     // Moreau–Jean: iterates taken again on a shorter step after an element inverted
   long newton_redetections = 0;   // Moreau–Jean: steps whose Newton moved farther than their contact detection reached
   long newton_activated_contacts = 0;  // Moreau–Jean: contacts activated by Newton's motion, not the prediction
+  long detections_retaken = 0;    // Moreau–Jean in two halves: steps whose motion outran their detection's margin
   long cutbacks = 0;              // quasi-static load steps taken again as two halves after Newton failed
 };
 

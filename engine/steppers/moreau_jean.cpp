@@ -17,6 +17,11 @@ constexpr int kNewtonDetections = 2;   // contact detections a time step
 
 constexpr double kActivationGamma = 0.5;  // γ of the predicted-gap activation rule g + γ h u_n ≤ 0
 
+// Two halves (moreau_jean.h): the margin's travel, as a multiple of the faster of v_k and the last v_θ.
+// A step's motion seldom doubles (a start from rest, a velocity through zero): those steps are taken
+// again.
+constexpr double kReachGrowth = 2.0;
+
 constexpr int kTimerSampling = 16;
 
 }  // namespace
@@ -31,6 +36,8 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
       contact_dimension_(detector_.dimension()),
       length_(world.length_scale()),
       ties_(world) {
+  two_halves_ = parameters_.two_halves && operators_.sparse() && !operators_.nonlinear() &&
+                world_.prescribed.empty() && ties_.empty();
   build_equalities(parameters_.step);
 }
 
@@ -91,6 +98,7 @@ void MoreauJean::summarize_settings(SummaryEntries& out) const {
 
 void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) const {
   if (state.counters.newton_iterations > 0) add_newton_group(state.counters, parameters_.newton_tolerance, out);
+  if (two_halves_) out.add("detections_retaken", state.counters.detections_retaken);
 }
 
 void MoreauJean::initialize(State& state) {
@@ -125,6 +133,12 @@ void MoreauJean::compute_free_velocity(const State& state) {
   // −C v_θ = −C v_k − θ C (v_{k+1} − v_k), the latter in W
   dynamics_.add_damping_force(state.v, f_total_);
   v_free_ = h * f_total_;
+  if (two_halves_) {  // the forward half alone (see the header)
+    free_velocity_formed_ = false;
+    operators_.sparse_factor().forward_substitute(v_free_, free_forward_, free_scaled_);
+    check_free_velocity(free_forward_, state.t + h);
+    return;
+  }
   operators_.solve_in_place(v_free_);
   v_free_ += state.v;
   check_free_velocity(v_free_, state.t + h);
@@ -172,8 +186,21 @@ void MoreauJean::check_free_velocity(const Vector& v_free, double t) const {
 void MoreauJean::detect(const State& state) {
   active_.clear();
   active_rows_.clear();
-  if (detector_.empty()) return;
+  if (detector_.empty()) {
+    if (two_halves_) gather_candidates();  // the equalities' rows
+    return;
+  }
   const double h = parameters_.step, theta = parameters_.theta;
+  if (two_halves_ && !free_velocity_formed_) {
+    // No v_free (see the header): twice the travel of the faster of v_k and the last step's v_θ, which
+    // step_in_two_halves checks the step's motion against.
+    reach_ = kReachGrowth * detector_.travel_bound(state.v, h);
+    if (v_theta_.size() == state.v.size()) reach_ = std::max(reach_, kReachGrowth * detector_.travel_bound(v_theta_, h));
+    detection_margin_ = 2.0 * reach_ + 1e-12;
+    detector_.detect(state.q, detection_margin_, candidates_, candidate_rows_);
+    activate_by_forward_columns(state);
+    return;
+  }
   // Broad-phase margin: no point can travel farther than this in one step.
   // The θ-weighted velocity of a free step, v_θ = (1−θ)v_k + θ v_free, except on prescribed
   // components, which move as prescribed: (q_ref + value(t_{k+1}) − q_k) / h. A plate driven into a
@@ -194,6 +221,10 @@ void MoreauJean::detect(const State& state) {
   if (reach_velocity_.size() > 0) reach = std::max(reach, detector_.travel_bound(reach_velocity_, h));
   const double margin = detection_margin_ = 2.0 * reach + 1e-12;
   detector_.detect(state.q, margin, candidates_, candidate_rows_);
+  if (two_halves_) {  // a step taken again over v_free's margin: the same rule as its first detection
+    activate_by_forward_columns(state);
+    return;
+  }
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at
     // rest under a load that presses it on the surface is caught at the first step, whatever the
@@ -202,6 +233,22 @@ void MoreauJean::detect(const State& state) {
     const bool closing = closes(k, v_predicted_, kActivationGamma * h) ||
                          (reach_velocity_.size() > 0 && closes(k, reach_velocity_, h));
     if (!closing) continue;
+    active_.push_back(candidates_[k]);
+    active_rows_.push_back(static_cast<int>(k));
+  }
+}
+
+// Two halves: every candidate in the Delassus cache, and the rule of step 2 with its free normal
+// velocity from its forward column, u_n(v_θ,free) = u_n(v_k) + θ y_nᵀ z (v_θ,free − v_k = θ A⁻¹ h f).
+void MoreauJean::activate_by_forward_columns(const State& state) {
+  const double h = parameters_.step, theta = parameters_.theta;
+  const int d = contact_dimension_;
+  gather_candidates();
+  free_normal_.resize(candidates_.size());
+  for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    free_normal_[k] = SparseLdlt::dot(delassus_cache_.forward(candidate_slots_[d * k]), free_scaled_);
+    const double approach = candidate_rows_[d * k].dot(state.v) + theta * free_normal_[k];
+    if (candidates_[k].point.gap + kActivationGamma * h * approach > 0.0) continue;
     active_.push_back(candidates_[k]);
     active_rows_.push_back(static_cast<int>(k));
   }
@@ -284,7 +331,6 @@ void MoreauJean::gather_delassus() {
   const int d = contact_dimension_;
   const int nc = static_cast<int>(active_.size());
   const int ne = static_cast<int>(equalities_.rows.rows());
-  const int n = world_.velocity_size;
   delassus_slots_.resize(d * nc + equality_count());
   delassus_cache_.begin(operators_.sparse_factor());
   for (int i = 0; i < nc; ++i)
@@ -293,21 +339,41 @@ void MoreauJean::gather_delassus() {
       delassus_slots_[d * i + k] =
           delassus_cache_.slot({0, active_[i].point.key, k}, row.index.data(), row.value.data(), row.count);
     }
-  for (int e = 0; e < ne; ++e) {
-    equality_index_.clear();
-    equality_value_.clear();
-    for (int j = 0; j < n; ++j)
-      if (equalities_.rows(e, j) != 0.0) {
-        equality_index_.push_back(j);
-        equality_value_.push_back(equalities_.rows(e, j));
-      }
-    delassus_slots_[d * nc + e] = delassus_cache_.slot({1, {}, e}, equality_index_.data(), equality_value_.data(),
-                                                       static_cast<int>(equality_index_.size()));
-  }
+  for (int e = 0; e < ne; ++e) delassus_slots_[d * nc + e] = equality_slot(e);
   for (int i = 0; i < ties_.size(); ++i) {
     const SparseRow& row = ties_.rows()[i];
     delassus_slots_[d * nc + ne + i] = delassus_cache_.slot({2, {}, i}, row.index.data(), row.value.data(), row.count);
   }
+  delassus_cache_.finish();
+}
+
+int MoreauJean::equality_slot(int e) {
+  equality_index_.clear();
+  equality_value_.clear();
+  for (int j = 0; j < world_.velocity_size; ++j)
+    if (equalities_.rows(e, j) != 0.0) {
+      equality_index_.push_back(j);
+      equality_value_.push_back(equalities_.rows(e, j));
+    }
+  return delassus_cache_.slot({1, {}, e}, equality_index_.data(), equality_value_.data(),
+                              static_cast<int>(equality_index_.size()));
+}
+
+// Two halves: the rows of every candidate, then of the equalities (no ties), in the Delassus cache; a
+// candidate that is not activated keeps its forward column for the next step's rule.
+void MoreauJean::gather_candidates() {
+  const int d = contact_dimension_;
+  const int candidates = static_cast<int>(candidates_.size());
+  const int ne = static_cast<int>(equalities_.rows.rows());
+  candidate_slots_.resize(d * candidates + ne);
+  delassus_cache_.begin(operators_.sparse_factor());
+  for (int i = 0; i < candidates; ++i)
+    for (int k = 0; k < d; ++k) {
+      const SparseRow& row = candidate_rows_[d * i + k];
+      candidate_slots_[d * i + k] =
+          delassus_cache_.slot({0, candidates_[i].point.key, k}, row.index.data(), row.value.data(), row.count);
+    }
+  for (int e = 0; e < ne; ++e) candidate_slots_[d * candidates + e] = equality_slot(e);
   delassus_cache_.finish();
 }
 
@@ -336,6 +402,14 @@ void MoreauJean::assemble(const State& state) {
     operators_.delassus(problem_rows_, problem_.W);
   } else if (operators_.explicit_inverse()) {
     dense_delassus();
+  } else if (two_halves_) {  // the active candidates' slots, then the equalities'
+    delassus_slots_.resize(m);
+    for (int i = 0; i < nc; ++i)
+      for (int k = 0; k < d; ++k) delassus_slots_[d * i + k] = candidate_slots_[d * active_rows_[i] + k];
+    const int first_equality = d * static_cast<int>(candidates_.size());
+    for (int e = 0; e < ne; ++e) delassus_slots_[d * nc + e] = candidate_slots_[first_equality + e];
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) problem_.W(a, b) = delassus_cache_(delassus_slots_[a], delassus_slots_[b]);
   } else if (operators_.sparse()) {
     gather_delassus();
     for (int a = 0; a < m; ++a)
@@ -351,6 +425,13 @@ void MoreauJean::assemble(const State& state) {
   const bool dense_rows = operators_.explicit_inverse();
   if (dense_rows) {
     small_transpose_multiply(problem_columns_, v_free_, problem_.b);
+  } else if (two_halves_) {  // H v_free = H v_k + Yᵀ z (see the header), the normal rows' Yᵀ z from detect
+    for (int a = 0; a < m; ++a) {
+      const bool normal = a < d * nc && a % d == 0;
+      const double free = normal ? free_normal_[active_rows_[a / d]]
+                                 : SparseLdlt::dot(delassus_cache_.forward(delassus_slots_[a]), free_scaled_);
+      problem_.b(a) = problem_row_dot(a, state.v) + free;
+    }
   } else {
     for (int a = 0; a < m; ++a) problem_.b(a) = problem_row_dot(a, v_free_);
   }
@@ -409,9 +490,14 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
 
 void MoreauJean::update(State& state) {
   const double theta = parameters_.theta;
-  v_next_ = v_free_;
   const int rows = static_cast<int>(r_.size());
-  if (rows > 0 && operators_.sparse() && !operators_.direct_delassus()) {
+  if (!two_halves_) v_next_ = v_free_;
+  if (two_halves_) {  // v_k + Pᵀ L⁻ᵀ D⁻¹ (w + Y r): the backward half (see the header)
+    forward_sum_ = free_forward_;
+    for (int a = 0; a < rows; ++a) SparseLdlt::add_scaled(r_(a), delassus_cache_.forward(delassus_slots_[a]), forward_sum_);
+    operators_.sparse_factor().back_substitute(forward_sum_, work_);
+    v_next_ = state.v + work_;
+  } else if (rows > 0 && operators_.sparse() && !operators_.direct_delassus()) {
     // A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r): the forward columns kept for W, then a backward substitution alone.
     const SparseLdlt& factor = operators_.sparse_factor();
     forward_sum_.setZero(factor.size());
@@ -574,6 +660,35 @@ int MoreauJean::newton_iterations(State& state) {
   }
 }
 
+// Steps 2 to 5 of a linear step, each phase timed.
+void MoreauJean::detect_solve_update(State& state) {
+  detect(state);
+  clock_.lap(state.timers.detection);
+  linearize_ties(state, state.v);
+  assemble(state);
+  clock_.lap(state.timers.assembly);
+  solve(state);
+  clock_.lap(state.timers.solve);
+  update(state);
+}
+
+// Two halves (see the header), after the forward half: detection, contact solve and the backward half
+// without v_free; taken again with v_free formed if the step's motion went farther than the margin
+// covered (the counters of the first solve are then dropped).
+void MoreauJean::step_in_two_halves(State& state) {
+  const double h = parameters_.step;
+  const SolverCounters counted = state.counters;
+  detect_solve_update(state);
+  if (detector_.empty() || detector_.travel_bound(v_theta_, h) <= reach_) return;
+  state.counters = counted;
+  ++state.counters.detections_retaken;
+  operators_.sparse_factor().back_substitute(free_forward_, v_free_);
+  v_free_ += state.v;
+  check_free_velocity(v_free_, state.t + h);
+  free_velocity_formed_ = true;
+  detect_solve_update(state);
+}
+
 void MoreauJean::step(State& state) {
   // Phase timers (phase_clock.h): a linear World's step is timed on one step in kTimerSampling, the
   // last of each group, so that the first step's one-time work (the factorization, the contacts' first
@@ -589,14 +704,8 @@ void MoreauJean::step(State& state) {
     compute_free_velocity(state);
     state.factorization_seconds = operators_.factorization_seconds();
     clock_.lap(state.timers.free_velocity);
-    detect(state);
-    clock_.lap(state.timers.detection);
-    linearize_ties(state, state.v);
-    assemble(state);
-    clock_.lap(state.timers.assembly);
-    solve(state);
-    clock_.lap(state.timers.solve);
-    update(state);
+    if (two_halves_) step_in_two_halves(state);
+    else detect_solve_update(state);
   }
   account_energy(state);
   if (!v_next_.allFinite() || !q_next_.allFinite()) {

@@ -27,6 +27,18 @@
 //                      sparse A, A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r) from the kept forward columns Y of step 3;
 //   6. post            energy balance, counters, non-finite check.
 //
+// A sparse linear World (no finite-strain body, prescription or tie) takes the solves of steps 1 and 5
+// in two halves, so that a step reads the factor L twice, not three times (a large factor leaves the
+// cache, and each pass over it is then bound by memory; docs/solver-measurements.md, sixth round):
+//   1. w = L⁻¹ P h f (forward), z = D⁻¹ w; no v_free: each row's H v_free = H v_k + y_hᵀ z from its
+//      forward column y_h = L⁻¹ P hᵀ, kept in the Delassus cache for every candidate (step 2's rule)
+//      and every row of the problem (step 3's b);
+//   5. v_{k+1} = v_k + Pᵀ L⁻ᵀ D⁻¹ (w + Y r) (backward).
+// Step 2's margin, which v_free bounded, then covers twice the travel of the faster of v_k and the
+// last step's v_θ; a step whose motion v_θ went farther is taken again with the margin of v_free,
+// formed whole by one more backward pass (SolverCounters::detections_retaken), so that no contact the
+// motion closes is left undetected. Every other World forms v_free whole.
+//
 // Finite-strain bodies (nonlinear internal force f(q), tangent K_T(q)): the step is the implicit
 //   M (v_{k+1} − v_k) = h [f_loads + θ f(q_{k+1}) + (1−θ) f(q_k) − C v_θ] + Hᵀ r,
 //   q_{k+1} = q_k + h v_θ,
@@ -95,10 +107,15 @@ class MoreauJean final : public Stepper {
   void compute_newton_free_velocity(const State& state, const Vector& v_iterate);
   void check_free_velocity(const Vector& v_free, double t) const;
   void step_newton(State& state);
+  void detect_solve_update(State& state);  // steps 2–5 of a linear step
+  void step_in_two_halves(State& state);   // a sparse linear World, after its forward half (see the header)
+  void gather_candidates();               // two halves: every candidate's rows and the equalities in the cache
+  int equality_slot(int e);               // an equality row's slot in the Delassus cache
   int newton_iterations(State& state);
   void detect(const State& state);
   bool closes(std::size_t k, const Vector& v, double time) const;  // candidate k, predicted gap
   int activate_missed_contacts(double h);
+  void activate_by_forward_columns(const State& state);  // two halves: step 2's rule without v_free
   // out += scale · (row a of the problem)ᵀ: the contacts' rows, then the equalities', then the ties'.
   template <class Dense>
   void add_problem_row(int a, double scale, Dense&& out) const;
@@ -156,6 +173,14 @@ class MoreauJean final : public Stepper {
   std::vector<int> delassus_slots_, equality_index_;
   std::vector<double> equality_value_;
   Vector forward_sum_;  // Y r, in the factor's order
+  // Two halves (see the header): whether this World takes them, whether this step formed v_free (a
+  // retake), the travel its detection's margin covers (m), w = L⁻¹ P h f and z = D⁻¹ w, and each
+  // candidate row's slot (then the equalities').
+  bool two_halves_ = false, free_velocity_formed_ = false;
+  double reach_ = 0.0;
+  Vector free_forward_, free_scaled_;
+  std::vector<int> candidate_slots_;
+  std::vector<double> free_normal_;  // each candidate's normal row's h A⁻¹ f (u_n(v_free − v_k))
   FrictionContactProblem problem_;
   EqualityRows equalities_;           // the World's constraints, then the active prescriptions (dynamics.h)
   // The ties' rows after the constraints', linearized at each iterate, their A⁻¹ tᵀ recomputed

@@ -18,6 +18,9 @@ struct MoreauJeanParameters : MoreauJeanOptions {
   double failure_residual = 1e-6; // a solve left above this relative residual stops the run
   double newton_tolerance = 1e-10;  // finite-strain bodies: on h |Δv|∞ / L
   int newton_max_iterations = 30;
+  // A sparse linear World's solves in two halves around the contact solve (moreau_jean.h); false forms
+  // v_free whole at every step (no scene key: the tests compare the two).
+  bool two_halves = true;
 };
 
 }  // namespace csim

@@ -288,5 +288,96 @@ TEST(MoreauJean, KeptStiffnessProductGivesAFreshSteppersStep) {
   }
 }
 
+// A World stepped side by side in two halves and with v_free formed whole (moreau_jean.h).
+struct HalvesAndWhole {
+  static MoreauJeanParameters whole(MoreauJeanParameters p) {
+    p.two_halves = false;
+    return p;
+  }
+  HalvesAndWhole(const World& world, const RunSettings& run)
+      : split(world, moreau_jean_parameters(run)), formed(world, whole(moreau_jean_parameters(run))),
+        halves(initial_state(world)), reference(halves) {
+    split.initialize(halves);
+    formed.initialize(reference);
+  }
+  void step() {
+    split.step(halves);
+    formed.step(reference);
+  }
+  double velocity_gap() const {  // relative, ∞-norm
+    return (halves.v - reference.v).lpNorm<Eigen::Infinity>() / reference.v.lpNorm<Eigen::Infinity>();
+  }
+  MoreauJean split, formed;
+  State halves, reference;
+};
+
+// Two halves take the steps of the whole free velocity to the contact solver's tolerance (1e-10
+// relative here), with the same contacts at every step; the start from rest (v_k = 0, a margin of
+// round-off) is a step taken again.
+TEST(MoreauJean, TwoHalvesTakeTheStepsOfTheWholeFreeVelocity) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml", {"parameters.divisions=10"});
+  HalvesAndWhole run(scene->world, scene->run);
+  const State &a = run.halves, &b = run.reference;
+  double velocity_gap = 0.0, position_gap = 0.0;
+  for (int k = 0; k < 500; ++k) {
+    run.step();
+    ASSERT_EQ(a.contacts.size(), b.contacts.size()) << "step " << k;
+    velocity_gap = std::max(velocity_gap, run.velocity_gap());
+    position_gap = std::max(position_gap, (a.q - b.q).lpNorm<Eigen::Infinity>() / b.q.lpNorm<Eigen::Infinity>());
+  }
+  EXPECT_GT(a.contacts.size(), 0u);
+  EXPECT_LT(velocity_gap, 1e-8);
+  EXPECT_LT(position_gap, 1e-10);
+  EXPECT_GT(velocity_gap, 0.0);  // the two paths are distinct
+  EXPECT_GE(a.counters.detections_retaken, 1);  // the first step, from rest
+  EXPECT_LE(a.counters.detections_retaken, 5);
+  EXPECT_EQ(b.counters.detections_retaken, 0);
+  EXPECT_EQ(a.counters.contact_points, b.counters.contact_points);
+}
+
+// Two halves with an equality row: the shoe's top corners held at the same x displacement (a linear
+// constraint on two nodes of a sparse World) hold in position at every step, and the steps are those of
+// the whole free velocity to the contact solver's tolerance.
+TEST(MoreauJean, TwoHalvesHoldALinearConstraintOfASparseWorld) {
+  auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml", {"parameters.divisions=10"});
+  World& world = scene->world;
+  const BodyInstance& shoe = world.bodies[0];
+  ASSERT_TRUE(shoe.body->elastic());
+  int left = -1, right = -1;  // the x coordinates of the nodes at (0, 1) and (1, 1)
+  for (int node = 0; 2 * node < shoe.body->position_size(); ++node) {
+    if (shoe.body->node_reference(node) == Eigen::Vector3d(0, 1, 0)) left = 2 * node;
+    if (shoe.body->node_reference(node) == Eigen::Vector3d(1, 1, 0)) right = 2 * node;
+  }
+  ASSERT_GE(left, 0);
+  ASSERT_GE(right, 0);
+  world.constraints.push_back({"top_corners", {{shoe.velocity_offset + left, 1.0}, {shoe.velocity_offset + right, -1.0}}, 0.0});
+  HalvesAndWhole run(world, scene->run);
+  const auto displacement = [&](int c) { return run.halves.q(shoe.position_offset + c) - shoe.reference_position(c); };
+  double held = 0.0, velocity_gap = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    run.step();
+    held = std::max(held, std::abs(displacement(left) - displacement(right)));
+    velocity_gap = std::max(velocity_gap, run.velocity_gap());
+  }
+  EXPECT_LT(held, 1e-12);
+  EXPECT_LT(velocity_gap, 1e-8);
+  EXPECT_GT(displacement(left), 1e-3);  // the shoe slid
+}
+
+// A box released 1e-7 m above an elastic block (3D, sparse) lands within its first step: the margin
+// of two halves, from v_0 = 0, does not reach the block, and the step taken again over v_free's margin
+// catches the landing as the whole free velocity does, with no penetration.
+TEST(MoreauJean, TwoHalvesTakeAgainAStepThatOutranItsMargin) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/box-on-block-3d/scene.yaml", {"parameters.drop=1e-7"});
+  HalvesAndWhole run(scene->world, scene->run);
+  run.step();
+  const State &a = run.halves, &b = run.reference;
+  EXPECT_EQ(a.counters.detections_retaken, 1);
+  ASSERT_FALSE(b.contacts.empty());
+  EXPECT_EQ(a.contacts.size(), b.contacts.size());
+  EXPECT_LE(run.velocity_gap(), 1e-9);
+  EXPECT_LE((a.q - b.q).lpNorm<Eigen::Infinity>(), 1e-12);
+}
+
 }  // namespace
 }  // namespace csim

@@ -143,6 +143,19 @@ TEST(SparseLdlt, ForwardColumnsGiveTheDelassusOperatorOfARandomSparseMatrix) {
   factor.back_substitute(z, v);
   const Vector expected_v = Matrix(A).ldlt().solve(H.transpose() * r);
   EXPECT_LE((v - expected_v).lpNorm<Eigen::Infinity>(), 1e-11 * expected_v.lpNorm<Eigen::Infinity>());
+  // A solve in two halves (moreau_jean.h): w = L⁻¹ P f and D⁻¹ w give each row's H A⁻¹ f by its forward
+  // column, and A⁻¹ (f + Hᵀ r) is the backward half of w + Y r.
+  const Vector f = Vector::LinSpaced(n, -2.0, 3.0);
+  Vector w, scaled;
+  factor.forward_substitute(f, w, scaled);
+  const Vector expected_free = Matrix(A).ldlt().solve(f);
+  const Vector rows_free = H * expected_free;
+  for (int a = 0; a < m; ++a)
+    EXPECT_NEAR(SparseLdlt::dot(y[a], scaled), rows_free(a), 1e-12 * rows_free.lpNorm<Eigen::Infinity>()) << a;
+  z += w;
+  factor.back_substitute(z, v);
+  const Vector expected_total = expected_free + expected_v;
+  EXPECT_LE((v - expected_total).lpNorm<Eigen::Infinity>(), 1e-11 * expected_total.lpNorm<Eigen::Infinity>());
 }
 
 // Whether two matrices hold the same numbers to the bit.
