@@ -2,9 +2,9 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.00914489 3.0990804e-05 "h=0.01"
-0.078523793 3.2283776e-07 "h=0.001"
-0.45455319 3.2540665 "h=0.0001"
+0.005255395 3.0989654e-05 "h=0.01"
+0.038632431 3.228448e-07 "h=0.001"
+0.24824978 3.2540693 "h=0.0001"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"

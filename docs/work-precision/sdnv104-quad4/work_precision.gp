@@ -2,19 +2,19 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.00748938 0.002209954 "h=0.01"
-0.055764114 0.00021840173 "h=0.001"
-0.4097174 2.2242651e-05 "h=0.0001"
+0.008069946 0.0022099543 "h=0.01"
+0.063520848 0.00021840083 "h=0.001"
+0.24672085 2.2242235e-05 "h=0.0001"
 EOD
 $generalized_alpha << EOD
-0.004942875 8.0533649e-05 "h=0.01"
-0.04222486 4.2350079e-07 "h=0.001"
-0.36618151 4.0197395e-07 "h=0.0001"
+0.003702319 8.0532527e-05 "h=0.01"
+0.02910536 4.2453762e-07 "h=0.001"
+0.23591366 3.9735545e-07 "h=0.0001"
 EOD
 $ida << EOD
-2.1613303 5.2930355e-05 "tol=0.0001"
-9.1771147 2.1327934e-05 "tol=1e-06"
-13.239143 1.2341615e-06 "tol=1e-08"
+1.8015202 5.2930355e-05 "tol=0.0001"
+8.006606 2.1327934e-05 "tol=1e-06"
+12.01316 1.2341615e-06 "tol=1e-08"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"

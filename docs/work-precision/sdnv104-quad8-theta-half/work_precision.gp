@@ -2,9 +2,9 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.015873059 3.0023415e-05 "h=0.01"
-0.14814599 4.1348091e-07 "h=0.001"
-1.2470822 3.2540694 "h=0.0001"
+0.013114559 2.9964083e-05 "h=0.01"
+0.10018317 4.1274109e-07 "h=0.001"
+0.66983435 3.2540444 "h=0.0001"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"

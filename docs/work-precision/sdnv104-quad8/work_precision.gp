@@ -2,18 +2,18 @@
 # Run `gnuplot work_precision.gp` in this folder. The data are the rows of work_precision.csv that
 # succeeded with a non-zero max_rel_error (log axes): median wall time (s), max_rel_error, label.
 $moreau_jean << EOD
-0.015758418 0.0022100297 "h=0.01"
-0.14415326 0.00021845497 "h=0.001"
-1.171715 2.2310083e-05 "h=0.0001"
+0.017879466 0.0022100277 "h=0.01"
+0.096838404 0.00021846643 "h=0.001"
+0.7207086 2.2305003e-05 "h=0.0001"
 EOD
 $generalized_alpha << EOD
-0.01291968 0.00012353215 "h=0.01"
-0.11446269 1.0747429e-06 "h=0.001"
-1.0009393 4.7045073e-07 "h=0.0001"
+0.00976178 0.00012353215 "h=0.01"
+0.081636025 1.0747429e-06 "h=0.001"
+0.6882553 4.7045073e-07 "h=0.0001"
 EOD
 $ida << EOD
-7.9843927 0.00062550511 "tol=0.0001"
-26.007319 1.5759859e-05 "tol=1e-06"
+7.2512864 0.00062550511 "tol=0.0001"
+23.064656 1.5759859e-05 "tol=1e-06"
 EOD
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1000,700 font ",11"
