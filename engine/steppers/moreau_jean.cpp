@@ -134,7 +134,6 @@ void MoreauJean::compute_free_velocity(const State& state) {
   dynamics_.add_damping_force(state.v, f_total_);
   v_free_ = h * f_total_;
   if (two_halves_) {  // the forward half alone (see the header)
-    free_velocity_formed_ = false;
     operators_.sparse_factor().forward_substitute(v_free_, free_forward_, free_scaled_);
     check_free_velocity(free_forward_, state.t + h);
     return;
@@ -191,37 +190,36 @@ void MoreauJean::detect(const State& state) {
     return;
   }
   const double h = parameters_.step, theta = parameters_.theta;
+  // Broad-phase margin: twice the farthest any point can travel in one step.
+  double reach = 0.0;
   if (two_halves_ && !free_velocity_formed_) {
     // No v_free (see the header): twice the travel of the faster of v_k and the last step's v_θ, which
     // step_in_two_halves checks the step's motion against.
-    reach_ = kReachGrowth * detector_.travel_bound(state.v, h);
-    if (v_theta_.size() == state.v.size()) reach_ = std::max(reach_, kReachGrowth * detector_.travel_bound(v_theta_, h));
-    detection_margin_ = 2.0 * reach_ + 1e-12;
-    detector_.detect(state.q, detection_margin_, candidates_, candidate_rows_);
-    activate_by_forward_columns(state);
-    return;
+    reach = kReachGrowth * detector_.travel_bound(state.v, h);
+    if (v_theta_.size() == state.v.size()) reach = std::max(reach, kReachGrowth * detector_.travel_bound(v_theta_, h));
+    reach_ = reach;
+  } else {
+    // The θ-weighted velocity of a free step, v_θ = (1−θ)v_k + θ v_free, except on prescribed
+    // components, which move as prescribed: (q_ref + value(t_{k+1}) − q_k) / h. A plate driven into a
+    // body is then caught at its first step instead of penetrating by one step's travel.
+    v_predicted_ = (1.0 - theta) * state.v + theta * v_free_;
+    for (int p : equalities_.prescriptions) {
+      const PrescribedComponent& c = world_.prescribed[p];
+      const BodyInstance& b = world_.bodies[c.body];
+      const int coordinate = b.body->coordinate_of(c.component);
+      double& predicted = v_predicted_(b.velocity_offset + c.component);
+      if (coordinate < 0)  // a 3D rotation: its rate
+        predicted = (c.value(state.t + h) - c.value(state.t)) / h;
+      else
+        predicted = (b.reference_position(coordinate) + c.value(state.t + h) - state.q(b.position_offset + coordinate)) / h;
+    }
+    reach = std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
+                      detector_.travel_bound(v_predicted_, h)});
+    if (reach_velocity_.size() > 0) reach = std::max(reach, detector_.travel_bound(reach_velocity_, h));
   }
-  // Broad-phase margin: no point can travel farther than this in one step.
-  // The θ-weighted velocity of a free step, v_θ = (1−θ)v_k + θ v_free, except on prescribed
-  // components, which move as prescribed: (q_ref + value(t_{k+1}) − q_k) / h. A plate driven into a
-  // body is then caught at its first step instead of penetrating by one step's travel.
-  v_predicted_ = (1.0 - theta) * state.v + theta * v_free_;
-  for (int p : equalities_.prescriptions) {
-    const PrescribedComponent& c = world_.prescribed[p];
-    const BodyInstance& b = world_.bodies[c.body];
-    const int coordinate = b.body->coordinate_of(c.component);
-    double& predicted = v_predicted_(b.velocity_offset + c.component);
-    if (coordinate < 0)  // a 3D rotation: its rate
-      predicted = (c.value(state.t + h) - c.value(state.t)) / h;
-    else
-      predicted = (b.reference_position(coordinate) + c.value(state.t + h) - state.q(b.position_offset + coordinate)) / h;
-  }
-  double reach = std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
-                           detector_.travel_bound(v_predicted_, h)});
-  if (reach_velocity_.size() > 0) reach = std::max(reach, detector_.travel_bound(reach_velocity_, h));
   const double margin = detection_margin_ = 2.0 * reach + 1e-12;
   detector_.detect(state.q, margin, candidates_, candidate_rows_);
-  if (two_halves_) {  // a step taken again over v_free's margin: the same rule as its first detection
+  if (two_halves_) {  // the rule from the candidates' forward columns (a step taken again too)
     activate_by_forward_columns(state);
     return;
   }
@@ -402,16 +400,16 @@ void MoreauJean::assemble(const State& state) {
     operators_.delassus(problem_rows_, problem_.W);
   } else if (operators_.explicit_inverse()) {
     dense_delassus();
-  } else if (two_halves_) {  // the active candidates' slots, then the equalities'
-    delassus_slots_.resize(m);
-    for (int i = 0; i < nc; ++i)
-      for (int k = 0; k < d; ++k) delassus_slots_[d * i + k] = candidate_slots_[d * active_rows_[i] + k];
-    const int first_equality = d * static_cast<int>(candidates_.size());
-    for (int e = 0; e < ne; ++e) delassus_slots_[d * nc + e] = candidate_slots_[first_equality + e];
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) problem_.W(a, b) = delassus_cache_(delassus_slots_[a], delassus_slots_[b]);
   } else if (operators_.sparse()) {
-    gather_delassus();
+    if (two_halves_) {  // the active candidates' slots, then the equalities' (gathered by detect)
+      delassus_slots_.resize(m);
+      for (int i = 0; i < nc; ++i)
+        for (int k = 0; k < d; ++k) delassus_slots_[d * i + k] = candidate_slots_[d * active_rows_[i] + k];
+      const int first_equality = d * static_cast<int>(candidates_.size());
+      for (int e = 0; e < ne; ++e) delassus_slots_[d * nc + e] = candidate_slots_[first_equality + e];
+    } else {
+      gather_delassus();
+    }
     for (int a = 0; a < m; ++a)
       for (int b = 0; b < m; ++b) problem_.W(a, b) = delassus_cache_(delassus_slots_[a], delassus_slots_[b]);
   } else {
@@ -491,31 +489,33 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
 void MoreauJean::update(State& state) {
   const double theta = parameters_.theta;
   const int rows = static_cast<int>(r_.size());
-  if (!two_halves_) v_next_ = v_free_;
   if (two_halves_) {  // v_k + Pᵀ L⁻ᵀ D⁻¹ (w + Y r): the backward half (see the header)
     forward_sum_ = free_forward_;
     for (int a = 0; a < rows; ++a) SparseLdlt::add_scaled(r_(a), delassus_cache_.forward(delassus_slots_[a]), forward_sum_);
     operators_.sparse_factor().back_substitute(forward_sum_, work_);
     v_next_ = state.v + work_;
-  } else if (rows > 0 && operators_.sparse() && !operators_.direct_delassus()) {
-    // A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r): the forward columns kept for W, then a backward substitution alone.
-    const SparseLdlt& factor = operators_.sparse_factor();
-    forward_sum_.setZero(factor.size());
-    for (int a = 0; a < rows; ++a) SparseLdlt::add_scaled(r_(a), delassus_cache_.forward(delassus_slots_[a]), forward_sum_);
-    factor.back_substitute(forward_sum_, work_);
-    v_next_ += work_;
-  } else if (rows > 0 && operators_.sparse()) {
-    // One solve A⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
-    work_.setZero(world_.velocity_size);
-    for (int a = 0; a < rows; ++a) add_problem_row(a, r_(a), work_);
-    operators_.solve_in_place(work_);
-    v_next_ += work_;
-  } else if (operators_.explicit_inverse()) {
-    // G r column by column, in the rows' order: a resting contact's velocity then cancels exactly, as
-    // with the factored path's columns.
-    small_add_columns(dense_columns_, r_, v_next_);
   } else {
-    for (int a = 0; a < rows; ++a) v_next_ += r_(a) * *columns_[a];
+    v_next_ = v_free_;
+    if (rows > 0 && operators_.sparse() && !operators_.direct_delassus()) {
+      // A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Y r): the forward columns kept for W, then a backward substitution alone.
+      const SparseLdlt& factor = operators_.sparse_factor();
+      forward_sum_.setZero(factor.size());
+      for (int a = 0; a < rows; ++a) SparseLdlt::add_scaled(r_(a), delassus_cache_.forward(delassus_slots_[a]), forward_sum_);
+      factor.back_substitute(forward_sum_, work_);
+      v_next_ += work_;
+    } else if (rows > 0 && operators_.sparse()) {
+      // One solve A⁻¹ (Hᵀ r) costs less than the sum of the columns when the system is large.
+      work_.setZero(world_.velocity_size);
+      for (int a = 0; a < rows; ++a) add_problem_row(a, r_(a), work_);
+      operators_.solve_in_place(work_);
+      v_next_ += work_;
+    } else if (operators_.explicit_inverse()) {
+      // G r column by column, in the rows' order: a resting contact's velocity then cancels exactly, as
+      // with the factored path's columns.
+      small_add_columns(dense_columns_, r_, v_next_);
+    } else {
+      for (int a = 0; a < rows; ++a) v_next_ += r_(a) * *columns_[a];
+    }
   }
   v_theta_ = (1.0 - theta) * state.v + theta * v_next_;
   integrate_positions(state.q, v_theta_, q_next_);
@@ -678,6 +678,7 @@ void MoreauJean::detect_solve_update(State& state) {
 void MoreauJean::step_in_two_halves(State& state) {
   const double h = parameters_.step;
   const SolverCounters counted = state.counters;
+  free_velocity_formed_ = false;
   detect_solve_update(state);
   if (detector_.empty() || detector_.travel_bound(v_theta_, h) <= reach_) return;
   state.counters = counted;
