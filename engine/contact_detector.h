@@ -31,7 +31,8 @@ class ContactDetector {
   // weights), otherwise the body's material point under the world point.
   PointJacobian side_jacobian(const Vector& q, int object, const ContactPoint& c, const Eigen::Vector3d& world_point) const;
 
-  // The bound on how far any material point moves in time h at velocities v (m), for margins.
+  // The bound on how far any material point moves in time h at velocities v (m), for margins: convex in
+  // v (a sum of norms, or a largest entry, a body; the largest of the bodies').
   double travel_bound(const Vector& v, double h) const;
 
  private:

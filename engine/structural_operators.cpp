@@ -220,6 +220,12 @@ double StructuralOperators::kinetic_energy(const Vector& v, const Vector& x, Vec
   return kinetic;
 }
 
+double StructuralOperators::kinetic_energy(const Vector& v, Vector& scratch) const {
+  if (sparse_ || !mass_diagonal_) return dynamics_.kinetic_energy(v);
+  small_diagonal_multiply(mass_diagonal_entries_, v, scratch);
+  return 0.5 * v.dot(scratch);
+}
+
 void StructuralOperators::apply_damping(const Vector& v, Vector& out) const {
   if (sparse_) out.noalias() = dynamics_.damping() * v;
   else if (explicit_inverse_) small_multiply(dense_damping_, v, out);

@@ -68,6 +68,7 @@ class StructuralOperators {
   // read once for both (Dynamics::kinetic_energy with a second product), a diagonal M applied by its
   // diagonal (small_dense_products.h). Mx must not be x.
   double kinetic_energy(const Vector& v, const Vector& x, Vector& Mx) const;
+  double kinetic_energy(const Vector& v, Vector& scratch) const;  // ½ vᵀ M v alone, the same bits
   void apply_stiffness(const Vector& v, Vector& out) const;  // out = K v
   void apply_damping(const Vector& v, Vector& out) const;    // out = C v
 

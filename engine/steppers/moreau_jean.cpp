@@ -213,8 +213,10 @@ void MoreauJean::detect(const State& state) {
       else
         predicted = (b.reference_position(coordinate) + c.value(state.t + h) - state.q(b.position_offset + coordinate)) / h;
     }
-    reach = std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
-                      detector_.travel_bound(v_predicted_, h)});
+    // Unprescribed, v_θ,free lies between v_k and v_free (θ ∈ [½, 1]), and a travel bound, convex in v,
+    // is then at most the larger of theirs (to a rounding of the margin).
+    reach = std::max(detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h));
+    if (!equalities_.prescriptions.empty()) reach = std::max(reach, detector_.travel_bound(v_predicted_, h));
     if (reach_velocity_.size() > 0) reach = std::max(reach, detector_.travel_bound(reach_velocity_, h));
   }
   const double margin = detection_margin_ = 2.0 * reach + 1e-12;
@@ -541,21 +543,28 @@ void MoreauJean::account_energy(State& state) {
   } else {
     for (int a = 0; a < static_cast<int>(r_.size()); ++a) e.contact_dissipation -= r_(a) * problem_row_dot(a, v_theta_);
   }
-  dv_ = v_next_ - state.v;
-  const double kinetic = operators_.kinetic_energy(v_next_, dv_, work_);  // and M Δv into work_
-  double numerical = dv_.dot(work_);
-  if (operators_.nonlinear()) {  // −Δq·(f(q_{k+1}) − f(q_k)), f at Newton's last iterate (see the header)
-    numerical -= h * v_theta_.dot(f_iterate_ - f_start_);
-  } else if (keeps_stiffness_velocity()) {
-    // K v_θ = (1−θ) K v_k + θ K v_{k+1}: K v_k is the free velocity's, K v_{k+1} the next step's.
-    operators_.apply_stiffness(v_next_, stiffness_velocity_next_);
-    work_ = (1.0 - theta) * stiffness_velocity_ + theta * stiffness_velocity_next_;
-    numerical += h * h * v_theta_.dot(work_);
-  } else if (operators_.has_stiffness()) {
-    operators_.apply_stiffness(v_theta_, work_);
-    numerical += h * h * v_theta_.dot(work_);
+  if (keeps_stiffness_velocity()) operators_.apply_stiffness(v_next_, stiffness_velocity_next_);  // the next step's K v_k
+  double kinetic = 0.0;
+  if (theta == 0.5) {
+    // (θ−½)(|Δv|²_M + |Δq|²_K) is zero whatever its factors: neither is formed (the ±0 it would add
+    // leaves the sum as it is).
+    kinetic = operators_.kinetic_energy(v_next_, work_);
+  } else {
+    dv_ = v_next_ - state.v;
+    kinetic = operators_.kinetic_energy(v_next_, dv_, work_);  // and M Δv into work_
+    double numerical = dv_.dot(work_);
+    if (operators_.nonlinear()) {  // −Δq·(f(q_{k+1}) − f(q_k)), f at Newton's last iterate (see the header)
+      numerical -= h * v_theta_.dot(f_iterate_ - f_start_);
+    } else if (keeps_stiffness_velocity()) {
+      // K v_θ = (1−θ) K v_k + θ K v_{k+1}: K v_k is the free velocity's, K v_{k+1} the next step's.
+      work_ = (1.0 - theta) * stiffness_velocity_ + theta * stiffness_velocity_next_;
+      numerical += h * h * v_theta_.dot(work_);
+    } else if (operators_.has_stiffness()) {
+      operators_.apply_stiffness(v_theta_, work_);
+      numerical += h * h * v_theta_.dot(work_);
+    }
+    e.numerical_dissipation += (theta - 0.5) * numerical;
   }
-  e.numerical_dissipation += (theta - 0.5) * numerical;
   if (operators_.has_damping()) {
     operators_.apply_damping(v_theta_, work_);
     e.damping_dissipation += h * v_theta_.dot(work_);
