@@ -44,6 +44,14 @@ Dynamics::Dynamics(const World& world) : world_(world) {
     if (offset_a) add_orientation_coordinates(a);
     if (offset_b) add_orientation_coordinates(world.bodies[s.body_b]);
   }
+  for (const Load& load : world.loads) {
+    PointJacobian& fixed = origin_load_jacobians_.emplace_back();
+    const BodyInstance& b = world.bodies[load.body];
+    if (load.nodal_forces.size() > 0 || !load.point.isZero() || b.body->elastic() || b.body->fixed()) continue;
+    const PointJacobian J = b.body->point_jacobian(b.reference_position, load.point);
+    for (int k = 0; k < J.count; ++k)
+      if (!J.column.col(k).isZero()) fixed.add(J.index[k], J.column.col(k));
+  }
   std::sort(spring_stiffness_coordinates_.begin(), spring_stiffness_coordinates_.end());
   spring_stiffness_coordinates_.erase(
       std::unique(spring_stiffness_coordinates_.begin(), spring_stiffness_coordinates_.end()),
@@ -318,8 +326,8 @@ namespace {
 // on t): forces[i] at times[i], each the same to the bit as a call at that time alone. elastic_weight:
 // the elastic bodies' weight, formed once (0 + w is w to the bit, as add_weight's sum into zeros).
 template <std::size_t N>
-void external_forces(const World& world, const Vector& elastic_weight, const Vector& q,
-                     const std::array<double, N>& times, const std::array<Vector*, N>& forces) {
+void external_forces(const World& world, const Vector& elastic_weight, const std::vector<PointJacobian>& origin_jacobians,
+                     const Vector& q, const std::array<double, N>& times, const std::array<Vector*, N>& forces) {
   Vector& first = *forces[0];
   first.setZero(world.velocity_size);
   if (!world.gravity.isZero())
@@ -330,14 +338,18 @@ void external_forces(const World& world, const Vector& elastic_weight, const Vec
       else b.body->add_weight(b.positions(q), world.gravity, first.segment(offset, size));
     }
   for (std::size_t i = 1; i < N; ++i) *forces[i] = first;
-  for (const Load& load : world.loads) {
+  PointJacobian turning;
+  for (std::size_t l = 0; l < world.loads.size(); ++l) {
+    const Load& load = world.loads[l];
     const BodyInstance& b = world.bodies[load.body];
     if (load.nodal_forces.size() > 0) {  // a distributed load, already in the body's coordinates
       for (std::size_t i = 0; i < N; ++i)
         forces[i]->segment(b.velocity_offset, b.body->velocity_size()) += load.multiplier(times[i]) * load.nodal_forces;
       continue;
     }
-    const PointJacobian J = b.body->point_jacobian(b.positions(q), load.point);
+    const PointJacobian* at_origin = &origin_jacobians[l];
+    if (at_origin->count == 0) turning = b.body->point_jacobian(b.positions(q), load.point);
+    const PointJacobian& J = at_origin->count > 0 ? *at_origin : turning;
     for (std::size_t i = 0; i < N; ++i) {
       const double multiplier = load.multiplier(times[i]);
       for (int k = 0; k < J.count; ++k)
@@ -349,11 +361,11 @@ void external_forces(const World& world, const Vector& elastic_weight, const Vec
 }  // namespace
 
 void Dynamics::external(const Vector& q, double t, Vector& f) const {
-  external_forces<1>(world_, elastic_weight_, q, {t}, {&f});
+  external_forces<1>(world_, elastic_weight_, origin_load_jacobians_, q, {t}, {&f});
 }
 
 void Dynamics::external(const Vector& q, double t_a, double t_b, Vector& f_a, Vector& f_b) const {
-  external_forces<2>(world_, elastic_weight_, q, {t_a, t_b}, {&f_a, &f_b});
+  external_forces<2>(world_, elastic_weight_, origin_load_jacobians_, q, {t_a, t_b}, {&f_a, &f_b});
 }
 
 Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) const {

@@ -127,6 +127,10 @@ class Dynamics {
   const World& world_;
   std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
   std::vector<Eigen::Matrix3d> projectors_;  // each spring's P: d dᵀ along its direction, I without one
+  // Each load's Jacobian when it is the same at every q: at a rigid body's origin (its centre of mass),
+  // the body's translations, its rotations' columns there being zero (their ±0 would leave the force as
+  // it is); count 0 for a load whose Jacobian turns with its body.
+  std::vector<PointJacobian> origin_load_jacobians_;
   std::vector<int> position_of_velocity_;
   std::vector<int> spring_stiffness_coordinates_;
   SparseMatrix mass_, damping_;

@@ -1,6 +1,7 @@
 // Springs and loads as generalized forces: directions, signs, torques, energies, time functions.
 #include "engine/bodies/point_mass.h"
 #include "engine/bodies/rigid_body_2d.h"
+#include "engine/bodies/rigid_body_3d.h"
 #include "engine/dynamics.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
@@ -48,6 +49,54 @@ TEST(Forces, SpringBetweenTwoBodiesActsEquallyAndOppositely) {
   Matrix K;
   forces.spring_stiffness(q, K);
   EXPECT_NEAR((K * (q - Vector((Eigen::Vector4d() << 0, 0, 1, 0).finished())) + f).norm(), 0.0, 1e-12);
+}
+
+// A load at a rigid body's origin has no moment, whatever the body's turn: Dynamics takes its Jacobian
+// once, without the rotations' columns, and must give the force of the turned body's full Jacobian to
+// the bit (its columns summed in order, as for a load off the origin, which keeps turning).
+TEST(Forces, ALoadAtARigidBodysOriginIsThatOfItsTurnedJacobianToTheBit) {
+  for (const int dimension : {2, 3}) {
+    World world;
+    world.dimension = dimension;
+    Vector q_ref;
+    if (dimension == 2) {
+      q_ref = Eigen::Vector3d(0.5, 0.5, 0.0);
+      world.bodies.push_back(make("shoe", std::make_unique<RigidBody2d>(7.0, 2.0), q_ref));
+    } else {
+      q_ref.setZero(7);
+      q_ref(3) = 1.0;  // the identity quaternion
+      world.bodies.push_back(make("block", std::make_unique<RigidBody3d>(7.0, Eigen::Vector3d(1.0, 2.0, 3.0)), q_ref));
+    }
+    world.finalize_layout();
+    for (const Eigen::Vector3d& point : {Eigen::Vector3d::Zero().eval(), Eigen::Vector3d(0.5, -0.5, 0.25).eval()}) {
+      Load load;
+      load.body = 0;
+      load.point = dimension == 2 ? Eigen::Vector3d(point.x(), point.y(), 0.0) : point;
+      load.force = Eigen::Vector3d(2e5, -7e4, dimension == 2 ? 0.0 : 3e4);
+      load.multiplier.table = {{0.0, 0.75}};  // λ = 0.75 at every t
+      world.loads = {load};
+      const Dynamics dynamics(world);
+      Vector q = q_ref;
+      if (dimension == 2) {
+        q << 0.7, 0.4, -8.5e-22;  // turned by round-off, as the sliding shoe is
+      } else {
+        const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 2).normalized()));
+        q << 0.1, -0.2, 0.3, turn.w(), turn.x(), turn.y(), turn.z();
+      }
+      Vector f;
+      dynamics.external(q, 1.0, f);
+      const PointJacobian J = world.bodies[0].body->point_jacobian(q, load.point);
+      Vector expected = Vector::Zero(world.velocity_size);
+      for (int k = 0; k < J.count; ++k) expected(J.index[k]) += J.column.col(k).dot(0.75 * load.force);
+      ASSERT_EQ(f.size(), expected.size());
+      EXPECT_EQ(std::memcmp(f.data(), expected.data(), sizeof(double) * f.size()), 0)
+          << "dimension " << dimension << ", point " << load.point.transpose() << ":\n" << f.transpose() << "\n"
+          << expected.transpose();
+      // Off the origin the load has a moment (so that the comparison above covers a turning Jacobian).
+      const int rotation = dimension == 2 ? 2 : 3;
+      EXPECT_EQ(f(rotation) != 0.0, !load.point.isZero()) << "dimension " << dimension;
+    }
+  }
 }
 
 TEST(Forces, SpringAlongOneDirectionIgnoresTheOthers) {
@@ -335,7 +384,7 @@ TEST(Dynamics, ElasticWeightFormedOnceIsTheBodysWeight) {
 // columns spring_jacobian_columns', at turned and moved positions (sdnv104's shoe on two springs off
 // its centre, a pad on a grounded spring, the every-force scene's bodies).
 TEST(Dynamics, InternalForcesWithTheSpringColumnsAreTheSameToTheBit) {
-  for (const std::string scene_file : {std::string(CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml"),
+  for (const std::string& scene_file : {std::string(CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml"),
                                        std::string(CSIM_SOURCE_DIR "/scenes/sdnd100-a/scene.yaml"), std::string(every_force::kScene)}) {
     const auto scene = load_scene(scene_file, {});
     const Dynamics dynamics(scene->world);
