@@ -74,12 +74,11 @@ Dynamics::Dynamics(const World& world) : world_(world) {
   mass_.setFromTriplets(mass.begin(), mass.end());
   damping_.resize(n, n);
   damping_.setFromTriplets(damping.begin(), damping.end());
-  if (has_elastic_bodies_ && !world.gravity.isZero()) {
-    elastic_weight_.setZero(n);
+  if (!world.gravity.isZero()) {
+    weight_.setZero(n);
     for (const BodyInstance& b : world.bodies)
-      if (b.body->elastic())
-        b.body->add_weight(b.reference_position, world.gravity,
-                           elastic_weight_.segment(b.velocity_offset, b.body->velocity_size()));
+      if (!b.body->fixed())
+        b.body->add_weight(b.reference_position, world.gravity, weight_.segment(b.velocity_offset, b.body->velocity_size()));
   }
 }
 
@@ -323,20 +322,14 @@ void Dynamics::add_spring_stiffness(const Vector& q, Triplets& K) const {
 namespace {
 
 // Loads and gravity at each of N times, the loads' points taken at q once (their Jacobians do not depend
-// on t): forces[i] at times[i], each the same to the bit as a call at that time alone. elastic_weight:
-// the elastic bodies' weight, formed once (0 + w is w to the bit, as add_weight's sum into zeros).
+// on t): forces[i] at times[i], each the same to the bit as a call at that time alone. weight: the
+// bodies' weight, formed once (0 + w is w to the bit, as add_weight's sum into zeros).
 template <std::size_t N>
-void external_forces(const World& world, const Vector& elastic_weight, const std::vector<PointJacobian>& origin_jacobians,
+void external_forces(const World& world, const Vector& weight, const std::vector<PointJacobian>& origin_jacobians,
                      const Vector& q, const std::array<double, N>& times, const std::array<Vector*, N>& forces) {
   Vector& first = *forces[0];
   first.setZero(world.velocity_size);
-  if (!world.gravity.isZero())
-    for (const BodyInstance& b : world.bodies) {
-      if (b.body->fixed()) continue;
-      const int offset = b.velocity_offset, size = b.body->velocity_size();
-      if (b.body->elastic()) first.segment(offset, size) += elastic_weight.segment(offset, size);
-      else b.body->add_weight(b.positions(q), world.gravity, first.segment(offset, size));
-    }
+  if (weight.size() > 0) first += weight;
   for (std::size_t i = 1; i < N; ++i) *forces[i] = first;
   PointJacobian turning;
   for (std::size_t l = 0; l < world.loads.size(); ++l) {
@@ -361,11 +354,11 @@ void external_forces(const World& world, const Vector& elastic_weight, const std
 }  // namespace
 
 void Dynamics::external(const Vector& q, double t, Vector& f) const {
-  external_forces<1>(world_, elastic_weight_, origin_load_jacobians_, q, {t}, {&f});
+  external_forces<1>(world_, weight_, origin_load_jacobians_, q, {t}, {&f});
 }
 
 void Dynamics::external(const Vector& q, double t_a, double t_b, Vector& f_a, Vector& f_b) const {
-  external_forces<2>(world_, elastic_weight_, origin_load_jacobians_, q, {t_a, t_b}, {&f_a, &f_b});
+  external_forces<2>(world_, weight_, origin_load_jacobians_, q, {t_a, t_b}, {&f_a, &f_b});
 }
 
 Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) const {

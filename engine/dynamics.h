@@ -150,9 +150,10 @@ class Dynamics {
   mutable Vector kept_spring_positions_;
   mutable std::vector<Eigen::Vector3d> kept_spring_strains_;
   const std::vector<Eigen::Vector3d>& spring_strains(const Vector& q) const;
-  // The elastic bodies' weight M g (each in its velocity segment, zero elsewhere), formed once: it does
-  // not depend on q, and forming it reads all of M, at every step otherwise.
-  Vector elastic_weight_;
+  // The bodies' weight (each in its velocity segment; empty without gravity), formed once: it does not
+  // depend on q (Body::add_weight), and forming it reads an elastic body's M, or takes a rigid body's
+  // Jacobian at its centre, at every step otherwise.
+  Vector weight_;
 };
 
 }  // namespace csim

@@ -51,13 +51,15 @@ TEST(Forces, SpringBetweenTwoBodiesActsEquallyAndOppositely) {
   EXPECT_NEAR((K * (q - Vector((Eigen::Vector4d() << 0, 0, 1, 0).finished())) + f).norm(), 0.0, 1e-12);
 }
 
-// A load at a rigid body's origin has no moment, whatever the body's turn: Dynamics takes its Jacobian
-// once, without the rotations' columns, and must give the force of the turned body's full Jacobian to
-// the bit (its columns summed in order, as for a load off the origin, which keeps turning).
+// A load at a rigid body's origin, and its weight, have no moment whatever the body's turn: Dynamics
+// takes their Jacobian once, without the rotations' columns (the weight: once formed), and must give
+// the force of the turned body's full Jacobian to the bit (its columns summed in order, as for a load
+// off the origin, which keeps turning).
 TEST(Forces, ALoadAtARigidBodysOriginIsThatOfItsTurnedJacobianToTheBit) {
   for (const int dimension : {2, 3}) {
     World world;
     world.dimension = dimension;
+    world.gravity = dimension == 2 ? Eigen::Vector3d(1.5, -9.81, 0.0) : Eigen::Vector3d(1.5, 0.0, -9.81);
     Vector q_ref;
     if (dimension == 2) {
       q_ref = Eigen::Vector3d(0.5, 0.5, 0.0);
@@ -87,6 +89,7 @@ TEST(Forces, ALoadAtARigidBodysOriginIsThatOfItsTurnedJacobianToTheBit) {
       dynamics.external(q, 1.0, f);
       const PointJacobian J = world.bodies[0].body->point_jacobian(q, load.point);
       Vector expected = Vector::Zero(world.velocity_size);
+      world.bodies[0].body->add_weight(q, world.gravity, expected);
       for (int k = 0; k < J.count; ++k) expected(J.index[k]) += J.column.col(k).dot(0.75 * load.force);
       ASSERT_EQ(f.size(), expected.size());
       EXPECT_EQ(std::memcmp(f.data(), expected.data(), sizeof(double) * f.size()), 0)

@@ -188,7 +188,9 @@ TEST(SparseLdlt, KeepsTheInverseBlockWhileTheFactorAndTheUnknownsStayTheSame) {
   const auto expect_fresh = [&](const SparseMatrix& matrix, const Matrix& rows, long kept_so_far,
                                 const SparseMatrix* before = nullptr) {
     SparseLdlt other;
-    if (before) ASSERT_TRUE(other.factor_positive_definite(*before));
+    if (before) {
+      ASSERT_TRUE(other.factor_positive_definite(*before));
+    }
     ASSERT_TRUE(other.factor_positive_definite(matrix));
     Matrix expected, W;
     other.delassus(rows, expected);
