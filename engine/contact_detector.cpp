@@ -38,7 +38,8 @@ template <int D>
 void append_projections(int offset, const ProjectedJacobian& P, double sign, SparseRow* rows) {
   const int count = P.count;
   bool ascending = true;
-  for (int j = 1; j < count; ++j) ascending = ascending && P.index[j] > P.index[j - 1];
+  if (!P.ascending)
+    for (int j = 1; j < count; ++j) ascending = ascending && P.index[j] > P.index[j - 1];
   if (!ascending) {  // a component named twice: summed by SparseRow::add
     for (int k = 0; k < D; ++k)
       for (int j = 0; j < count; ++j) rows[k].add(offset + P.index[j], sign * P.value(k, j));

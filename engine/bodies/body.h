@@ -69,6 +69,7 @@ struct ProjectedJacobian {
   int count = 0;
   std::array<int, 9> index;            // body velocity components
   Eigen::Matrix<double, 3, 9> value;   // (axis, component), m/s per unit component along the axis
+  bool ascending = false;              // index strictly increasing (a lumped body's 0, 1, …), known by its maker
 };
 
 // A deformable contact surface: the world positions of its nodes in the reference configuration (m)
@@ -194,6 +195,7 @@ class Body {
                                             ProjectedJacobian& out) const {
     const PointJacobian J = world_point_jacobian(q, x);
     out.count = J.count;
+    out.ascending = false;  // not known: the rows check
     for (int j = 0; j < J.count; ++j) {
       out.index[j] = J.index[j];
       for (int k = 0; k < axis_count; ++k) out.value(k, j) = axes[k]->dot(J.column.col(j));

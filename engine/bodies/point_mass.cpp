@@ -22,6 +22,7 @@ void PointMass::project_world_point_jacobian(const ConstVectorRef&, const Eigen:
                                              const Eigen::Vector3d* const* axes, int axis_count,
                                              ProjectedJacobian& out) const {
   out.count = dimension_;
+  out.ascending = true;
   for (int j = 0; j < dimension_; ++j) out.index[j] = j;
   for (int k = 0; k < axis_count; ++k)
     for (int j = 0; j < dimension_; ++j) out.value(k, j) = (*axes[k])(j);

@@ -54,6 +54,7 @@ void RigidBody2d::project_world_point_jacobian(const ConstVectorRef& q, const Ei
                                                ProjectedJacobian& out) const {
   const double rx = x.x() - q(0), ry = x.y() - q(1);
   out.count = 3;
+  out.ascending = true;
   for (int j = 0; j < 3; ++j) out.index[j] = j;
   for (int k = 0; k < axis_count; ++k) {
     const Eigen::Vector3d& a = *axes[k];

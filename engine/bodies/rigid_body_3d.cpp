@@ -52,6 +52,7 @@ void RigidBody3d::project_world_point_jacobian(const ConstVectorRef& q, const Ei
   const Eigen::Matrix3d& R = rotation(q);
   const Eigen::Vector3d r = x - q.head<3>();
   out.count = 6;
+  out.ascending = true;
   for (int j = 0; j < 6; ++j) out.index[j] = j;
   for (int k = 0; k < axis_count; ++k) {
     const Eigen::Vector3d& a = *axes[k];
