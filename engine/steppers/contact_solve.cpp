@@ -15,7 +15,7 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
     const ContactKey& key = active[i].point.key;
     while (j < previous.size() && previous[j].point.key < key) ++j;
     if (j < previous.size() && previous[j].point.key == key) {
-      r.segment(dimension * i, dimension) = previous[j].impulse.head(dimension);
+      for (int k = 0; k < dimension; ++k) r(dimension * i + k) = previous[j].impulse(k);
       if (status) (*status)[i] = previous[j].status;
     }
   }

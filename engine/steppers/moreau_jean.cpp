@@ -321,7 +321,13 @@ void MoreauJean::gather_columns() {
 void MoreauJean::dense_delassus() {
   const int m = static_cast<int>(rows_.size()) + equality_count();
   problem_columns_.setZero(world_.velocity_size, m);  // Hᵀ
-  for (int a = 0; a < m; ++a) add_problem_row(a, 1.0, problem_columns_.col(a));
+  const int contact_rows = static_cast<int>(rows_.size());
+  for (int a = 0; a < contact_rows; ++a) {  // a contact row's distinct entries: scatter's 0 + 1·x, written
+    const SparseRow& row = *rows_[a];
+    double* column = problem_columns_.col(a).data();
+    for (int k = 0; k < row.count; ++k) column[row.index[k]] = 0.0 + row.value[k];
+  }
+  for (int a = contact_rows; a < m; ++a) add_problem_row(a, 1.0, problem_columns_.col(a));
   operators_.dense_columns(problem_columns_, dense_columns_);
   small_symmetric_gram(problem_columns_, dense_columns_, problem_.W);
 }
