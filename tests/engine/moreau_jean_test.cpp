@@ -84,6 +84,7 @@ TEST(MoreauJean, HalfThetaConservesEnergyOfAFreeOscillator) {
     ASSERT_NEAR(s.energy.kinetic + s.energy.elastic, e0, 1e-10 * e0) << "step " << k;
   }
   EXPECT_LE(s.energy.max_abs_residual, 1e-12 * e0);
+  EXPECT_EQ(s.energy.numerical_dissipation, 0.0);  // (θ − ½)(…) at θ = ½, not formed
 }
 
 TEST(MoreauJean, ThetaAboveHalfDissipatesAndTheBalanceCloses) {

@@ -216,7 +216,7 @@ namespace {
 // A lumped World's diagonal M gives Dynamics' kinetic energy to the bit through its diagonal (Moreau–
 // Jean's energy balance takes it a step), signed zeros and tiny products included; a World whose M
 // is not diagonal (an FE body) takes Dynamics' own, with M x in the same pass. M x beside it is
-// apply_mass's to the bit.
+// apply_mass's to the bit; the energy alone (a θ = ½ step's) is the same.
 TEST(StructuralOperators, KineticEnergyIsDynamicsToTheBit) {
   World plane_body;
   plane_body.dimension = 2;
@@ -246,6 +246,8 @@ TEST(StructuralOperators, KineticEnergyIsDynamicsToTheBit) {
       const double expected = dynamics.kinetic_energy(v);
       const double energy = operators.kinetic_energy(v, x, Mx);
       EXPECT_EQ(std::memcmp(&energy, &expected, sizeof(double)), 0) << "trial " << trial;
+      const double alone = operators.kinetic_energy(v, expected_Mx);  // θ = ½'s, without M x
+      EXPECT_EQ(std::memcmp(&alone, &expected, sizeof(double)), 0) << "trial " << trial;
       operators.apply_mass(x, expected_Mx);
       ASSERT_EQ(Mx.size(), expected_Mx.size());
       EXPECT_EQ(std::memcmp(Mx.data(), expected_Mx.data(), Mx.size() * sizeof(double)), 0) << "trial " << trial;
