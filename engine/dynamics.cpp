@@ -45,12 +45,12 @@ Dynamics::Dynamics(const World& world) : world_(world) {
     if (offset_b) add_orientation_coordinates(world.bodies[s.body_b]);
   }
   for (const Load& load : world.loads) {
-    PointJacobian& fixed = origin_load_jacobians_.emplace_back();
+    PointJacobian& at_origin = origin_load_jacobians_.emplace_back();
     const BodyInstance& b = world.bodies[load.body];
     if (load.nodal_forces.size() > 0 || !load.point.isZero() || b.body->elastic() || b.body->fixed()) continue;
     const PointJacobian J = b.body->point_jacobian(b.reference_position, load.point);
     for (int k = 0; k < J.count; ++k)
-      if (!J.column.col(k).isZero()) fixed.add(J.index[k], J.column.col(k));
+      if (!J.column.col(k).isZero()) at_origin.add(J.index[k], J.column.col(k));
   }
   std::sort(spring_stiffness_coordinates_.begin(), spring_stiffness_coordinates_.end());
   spring_stiffness_coordinates_.erase(
