@@ -389,7 +389,11 @@ void Dynamics::add_spring_forces(const Vector& q, Vector& f, std::vector<double>
   for (const Spring& s : world_.springs) {
     const Eigen::Vector3d force_on_a = -s.stiffness * (*strains)[&s - world_.springs.data()];
     const SpringEnds ends = spring_ends(world_, s, q);
-    for (const Entry& e : entries_of(ends)) f(e.index) += e.column.dot(force_on_a);
+    // Each end's columns straight from its Jacobian: f − j·F on b's is entries_of's f + (−j)·F to the
+    // bit (a negation is exact, and rounding symmetric).
+    for (int k = 0; k < ends.a.count; ++k) f(ends.offset_a + ends.a.index[k]) += ends.a.column.col(k).dot(force_on_a);
+    for (int k = 0; ends.has_b && k < ends.b.count; ++k)
+      f(ends.offset_b + ends.b.index[k]) -= ends.b.column.col(k).dot(force_on_a);
     if (spring_columns) append_jacobian_columns(ends, *spring_columns, size);  // the ends' columns, on the way
   }
   if (spring_columns) spring_columns->resize(size);

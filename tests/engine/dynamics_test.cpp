@@ -51,6 +51,38 @@ TEST(Forces, SpringBetweenTwoBodiesActsEquallyAndOppositely) {
   EXPECT_NEAR((K * (q - Vector((Eigen::Vector4d() << 0, 0, 1, 0).finished())) + f).norm(), 0.0, 1e-12);
 }
 
+// A spring's force on its two ends does not depend on which end is named first, to the bit: swapping
+// them negates the stretch exactly, and each end's generalized force is its columns against the force
+// on it (end A's added, end B's subtracted). A turned rigid body and a point, along a direction and not.
+TEST(Forces, ASpringsEndsSwappedGiveTheSameForcesToTheBit) {
+  World world;
+  world.dimension = 2;
+  world.bodies.push_back(make("plate", std::make_unique<RigidBody2d>(3.0, 0.4), Eigen::Vector3d(0.0, 0.0, 0.0)));
+  world.bodies.push_back(make("particle", std::make_unique<PointMass>(2, 1.0), Eigen::Vector2d(1.5, 0.25)));
+  world.finalize_layout();
+  Vector q(5);
+  q << 0.013, -0.021, 0.37, 1.49, 0.31;
+  for (const Eigen::Vector3d& direction : {Eigen::Vector3d::Zero().eval(), Eigen::Vector3d(0.6, 0.8, 0.0).eval()}) {
+    Spring forward;
+    forward.body_a = 0;
+    forward.point_a = Eigen::Vector3d(0.5, -0.2, 0.0);
+    forward.body_b = 1;
+    forward.stiffness = 700.0;
+    forward.direction = direction;
+    Spring backward = forward;
+    std::swap(backward.body_a, backward.body_b);
+    std::swap(backward.point_a, backward.point_b);
+    Vector f_forward = Vector::Zero(5), f_backward = Vector::Zero(5);
+    world.springs = {forward};
+    Dynamics(world).add_spring_forces(q, f_forward);
+    world.springs = {backward};
+    Dynamics(world).add_spring_forces(q, f_backward);
+    EXPECT_GT(f_forward.norm(), 1.0);
+    EXPECT_EQ(std::memcmp(f_forward.data(), f_backward.data(), sizeof(double) * 5), 0)
+        << f_forward.transpose() << "\n" << f_backward.transpose();
+  }
+}
+
 // A load at a rigid body's origin, and its weight, have no moment whatever the body's turn: Dynamics
 // takes their Jacobian once, without the rotations' columns (the weight: once formed), and must give
 // the force of the turned body's full Jacobian to the bit (its columns summed in order, as for a load
