@@ -99,12 +99,17 @@ CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& sc
     if (run.checks[c].mode != CheckDefinition::Mode::final_value && run.checks[c].probe >= 0)
       sampled_[run.checks[c].probe] = true;
   }
+  for (std::size_t p = 0; p < run.probes.size(); ++p) {
+    if (!sampled_[p]) continue;
+    sampled_indices_.push_back(static_cast<int>(p));
+    if (run.probes[p].undefined.empty()) tracked_.push_back(static_cast<int>(p));
+  }
 }
 
 void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact) {
-  for (std::size_t p = 0; p < values.size(); ++p) {
-    if (!run_.probes[p].undefined.empty()) continue;  // NaN; its checks are not evaluated
-    if (!sampled_[p]) continue;  // read by final checks alone (last_values_): no tracker, no window
+  // A probe that is undefined (NaN) is not tracked: its checks are not evaluated. One that only final
+  // checks read is not either: last_values_ serves them.
+  for (const int p : tracked_) {
     trackers_[p].add(t, values[p], exact);
     Window& w = windows_[p];
     for (int i = 0; i < 2; ++i) { w.t[i] = w.t[i + 1]; w.value[i] = w.value[i + 1]; }

@@ -78,6 +78,7 @@ class CheckEvaluator {
   // between its output rows (their entries are not read). The first and the last samples must hold
   // every probe's value (a reference may name the initial one).
   const std::vector<bool>& sampled_probes() const { return sampled_; }
+  const std::vector<int>& sampled_probe_indices() const { return sampled_indices_; }  // the same, listed
   std::vector<CheckResult> finish(double end_time);
 
  private:
@@ -90,6 +91,9 @@ class CheckEvaluator {
   std::vector<std::pair<double, double>> mean_sums_;    // per check (Mode::mean): Σ w·value, Σ w
   std::vector<std::size_t> at_checks_, mean_checks_;   // the checks of Mode::at and Mode::mean
   std::vector<bool> sampled_;                           // per probe: see sampled_probes()
+  // Listed once, ascending, as add_sample visits them at every step: the sampled probes, and of them
+  // those with a tracker and a window (a probe that is undefined, NaN, has neither).
+  std::vector<int> sampled_indices_, tracked_;
   double last_time_ = 0.0;
   std::vector<double> last_values_;
   std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`

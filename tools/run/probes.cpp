@@ -36,10 +36,9 @@ void ProbeEvaluator::evaluate(const State& state, std::vector<double>& values) c
   for (std::size_t i = 0; i < run_.probes.size(); ++i) values[i] = run_.probes[i].scale * unscaled(i, state);
 }
 
-void ProbeEvaluator::evaluate(const State& state, std::vector<double>& values, const std::vector<bool>& only) const {
+void ProbeEvaluator::evaluate(const State& state, std::vector<double>& values, const std::vector<int>& only) const {
   values.resize(run_.probes.size());
-  for (std::size_t i = 0; i < run_.probes.size(); ++i)
-    if (only[i]) values[i] = run_.probes[i].scale * unscaled(i, state);
+  for (const int i : only) values[i] = run_.probes[i].scale * unscaled(i, state);
 }
 
 bool ProbeEvaluator::reads_energy() const {

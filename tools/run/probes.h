@@ -29,9 +29,9 @@ class ProbeEvaluator {
  public:
   ProbeEvaluator(const World& world, const RunSettings& run);
   void evaluate(const State& state, std::vector<double>& values) const;
-  // The same for the probes that `only` flags (one flag a probe); the others' entries are left as
-  // they were (values sized to the probes).
-  void evaluate(const State& state, std::vector<double>& values, const std::vector<bool>& only) const;
+  // The same for the probes listed in `only` (their indices); the others' entries are left as they
+  // were (values sized to the probes).
+  void evaluate(const State& state, std::vector<double>& values, const std::vector<int>& only) const;
   bool reads_energy() const;  // whether a probe reads a term of State::energy (Stepper::measure_energy)
 
  private:

@@ -146,8 +146,8 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   double next_output = rate;
 
   const bool energy_probes = probes.reads_energy();
-  const std::vector<bool>& sampled = checks.sampled_probes();
-  const bool every_probe_sampled = std::find(sampled.begin(), sampled.end(), false) == sampled.end();
+  const std::vector<int>& sampled = checks.sampled_probe_indices();
+  const bool every_probe_sampled = sampled.size() == run.probes.size();
   Progress progress(options.progress);
   const auto start = std::chrono::steady_clock::now();
   for (long k = 0; k < steps; ++k) {

@@ -144,7 +144,7 @@ TEST(ProbeEvaluator, ProbesThatNoCheckSamplesAreReadAtRowsAndTheEndAlone) {
   }
 }
 
-// evaluate with a mask sets the flagged probes and leaves the others' entries as they were.
+// evaluate with a list of probes sets those and leaves the others' entries as they were.
 TEST(ProbeEvaluator, AMaskedEvaluationLeavesTheOtherEntries) {
   const World world = ball_on_floor();
   RunSettings run;
@@ -160,10 +160,10 @@ TEST(ProbeEvaluator, AMaskedEvaluationLeavesTheOtherEntries) {
   state.q = Vector::Zero(world.position_size);
   state.v = Vector::LinSpaced(world.velocity_size, 1.0, 4.0);
   std::vector<double> values = {-7.0, -8.0};
-  probes.evaluate(state, values, {false, true});
+  probes.evaluate(state, values, std::vector<int>{1});
   EXPECT_EQ(values[0], -7.0);
   EXPECT_EQ(values[1], state.v(0));
-  probes.evaluate(state, values, {true, false});
+  probes.evaluate(state, values, std::vector<int>{0});
   EXPECT_EQ(values[0], state.v(1));
 }
 
