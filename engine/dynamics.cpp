@@ -340,9 +340,9 @@ void external_forces(const World& world, const Vector& weight, const std::vector
         forces[i]->segment(b.velocity_offset, b.body->velocity_size()) += load.multiplier(times[i]) * load.nodal_forces;
       continue;
     }
-    const PointJacobian* at_origin = &origin_jacobians[l];
-    if (at_origin->count == 0) turning = b.body->point_jacobian(b.positions(q), load.point);
-    const PointJacobian& J = at_origin->count > 0 ? *at_origin : turning;
+    const PointJacobian& at_origin = origin_jacobians[l];
+    if (at_origin.count == 0) turning = b.body->point_jacobian(b.positions(q), load.point);
+    const PointJacobian& J = at_origin.count > 0 ? at_origin : turning;
     for (std::size_t i = 0; i < N; ++i) {
       const double multiplier = load.multiplier(times[i]);
       for (int k = 0; k < J.count; ++k)

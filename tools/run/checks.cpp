@@ -92,16 +92,16 @@ CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& sc
     : run_(run), scope_(scope), trackers_(run.probes.size()), windows_(run.probes.size()),
       at_values_(run.checks.size()), mean_sums_(run.checks.size(), {0.0, 0.0}) {
   // Listed once: add_sample runs at every step.
-  sampled_.assign(run.probes.size(), false);
+  std::vector<bool> sampled(run.probes.size(), false);
   for (std::size_t c = 0; c < run.checks.size(); ++c) {
     if (run.checks[c].mode == CheckDefinition::Mode::at) at_checks_.push_back(c);
     if (run.checks[c].mode == CheckDefinition::Mode::mean) mean_checks_.push_back(c);
     if (run.checks[c].mode != CheckDefinition::Mode::final_value && run.checks[c].probe >= 0)
-      sampled_[run.checks[c].probe] = true;
+      sampled[run.checks[c].probe] = true;
   }
   for (std::size_t p = 0; p < run.probes.size(); ++p) {
-    if (!sampled_[p]) continue;
-    sampled_indices_.push_back(static_cast<int>(p));
+    if (!sampled[p]) continue;
+    sampled_.push_back(static_cast<int>(p));
     if (run.probes[p].undefined.empty()) tracked_.push_back(static_cast<int>(p));
   }
 }

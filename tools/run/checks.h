@@ -76,9 +76,8 @@ class CheckEvaluator {
   // The probes whose every sample a check reads (an extremum, a value at a time, a mean): the others
   // are read by final checks alone, at the last sample, so that a run may leave their values stale
   // between its output rows (their entries are not read). The first and the last samples must hold
-  // every probe's value (a reference may name the initial one).
-  const std::vector<bool>& sampled_probes() const { return sampled_; }
-  const std::vector<int>& sampled_probe_indices() const { return sampled_indices_; }  // the same, listed
+  // every probe's value (a reference may name the initial one). Their indices, ascending.
+  const std::vector<int>& sampled_probes() const { return sampled_; }
   std::vector<CheckResult> finish(double end_time);
 
  private:
@@ -90,10 +89,9 @@ class CheckEvaluator {
   std::vector<std::optional<double>> at_values_;        // per check (Mode::at)
   std::vector<std::pair<double, double>> mean_sums_;    // per check (Mode::mean): Σ w·value, Σ w
   std::vector<std::size_t> at_checks_, mean_checks_;   // the checks of Mode::at and Mode::mean
-  std::vector<bool> sampled_;                           // per probe: see sampled_probes()
-  // Listed once, ascending, as add_sample visits them at every step: the sampled probes, and of them
-  // those with a tracker and a window (a probe that is undefined, NaN, has neither).
-  std::vector<int> sampled_indices_, tracked_;
+  // Listed once, ascending, as add_sample visits them at every step: the sampled probes (see
+  // sampled_probes()), and of them those with a tracker and a window (an undefined, NaN, probe has neither).
+  std::vector<int> sampled_, tracked_;
   double last_time_ = 0.0;
   std::vector<double> last_values_;
   std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`

@@ -146,7 +146,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   double next_output = rate;
 
   const bool energy_probes = probes.reads_energy();
-  const std::vector<int>& sampled = checks.sampled_probe_indices();
+  const std::vector<int>& sampled = checks.sampled_probes();
   const bool every_probe_sampled = sampled.size() == run.probes.size();
   Progress progress(options.progress);
   const auto start = std::chrono::steady_clock::now();
