@@ -419,10 +419,12 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
       }
       continue;
     }
-    // Cheap test: a sweep that barely moved r. Only then is the full residual (about one more sweep of
+    // Cheap test: a sweep that barely moved r, or one after which every contact is settled (the full
+    // residual then costs no local solve, and the next sweep would return r to the bit: a single
+    // contact is solved by its first sweep). Only then is the full residual (about one more sweep of
     // work) worth computing; it decides.
     const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
-    if (std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
+    if (swept.settled_from == 0 || std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
       statistics.residual = relative_residual(problem, r, swept.settled_from);
       residual_is_current = true;
       if (statistics.residual <= parameters.tolerance) {
