@@ -92,25 +92,34 @@ CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& sc
     : run_(run), scope_(scope), trackers_(run.probes.size()), windows_(run.probes.size()),
       at_values_(run.checks.size()), mean_sums_(run.checks.size(), {0.0, 0.0}) {
   // Listed once: add_sample runs at every step.
-  std::vector<bool> sampled(run.probes.size(), false);
+  using Mode = CheckDefinition::Mode;
+  std::vector<bool> sampled(run.probes.size(), false), extremum(run.probes.size(), false),
+      windowed(run.probes.size(), false);
   for (std::size_t c = 0; c < run.checks.size(); ++c) {
-    if (run.checks[c].mode == CheckDefinition::Mode::at) at_checks_.push_back(c);
-    if (run.checks[c].mode == CheckDefinition::Mode::mean) mean_checks_.push_back(c);
-    if (run.checks[c].mode != CheckDefinition::Mode::final_value && run.checks[c].probe >= 0)
-      sampled[run.checks[c].probe] = true;
+    const Mode mode = run.checks[c].mode;
+    const int probe = run.checks[c].probe;
+    if (mode == Mode::at) at_checks_.push_back(c);
+    if (mode == Mode::mean) mean_checks_.push_back(c);
+    if (mode == Mode::final_value || probe < 0) continue;
+    sampled[probe] = true;
+    if (mode == Mode::at) windowed[probe] = true;
+    else if (mode != Mode::mean) extremum[probe] = true;
   }
   for (std::size_t p = 0; p < run.probes.size(); ++p) {
     if (!sampled[p]) continue;
     sampled_.push_back(static_cast<int>(p));
-    if (run.probes[p].undefined.empty()) tracked_.push_back(static_cast<int>(p));
+    if (!run.probes[p].undefined.empty()) continue;
+    if (extremum[p]) extremum_probes_.push_back(static_cast<int>(p));
+    if (windowed[p]) window_probes_.push_back(static_cast<int>(p));
   }
 }
 
 void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact) {
   // A probe that is undefined (NaN) is not tracked: its checks are not evaluated. One that only final
-  // checks read is not either: last_values_ serves them.
-  for (const int p : tracked_) {
-    trackers_[p].add(t, values[p], exact);
+  // checks read is not either: last_values_ serves them. A probe's extrema are found only if a check
+  // reads them, and its last three samples kept only if a check reads its value at a time.
+  for (const int p : extremum_probes_) trackers_[p].add(t, values[p], exact);
+  for (const int p : window_probes_) {
     Window& w = windows_[p];
     for (int i = 0; i < 2; ++i) { w.t[i] = w.t[i + 1]; w.value[i] = w.value[i + 1]; }
     w.t[2] = t;

@@ -84,14 +84,15 @@ class CheckEvaluator {
   struct Window { double t[3]; double value[3]; int count = 0; };
   const RunSettings& run_;
   const ExpressionScope& scope_;
-  std::vector<ExtremumTracker> trackers_;               // one per probe
-  std::vector<Window> windows_;                         // last three samples per probe
+  std::vector<ExtremumTracker> trackers_;               // one per probe (extremum_probes_ fed)
+  std::vector<Window> windows_;                         // last three samples per probe (window_probes_ fed)
   std::vector<std::optional<double>> at_values_;        // per check (Mode::at)
   std::vector<std::pair<double, double>> mean_sums_;    // per check (Mode::mean): Σ w·value, Σ w
   std::vector<std::size_t> at_checks_, mean_checks_;   // the checks of Mode::at and Mode::mean
   // Listed once, ascending, as add_sample visits them at every step: the sampled probes (see
-  // sampled_probes()), and of them those with a tracker and a window (an undefined, NaN, probe has neither).
-  std::vector<int> sampled_, tracked_;
+  // sampled_probes()), and of them those whose extrema an extremum check reads and those whose window
+  // an `at` check reads (an undefined, NaN, probe is in neither).
+  std::vector<int> sampled_, extremum_probes_, window_probes_;
   double last_time_ = 0.0;
   std::vector<double> last_values_;
   std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`

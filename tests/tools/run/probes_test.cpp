@@ -111,17 +111,20 @@ TEST(ProbeEvaluator, EachKindAgainstHandValues) {
 // A run evaluates between its output rows only the probes whose every sample a check reads
 // (CheckEvaluator::sampled_probes: extrema, values at a time, means); the others serve final checks
 // and rows alone. The checks and the rows must be those of a run that samples every probe at every
-// step (an output row at every step): on the incline (final checks only) and on SDNV104 (extrema and
-// times of dx; the forces and the balance read by no check).
+// step (an output row at every step): on the incline (final checks only), on SDNV104 (extrema and
+// times of dx; the forces and the balance read by no check) and on SDND100 (dy at given times, dx
+// final).
 TEST(ProbeEvaluator, ProbesThatNoCheckSamplesAreReadAtRowsAndTheEndAlone) {
-  for (const char* name : {"incline-3d", "sdnv104-rigid"}) {
+  for (const char* name : {"incline-3d", "sdnv104-rigid", "sdnd100-a"}) {
     const std::string file = std::string(CSIM_SOURCE_DIR "/scenes/") + name + "/scene.yaml";
     const auto sparse = load_scene(file, {"time.end=2", "time.step=2e-3", "output.rate=0.5"});
     const auto dense = load_scene(file, {"time.end=2", "time.step=2e-3", "output.rate=2e-3"});
     const std::vector<int> sampled = CheckEvaluator(sparse->run, sparse->document.scope).sampled_probes();
-    std::vector<int> expected;  // sdnv104's dx alone
+    std::vector<int> expected;  // sdnv104's dx alone, sdnd100's dy alone
     for (std::size_t p = 0; p < sparse->run.probes.size(); ++p)
-      if (std::string(name) == "sdnv104-rigid" && sparse->run.probes[p].name == "dx") expected.push_back(static_cast<int>(p));
+      if ((std::string(name) == "sdnv104-rigid" && sparse->run.probes[p].name == "dx") ||
+          (std::string(name) == "sdnd100-a" && sparse->run.probes[p].name == "dy"))
+        expected.push_back(static_cast<int>(p));
     EXPECT_EQ(sampled, expected) << name;
     const RunReport a = run_scene(*sparse, {}), b = run_scene(*dense, {});
     ASSERT_EQ(a.checks.size(), b.checks.size());
@@ -133,7 +136,8 @@ TEST(ProbeEvaluator, ProbesThatNoCheckSamplesAreReadAtRowsAndTheEndAlone) {
       }
       evaluated += a.checks[c].evaluated;
     }
-    EXPECT_GE(evaluated, std::string(name) == "sdnv104-rigid" ? 3 : 4) << name;  // x1, t1 and the rest at least
+    // sdnv104: x1, t1 and the rest at least; sdnd100: dy at four times, twice, and dx at the end.
+    EXPECT_GE(evaluated, std::string(name) == "sdnv104-rigid" ? 3 : std::string(name) == "sdnd100-a" ? 9 : 4) << name;
     ASSERT_EQ(a.sample_times.size(), 5u) << name;  // t = 0, 0.5, …, 2
     for (std::size_t i = 0; i < a.sample_times.size(); ++i) {
       std::size_t j = 0;
