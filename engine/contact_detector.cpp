@@ -1,6 +1,7 @@
 #include "engine/contact_detector.h"
 
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace csim {
@@ -117,8 +118,10 @@ ContactDetector::ContactDetector(const World& world)
       node_positions_.resize(object + 1);
       object_body_[object] = i;
       object_shape_[object] = -1;
+      deformable_ = true;
       continue;
     }
+    if (!b.body->fixed() && !b.shapes.empty()) moving_bodies_.push_back(i);
     for (std::size_t s = 0; s < b.shapes.size(); ++s) {
       const int object = collision_->add_object(i, b.shapes[s].shape, b.body->fixed());
       object_body_.resize(object + 1);
@@ -158,6 +161,22 @@ void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b
   }
 }
 
+bool ContactDetector::poses_within(const Vector& q, double ulps) const {
+  if (!detected_ || deformable_) return false;
+  const double tolerance = ulps * std::numeric_limits<double>::epsilon();
+  for (std::size_t i = 0; i < moving_bodies_.size(); ++i) {
+    const BodyInstance& b = world_.bodies[moving_bodies_[i]];
+    const Eigen::Isometry3d pose = b.body->pose(b.positions(q));
+    const Eigen::Isometry3d& detected = detected_poses_[i];
+    for (int k = 0; k < 3; ++k) {
+      const double x = detected.translation()(k);
+      if (!(std::abs(pose.translation()(k) - x) <= tolerance * (std::abs(x) + b.body->bounding_radius))) return false;
+    }
+    if (!((pose.linear() - detected.linear()).cwiseAbs().maxCoeff() <= tolerance)) return false;
+  }
+  return true;
+}
+
 double ContactDetector::travel_bound(const Vector& v, double h) const {
   double speed = 0.0;
   for (const BodyInstance& b : world_.bodies) {
@@ -181,6 +200,13 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   contacts.clear();
   rows.clear();
   if (!collision_) return;
+  detected_poses_.resize(moving_bodies_.size());
+  for (std::size_t i = 0; i < moving_bodies_.size(); ++i) {
+    const BodyInstance& b = world_.bodies[moving_bodies_[i]];
+    detected_poses_[i] = b.body->pose(b.positions(q));
+  }
+  detected_ = true;
+  std::size_t moving = 0;  // objects come body by body, in the bodies' order
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;
@@ -189,8 +215,8 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
       collision_->set_node_positions(static_cast<int>(o), node_positions_[o]);
       continue;
     }
-    collision_->set_pose(static_cast<int>(o),
-                         b.body->pose(b.positions(q)) * b.shapes[object_shape_[o]].local_pose);
+    while (moving_bodies_[moving] != object_body_[o]) ++moving;
+    collision_->set_pose(static_cast<int>(o), detected_poses_[moving] * b.shapes[object_shape_[o]].local_pose);
   }
   collision_->update(margin);
   collision_->find_contacts(points_);

@@ -27,6 +27,13 @@ class ContactDetector {
   // point with its frame), `rows` their H rows: contact i owns rows [dimension·i, dimension·(i+1)).
   void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, std::vector<SparseRow>& rows);
 
+  // Whether every moving body that touches through shapes is where the last detect() put it, to `ulps`
+  // units of round-off (a fraction of one, for MoreauJean's kept detection): each entry of its pose's
+  // translation within ulps·ε·(|x| + ρ), ρ its bounding radius (m), and each of its rotation matrix
+  // within ulps·ε (ε the double's machine epsilon). False before the first detect() and for a World with
+  // a deformable surface.
+  bool poses_within(const Vector& q, double ulps) const;
+
   // The Jacobian of a contact's point on one side: on an elastic body its surface point (nodes and
   // weights), otherwise the body's material point under the world point.
   PointJacobian side_jacobian(const Vector& q, int object, const ContactPoint& c, const Eigen::Vector3d& world_point) const;
@@ -49,6 +56,10 @@ class ContactDetector {
   // Each deformable surface's node positions by collision object (its body's nodes; the surface's kept current).
   std::vector<std::vector<Eigen::Vector3d>> node_positions_;
   std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
+  // The bodies that touch through shapes and move, and their poses at the last detect().
+  std::vector<int> moving_bodies_;
+  std::vector<Eigen::Isometry3d> detected_poses_;
+  bool detected_ = false, deformable_ = false;
   std::vector<ContactPoint> points_;
 };
 

@@ -24,6 +24,13 @@ constexpr double kReachGrowth = 2.0;
 
 constexpr int kTimerSampling = 16;
 
+// A lumped World keeps its last detection while every moving body's pose stays within this fraction of
+// a unit of round-off of where it was made (ContactDetector::poses_within), and detects with this
+// multiple of the margin the step needs, so that a body at rest, whose margin moves in its last bits
+// from step to step, keeps it (see the header).
+constexpr double kKeptPoseUlps = 1.0 / 1024.0;
+constexpr double kKeptMarginSlack = 2.0;
+
 }  // namespace
 
 MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameters)
@@ -44,6 +51,7 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
 // The equality rows C v = target at t (s): the World's linear constraints, then the active prescriptions.
 void MoreauJean::build_equalities(double t) {
   dynamics_.equality_rows(t, equalities_);
+  ++equalities_built_;
   constraint_columns_.clear();  // A⁻¹ Cᵀ: recomputed for the new rows
 }
 
@@ -99,6 +107,7 @@ void MoreauJean::summarize_settings(SummaryEntries& out) const {
 void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) const {
   if (state.counters.newton_iterations > 0) add_newton_group(state.counters, parameters_.newton_tolerance, out);
   if (two_halves_) out.add("detections_retaken", state.counters.detections_retaken);
+  if (operators_.explicit_inverse() && !detector_.empty()) out.add("detections_kept", state.counters.detections_kept);
 }
 
 void MoreauJean::initialize(State& state) {
@@ -220,12 +229,21 @@ void MoreauJean::detect(const State& state) {
     if (reach_velocity_.size() > 0) reach = std::max(reach, detector_.travel_bound(reach_velocity_, h));
   }
   const double margin = detection_margin_ = 2.0 * reach + 1e-12;
-  detector_.detect(state.q, margin, candidates_, candidate_rows_);
+  if (operators_.explicit_inverse()) {  // a lumped World: the last detection kept, or a new one with slack
+    detection_kept_ = margin <= kept_margin_ && detector_.poses_within(state.q, kKeptPoseUlps);
+    if (!detection_kept_) {
+      kept_margin_ = kKeptMarginSlack * margin;
+      detector_.detect(state.q, kept_margin_, candidates_, candidate_rows_);
+    }
+  } else {
+    detector_.detect(state.q, margin, candidates_, candidate_rows_);
+  }
   if (two_halves_) {  // the rule from the candidates' forward columns (a step taken again too)
     activate_by_forward_columns(state);
     return;
   }
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
+    if (candidates_[k].point.gap > margin) continue;  // beyond this step's margin: a lumped World's slack
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at
     // rest under a load that presses it on the surface is caught at the first step, whatever the
     // round-off in its gap. A step taken again over its converged motion (step_newton) also
@@ -319,6 +337,13 @@ void MoreauJean::gather_columns() {
 // A lumped World keeps A⁻¹ (structural_operators.h): G = A⁻¹ Hᵀ and W = H G, symmetric, are small
 // products (small_dense_products.h), with Hᵀ's columns the problem's rows. No solve.
 void MoreauJean::dense_delassus() {
+  // Kept with the detection, for the same active contacts, equality rows and A⁻¹ (see the header).
+  if (detection_kept_ && delassus_rows_ == active_rows_ && delassus_factorization_ == operators_.factorizations() &&
+      delassus_equalities_ == equalities_built_)
+    return;
+  delassus_rows_ = active_rows_;
+  delassus_factorization_ = operators_.factorizations();
+  delassus_equalities_ = equalities_built_;
   const int m = static_cast<int>(rows_.size()) + equality_count();
   problem_columns_.setZero(world_.velocity_size, m);  // Hᵀ
   const int contact_rows = static_cast<int>(rows_.size());
@@ -722,6 +747,7 @@ void MoreauJean::step(State& state) {
     clock_.lap(state.timers.free_velocity);
     if (two_halves_) step_in_two_halves(state);
     else detect_solve_update(state);
+    if (detection_kept_) ++state.counters.detections_kept;
   }
   account_energy(state);
   if (!v_next_.allFinite() || !q_next_.allFinite()) {

@@ -39,6 +39,20 @@
 // formed whole by one more backward pass (SolverCounters::detections_retaken), so that no contact the
 // motion closes is left undetected. Every other World forms v_free whole.
 //
+// A lumped World (point masses, rigid bodies, springs) keeps its last detection (its candidates and
+// their rows) and, for the same active contacts, equality rows and A⁻¹, its W, Hᵀ and A⁻¹ Hᵀ, while
+// every moving body's pose stays within 1/1024 of a unit of round-off of where it was detected
+// (ContactDetector::poses_within: ε (|x| + its radius) a translation, ε a rotation entry) and the step's
+// margin within the one it was detected with, twice that step's. A detection at such a pose would round
+// to the same numbers but where an exact value lies that close to a rounding boundary, and then differs
+// by an ulp: the kept one is the same to round-off. A body at rest costs no detection and no Delassus
+// operator (incline-3d: the coordinates that are near zero move by about 1e-25 a step, the others not at
+// all); a candidate kept beyond the step's margin is not considered (the same set as a new detection).
+// SolverCounters::detections_kept counts those steps. Why a fraction of an ulp: kept over a few ulps of
+// motion, a contact's gap, frozen or moved to first order, falls below what the coordinates resolve, and
+// the closing term of step 3 then pushes at it at every step with a velocity the positions cannot follow
+// (a block at rest on `incline` kept 4e-14 rad/s; bench/lumped_vs_bullet.md, tenth session).
+//
 // Finite-strain bodies (nonlinear internal force f(q), tangent K_T(q)): the step is the implicit
 //   M (v_{k+1} − v_k) = h [f_loads + θ f(q_{k+1}) + (1−θ) f(q_k) − C v_θ] + Hᵀ r,
 //   q_{k+1} = q_k + h v_θ,
@@ -189,6 +203,13 @@ class MoreauJean final : public Stepper {
   std::vector<Vector> tie_columns_;
   Matrix problem_rows_;  // the problem's rows H (m × n), for a direct Delassus operator (structural_operators.h)
   Matrix problem_columns_, dense_columns_;  // a lumped World's Hᵀ and G = A⁻¹ Hᵀ (n × m each)
+  // A lumped World's kept detection (see the header): whether this step kept it, the margin it was made
+  // with (m), and what W, Hᵀ and G were formed for (the active candidates, A's factorization count and
+  // the equality rows' build count).
+  bool detection_kept_ = false;
+  double kept_margin_ = -1.0;
+  std::vector<int> delassus_rows_;
+  long delassus_factorization_ = -1, delassus_equalities_ = -1, equalities_built_ = 0;
   Vector tie_targets_, q_tie_rows_;
 };
 

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 
 namespace csim {
 namespace {
@@ -93,6 +94,39 @@ TEST(ContactDetector, TravelBoundCoversTheFastestPoint) {
   EXPECT_GE(detector.travel_bound(v, 0.1), 0.3 - 1e-15);
   v(offset + 5) = 2.0;  // rad/s: a corner at √0.5 m moves 2 √0.5 m/s more
   EXPECT_GE(detector.travel_bound(v, 0.1), 0.1 * (3.0 + 2.0 * std::sqrt(0.5)) - 1e-12);
+}
+
+// poses_within: the pose of every moving body against the last detection's, to a fraction of its
+// round-off (ε (|x| + radius) a translation entry, ε a rotation entry). A coordinate near zero may move
+// by far less than that (a cube at rest: 1e-25 m a step); a move the numbers can show may not.
+TEST(ContactDetector, PosesWithinAFractionOfRoundOffOfTheLastDetection) {
+  const auto scene = flat_cube();
+  const World& world = scene->world;
+  ContactDetector detector(world);
+  const State state = initial_state(world);
+  constexpr double kFraction = 1.0 / 1024.0;
+  EXPECT_FALSE(detector.poses_within(state.q, kFraction));  // nothing detected yet
+  std::vector<ActiveContact> contacts;
+  std::vector<SparseRow> rows;
+  detector.detect(state.q, 1e-6, contacts, rows);
+  EXPECT_TRUE(detector.poses_within(state.q, kFraction));
+  EXPECT_TRUE(detector.poses_within(state.q, 0.0));  // the same bits
+  const int offset = world.bodies[world.body_index("block")].position_offset;
+  const double radius = world.bodies[world.body_index("block")].body->bounding_radius;
+  ASSERT_GT(radius, 0.8);  // √3/2 for the unit cube
+  ASSERT_EQ(state.q(offset), 0.0);
+  const double unit = std::numeric_limits<double>::epsilon() * radius;  // x's round-off scale, m
+  struct Move {
+    int coordinate;
+    double by;
+    bool within;
+  };
+  for (const Move& m : {Move{0, 1e-25, true}, Move{0, 0.5 * kFraction * unit, true}, Move{0, 2.0 * kFraction * unit, false},
+                        Move{0, 1e-17, false}, Move{2, 1e-12, false}, Move{4, 1e-25, true}, Move{4, 1e-15, false}}) {
+    Vector q = state.q;
+    q(offset + m.coordinate) += m.by;
+    EXPECT_EQ(detector.poses_within(q, kFraction), m.within) << "coordinate " << m.coordinate << " moved by " << m.by;
+  }
 }
 
 // contact_rows appends a column of J at a time when no velocity component can appear twice (two
