@@ -1,5 +1,6 @@
 #include "engine/contact_detector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -164,15 +165,29 @@ void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b
 bool ContactDetector::poses_within(const Vector& q, double ulps) const {
   if (!detected_ || deformable_) return false;
   const double tolerance = ulps * std::numeric_limits<double>::epsilon();
-  for (std::size_t i = 0; i < moving_bodies_.size(); ++i) {
-    const BodyInstance& b = world_.bodies[moving_bodies_[i]];
-    const Eigen::Isometry3d pose = b.body->pose(b.positions(q));
-    const Eigen::Isometry3d& detected = detected_poses_[i];
+  // The coordinates first, at the scale of their largest kind (lengths up to the radius or 1 m, angles
+  // and quaternion entries up to 1): a moving body fails here, without forming a pose.
+  const double* detected = detected_positions_.data();
+  for (const int i : moving_bodies_) {
+    const BodyInstance& b = world_.bodies[i];
+    const auto positions = b.positions(q);
+    const double scale = std::max(b.body->bounding_radius, 1.0);
+    for (Eigen::Index k = 0; k < positions.size(); ++k)
+      if (!(std::abs(positions(k) - detected[k]) <= tolerance * (std::abs(detected[k]) + scale))) return false;
+    detected += positions.size();
+  }
+  detected = detected_positions_.data();
+  for (const int i : moving_bodies_) {
+    const BodyInstance& b = world_.bodies[i];
+    const auto positions = b.positions(q);
+    const Eigen::Isometry3d pose = b.body->pose(positions);
+    const Eigen::Isometry3d then = b.body->pose(Eigen::Map<const Vector>(detected, positions.size()));
     for (int k = 0; k < 3; ++k) {
-      const double x = detected.translation()(k);
+      const double x = then.translation()(k);
       if (!(std::abs(pose.translation()(k) - x) <= tolerance * (std::abs(x) + b.body->bounding_radius))) return false;
     }
-    if (!((pose.linear() - detected.linear()).cwiseAbs().maxCoeff() <= tolerance)) return false;
+    if (!((pose.linear() - then.linear()).cwiseAbs().maxCoeff() <= tolerance)) return false;
+    detected += positions.size();
   }
   return true;
 }
@@ -200,13 +215,12 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   contacts.clear();
   rows.clear();
   if (!collision_) return;
-  detected_poses_.resize(moving_bodies_.size());
-  for (std::size_t i = 0; i < moving_bodies_.size(); ++i) {
-    const BodyInstance& b = world_.bodies[moving_bodies_[i]];
-    detected_poses_[i] = b.body->pose(b.positions(q));
+  detected_positions_.clear();
+  for (const int i : moving_bodies_) {
+    const auto positions = world_.bodies[i].positions(q);
+    detected_positions_.insert(detected_positions_.end(), positions.data(), positions.data() + positions.size());
   }
   detected_ = true;
-  std::size_t moving = 0;  // objects come body by body, in the bodies' order
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;
@@ -215,8 +229,8 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
       collision_->set_node_positions(static_cast<int>(o), node_positions_[o]);
       continue;
     }
-    while (moving_bodies_[moving] != object_body_[o]) ++moving;
-    collision_->set_pose(static_cast<int>(o), detected_poses_[moving] * b.shapes[object_shape_[o]].local_pose);
+    collision_->set_pose(static_cast<int>(o),
+                         b.body->pose(b.positions(q)) * b.shapes[object_shape_[o]].local_pose);
   }
   collision_->update(margin);
   collision_->find_contacts(points_);

@@ -56,9 +56,10 @@ class ContactDetector {
   // Each deformable surface's node positions by collision object (its body's nodes; the surface's kept current).
   std::vector<std::vector<Eigen::Vector3d>> node_positions_;
   std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
-  // The bodies that touch through shapes and move, and their poses at the last detect().
+  // The bodies that touch through shapes and move, and their coordinates at the last detect(), one
+  // body after the other.
   std::vector<int> moving_bodies_;
-  std::vector<Eigen::Isometry3d> detected_poses_;
+  std::vector<double> detected_positions_;
   bool detected_ = false, deformable_ = false;
   std::vector<ContactPoint> points_;
 };

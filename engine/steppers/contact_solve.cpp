@@ -21,22 +21,16 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
   }
 }
 
-std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
-                           double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c,
-                           std::vector<ContactStatus>* status_scratch) {
-  if (problem.size() == 0) return "";
-  std::vector<ContactStatus> own_status;
-  std::vector<ContactStatus>& status = status_scratch ? *status_scratch : own_status;
-  status.clear();
-  const PgsStatistics stats = pgs.solve(problem, r, &status);
+std::string account_contact_solve(const PgsStatistics& stats, int dimension, double failure_residual, double t_next,
+                                  const Vector& r, const std::vector<ContactStatus>& status,
+                                  std::vector<ActiveContact>& active, SolverCounters& c) {
   ++c.solves;
   c.total_iterations += stats.iterations;
   c.max_iterations = std::max(c.max_iterations, stats.iterations);
   c.max_residual = std::max(c.max_residual, stats.residual);
   c.rejected_local_solutions += stats.rejected_local_solutions;
-  const int d = problem.dimension;
   for (std::size_t i = 0; i < active.size(); ++i) {
-    active[i].impulse.head(d) = r.segment(d * i, d);
+    active[i].impulse.head(dimension) = r.segment(dimension * i, dimension);
     active[i].status = status.empty() ? ContactStatus::open : status[i];
   }
   if (stats.converged) return "";
@@ -47,6 +41,18 @@ std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& p
           << stats.iterations << " iterations (failure threshold contact_solver.failure_residual = "
           << failure_residual << ")";
   return failure.str();
+}
+
+std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
+                           double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c,
+                           std::vector<ContactStatus>* status_scratch, PgsStatistics* statistics) {
+  if (problem.size() == 0) return "";
+  std::vector<ContactStatus> own_status;
+  std::vector<ContactStatus>& status = status_scratch ? *status_scratch : own_status;
+  status.clear();
+  const PgsStatistics stats = pgs.solve(problem, r, &status);
+  if (statistics) *statistics = stats;
+  return account_contact_solve(stats, problem.dimension, failure_residual, t_next, r, status, active, c);
 }
 
 }  // namespace csim

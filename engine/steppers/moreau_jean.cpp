@@ -107,7 +107,10 @@ void MoreauJean::summarize_settings(SummaryEntries& out) const {
 void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) const {
   if (state.counters.newton_iterations > 0) add_newton_group(state.counters, parameters_.newton_tolerance, out);
   if (two_halves_) out.add("detections_retaken", state.counters.detections_retaken);
-  if (operators_.explicit_inverse() && !detector_.empty()) out.add("detections_kept", state.counters.detections_kept);
+  if (operators_.explicit_inverse() && !detector_.empty()) {
+    out.add("detections_kept", state.counters.detections_kept);
+    out.add("contact_solves_repeated", state.counters.solves_repeated);
+  }
 }
 
 void MoreauJean::initialize(State& state) {
@@ -338,9 +341,10 @@ void MoreauJean::gather_columns() {
 // products (small_dense_products.h), with Hᵀ's columns the problem's rows. No solve.
 void MoreauJean::dense_delassus() {
   // Kept with the detection, for the same active contacts, equality rows and A⁻¹ (see the header).
-  if (detection_kept_ && delassus_rows_ == active_rows_ && delassus_factorization_ == operators_.factorizations() &&
-      delassus_equalities_ == equalities_built_)
-    return;
+  delassus_kept_ = detection_kept_ && delassus_rows_ == active_rows_ &&
+                  delassus_factorization_ == operators_.factorizations() && delassus_equalities_ == equalities_built_;
+  if (delassus_kept_) return;
+  ++delassus_formed_;
   delassus_rows_ = active_rows_;
   delassus_factorization_ = operators_.factorizations();
   delassus_equalities_ = equalities_built_;
@@ -512,11 +516,37 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
   if (warm_from_state || r_.size() != problem_.size())
     warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
   const double t_next = state.t + parameters_.step;
+  // A lumped World's problem the same to the bit as the last kept one (the same W, b, μ and warm start)
+  // has its solution: the solve is a function of them (see the header).
+  KeptSolve& kept = kept_solve_;
+  if (delassus_kept_ && kept.delassus == delassus_formed_ && problem_.size() > 0 && kept.b.size() == problem_.b.size() &&
+      kept.b == problem_.b && kept.mu == problem_.mu && kept.warm == r_) {
+    r_ = kept.r;
+    statuses_ = kept.status;
+    ++state.counters.solves_repeated;
+    if (const std::string failure = account_contact_solve(kept.statistics, contact_dimension_, parameters_.failure_residual,
+                                                          t_next, r_, statuses_, active_, state.counters);
+        !failure.empty())
+      throw RunError(t_next, failure);
+    return;
+  }
+  if (delassus_kept_) {
+    kept.delassus = delassus_formed_;
+    kept.b = problem_.b;
+    kept.mu = problem_.mu;
+    kept.warm = r_;
+  }
   if (const std::string failure =
           solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, state.counters,
-                         &statuses_);
+                         &statuses_, &kept.statistics);
       !failure.empty())
     throw RunError(t_next, failure);
+  if (delassus_kept_) {
+    kept.r = r_;
+    kept.status = statuses_;
+  } else {
+    kept.delassus = -1;
+  }
 }
 
 void MoreauJean::update(State& state) {

@@ -48,7 +48,10 @@
 // by an ulp: the kept one is the same to round-off. A body at rest costs no detection and no Delassus
 // operator (incline-3d: the coordinates that are near zero move by about 1e-25 a step, the others not at
 // all); a candidate kept beyond the step's margin is not considered (the same set as a new detection).
-// SolverCounters::detections_kept counts those steps. Why a fraction of an ulp: kept over a few ulps of
+// SolverCounters::detections_kept counts those steps. With W kept, a contact problem whose b, μ and warm
+// start are the last solved ones to the bit (a body at rest: sdnd100-a's pad once stopped, whose
+// condensed problem takes Gauss–Seidel's slip scan at every step) takes that solve's impulses and
+// statistics (SolverCounters::solves_repeated). Why a fraction of an ulp: kept over a few ulps of
 // motion, a contact's gap, frozen or moved to first order, falls below what the coordinates resolve, and
 // the closing term of step 3 then pushes at it at every step with a velocity the positions cannot follow
 // (a block at rest on `incline` kept 4e-14 rad/s; bench/lumped_vs_bullet.md, tenth session).
@@ -210,6 +213,17 @@ class MoreauJean final : public Stepper {
   double kept_margin_ = -1.0;
   std::vector<int> delassus_rows_;
   long delassus_factorization_ = -1, delassus_equalities_ = -1, equalities_built_ = 0;
+  bool delassus_kept_ = false;  // this step's W, Hᵀ and G are the last formed (the delassus_formed_-th)
+  long delassus_formed_ = 0;
+  // The last solve of a step that kept W, which a step may repeat: the W it had (delassus_formed_), its
+  // b, μ and warm start, and its impulses, statuses and statistics.
+  struct KeptSolve {
+    long delassus = -1;
+    Vector b, warm, r;
+    std::vector<Eigen::Vector2d> mu;
+    std::vector<ContactStatus> status;
+    PgsStatistics statistics;
+  } kept_solve_;
   Vector tie_targets_, q_tie_rows_;
 };
 

@@ -333,6 +333,34 @@ TEST(MoreauJean, KeptDetectionGivesAFreshSteppersStep) {
   }
 }
 
+// With W kept, a contact problem the same to the bit as the last solved one takes its solution
+// (moreau_jean.h): sdnd100-a's pad, stopped by 0.13 s, repeats its solve at every step. A fresh stepper,
+// which solves, takes the same step from the same state to the bit, and counts the same sweeps.
+TEST(MoreauJean, RepeatedContactSolveIsAFreshSolve) {
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnd100-a/scene.yaml", {"time.step=2e-6"});
+  const MoreauJeanParameters p = moreau_jean_parameters(scene->run);
+  MoreauJean kept(scene->world, p);
+  State s = initial_state(scene->world);
+  kept.initialize(s);
+  for (int k = 0; k < 70000; ++k) kept.step(s);  // t = 0.14 s
+  ASSERT_GT(s.counters.solves_repeated, 1000);
+  ASSERT_EQ(s.contacts.size(), 1u);
+  State fresh_state = s;
+  MoreauJean fresh(scene->world, p);
+  const long repeated = s.counters.solves_repeated, sweeps = s.counters.total_iterations;
+  kept.step(s);
+  fresh.step(fresh_state);
+  EXPECT_EQ(s.counters.solves_repeated, repeated + 1);
+  EXPECT_EQ(fresh_state.counters.solves_repeated, repeated);
+  EXPECT_EQ(s.counters.total_iterations - sweeps, fresh_state.counters.total_iterations - sweeps);
+  EXPECT_TRUE(s.v == fresh_state.v);
+  EXPECT_TRUE(s.q == fresh_state.q);
+  EXPECT_TRUE(s.contacts[0].impulse == fresh_state.contacts[0].impulse);
+  EXPECT_EQ(s.contacts[0].status, fresh_state.contacts[0].status);
+  EXPECT_TRUE(s.contacts[0].impulse.head<3>().allFinite());
+  EXPECT_GT(s.contacts[0].impulse(0), 0.0);  // pressed: 10 N · h
+}
+
 // A World stepped side by side in two halves and with v_free formed whole (moreau_jean.h).
 struct HalvesAndWhole {
   static MoreauJeanParameters whole(MoreauJeanParameters p) {
