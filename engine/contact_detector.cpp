@@ -1,6 +1,5 @@
 #include "engine/contact_detector.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -122,7 +121,12 @@ ContactDetector::ContactDetector(const World& world)
       deformable_ = true;
       continue;
     }
-    if (!b.body->fixed() && !b.shapes.empty()) moving_bodies_.push_back(i);
+    if (!b.body->fixed() && !b.shapes.empty()) {
+      for (int k = 0; k < b.body->position_size(); ++k) {
+        coordinate_index_.push_back(b.position_offset + k);
+        coordinate_scale_.push_back(k < b.body->translation_coordinates() ? b.body->bounding_radius : 1.0);
+      }
+    }
     for (std::size_t s = 0; s < b.shapes.size(); ++s) {
       const int object = collision_->add_object(i, b.shapes[s].shape, b.body->fixed());
       object_body_.resize(object + 1);
@@ -162,32 +166,12 @@ void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b
   }
 }
 
-bool ContactDetector::poses_within(const Vector& q, double ulps) const {
+bool ContactDetector::positions_within(const Vector& q, double ulps) const {
   if (!detected_ || deformable_) return false;
   const double tolerance = ulps * std::numeric_limits<double>::epsilon();
-  // The coordinates first, at the scale of their largest kind (lengths up to the radius or 1 m, angles
-  // and quaternion entries up to 1): a moving body fails here, without forming a pose.
-  const double* detected = detected_positions_.data();
-  for (const int i : moving_bodies_) {
-    const BodyInstance& b = world_.bodies[i];
-    const auto positions = b.positions(q);
-    const double scale = std::max(b.body->bounding_radius, 1.0);
-    for (Eigen::Index k = 0; k < positions.size(); ++k)
-      if (!(std::abs(positions(k) - detected[k]) <= tolerance * (std::abs(detected[k]) + scale))) return false;
-    detected += positions.size();
-  }
-  detected = detected_positions_.data();
-  for (const int i : moving_bodies_) {
-    const BodyInstance& b = world_.bodies[i];
-    const auto positions = b.positions(q);
-    const Eigen::Isometry3d pose = b.body->pose(positions);
-    const Eigen::Isometry3d then = b.body->pose(Eigen::Map<const Vector>(detected, positions.size()));
-    for (int k = 0; k < 3; ++k) {
-      const double x = then.translation()(k);
-      if (!(std::abs(pose.translation()(k) - x) <= tolerance * (std::abs(x) + b.body->bounding_radius))) return false;
-    }
-    if (!((pose.linear() - then.linear()).cwiseAbs().maxCoeff() <= tolerance)) return false;
-    detected += positions.size();
+  for (std::size_t j = 0; j < detected_positions_.size(); ++j) {
+    const double then = detected_positions_[j];
+    if (!(std::abs(q(coordinate_index_[j]) - then) <= tolerance * (std::abs(then) + coordinate_scale_[j]))) return false;
   }
   return true;
 }
@@ -215,11 +199,8 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   contacts.clear();
   rows.clear();
   if (!collision_) return;
-  detected_positions_.clear();
-  for (const int i : moving_bodies_) {
-    const auto positions = world_.bodies[i].positions(q);
-    detected_positions_.insert(detected_positions_.end(), positions.data(), positions.data() + positions.size());
-  }
+  detected_positions_.resize(coordinate_index_.size());
+  for (std::size_t j = 0; j < coordinate_index_.size(); ++j) detected_positions_[j] = q(coordinate_index_[j]);
   detected_ = true;
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
     const BodyInstance& b = world_.bodies[object_body_[o]];

@@ -28,11 +28,12 @@ class ContactDetector {
   void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, std::vector<SparseRow>& rows);
 
   // Whether every moving body that touches through shapes is where the last detect() put it, to `ulps`
-  // units of round-off (a fraction of one, for MoreauJean's kept detection): each entry of its pose's
-  // translation within ulps·ε·(|x| + ρ), ρ its bounding radius (m), and each of its rotation matrix
-  // within ulps·ε (ε the double's machine epsilon). False before the first detect() and for a World with
-  // a deformable surface.
-  bool poses_within(const Vector& q, double ulps) const;
+  // units of round-off (a fraction of one, for MoreauJean's kept detection): each coordinate x within
+  // ulps·ε·(|x| + s), s the body's bounding radius (m) for a length and 1 for an angle or a quaternion
+  // entry (ε the double's machine epsilon). A point of a shape then moved by at most a few times that
+  // fraction of its coordinates' round-off. False before the first detect() and for a World with a
+  // deformable surface.
+  bool positions_within(const Vector& q, double ulps) const;
 
   // The Jacobian of a contact's point on one side: on an elastic body its surface point (nodes and
   // weights), otherwise the body's material point under the world point.
@@ -56,10 +57,10 @@ class ContactDetector {
   // Each deformable surface's node positions by collision object (its body's nodes; the surface's kept current).
   std::vector<std::vector<Eigen::Vector3d>> node_positions_;
   std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
-  // The bodies that touch through shapes and move, and their coordinates at the last detect(), one
-  // body after the other.
-  std::vector<int> moving_bodies_;
-  std::vector<double> detected_positions_;
+  // The coordinates of the bodies that touch through shapes and move: their indices in q, their scales
+  // (positions_within) and their values at the last detect().
+  std::vector<int> coordinate_index_;
+  std::vector<double> coordinate_scale_, detected_positions_;
   bool detected_ = false, deformable_ = false;
   std::vector<ContactPoint> points_;
 };

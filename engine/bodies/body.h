@@ -84,6 +84,9 @@ class Body {
   virtual ~Body() = default;
 
   virtual int position_size() const = 0;
+  // How many of the coordinates, from the first, are lengths (m); the others are angles (rad) or a
+  // quaternion's entries.
+  virtual int translation_coordinates() const { return position_size(); }
   virtual int velocity_size() const = 0;
   bool fixed() const { return velocity_size() == 0; }
 

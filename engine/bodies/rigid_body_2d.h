@@ -12,6 +12,7 @@ class RigidBody2d final : public Body {
   RigidBody2d(double mass, double inertia) : mass_(mass), inertia_(inertia) {}
 
   int position_size() const override { return 3; }
+  int translation_coordinates() const override { return 2; }
   int velocity_size() const override { return 3; }
   double mass() const override { return mass_; }
   void add_mass(int offset, Triplets& mass) const override;

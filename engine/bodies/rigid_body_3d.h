@@ -16,6 +16,7 @@ class RigidBody3d final : public Body {
       : mass_(mass), inertia_(principal_inertia) {}
 
   int position_size() const override { return 7; }
+  int translation_coordinates() const override { return 3; }
   int velocity_size() const override { return 6; }
   double mass() const override { return mass_; }
   void add_mass(int offset, Triplets& mass) const override;

@@ -24,8 +24,8 @@ constexpr double kReachGrowth = 2.0;
 
 constexpr int kTimerSampling = 16;
 
-// A lumped World keeps its last detection while every moving body's pose stays within this fraction of
-// a unit of round-off of where it was made (ContactDetector::poses_within), and detects with this
+// A lumped World keeps its last detection while every moving body's coordinates stay within this
+// fraction of a unit of round-off of where it was made (ContactDetector::positions_within), and detects with this
 // multiple of the margin the step needs, so that a body at rest, whose margin moves in its last bits
 // from step to step, keeps it (see the header).
 constexpr double kKeptPoseUlps = 1.0 / 1024.0;
@@ -233,7 +233,7 @@ void MoreauJean::detect(const State& state) {
   }
   const double margin = detection_margin_ = 2.0 * reach + 1e-12;
   if (operators_.explicit_inverse()) {  // a lumped World: the last detection kept, or a new one with slack
-    detection_kept_ = margin <= kept_margin_ && detector_.poses_within(state.q, kKeptPoseUlps);
+    detection_kept_ = margin <= kept_margin_ && detector_.positions_within(state.q, kKeptPoseUlps);
     if (!detection_kept_) {
       kept_margin_ = kKeptMarginSlack * margin;
       detector_.detect(state.q, kept_margin_, candidates_, candidate_rows_);

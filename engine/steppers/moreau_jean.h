@@ -41,20 +41,21 @@
 //
 // A lumped World (point masses, rigid bodies, springs) keeps its last detection (its candidates and
 // their rows) and, for the same active contacts, equality rows and A⁻¹, its W, Hᵀ and A⁻¹ Hᵀ, while
-// every moving body's pose stays within 1/1024 of a unit of round-off of where it was detected
-// (ContactDetector::poses_within: ε (|x| + its radius) a translation, ε a rotation entry) and the step's
-// margin within the one it was detected with, twice that step's. A detection at such a pose would round
-// to the same numbers but where an exact value lies that close to a rounding boundary, and then differs
-// by an ulp: the kept one is the same to round-off. A body at rest costs no detection and no Delassus
-// operator (incline-3d: the coordinates that are near zero move by about 1e-25 a step, the others not at
-// all); a candidate kept beyond the step's margin is not considered (the same set as a new detection).
-// SolverCounters::detections_kept counts those steps. With W kept, a contact problem whose b, μ and warm
-// start are the last solved ones to the bit (a body at rest: sdnd100-a's pad once stopped, whose
-// condensed problem takes Gauss–Seidel's slip scan at every step) takes that solve's impulses and
-// statistics (SolverCounters::solves_repeated). Why a fraction of an ulp: kept over a few ulps of
-// motion, a contact's gap, frozen or moved to first order, falls below what the coordinates resolve, and
-// the closing term of step 3 then pushes at it at every step with a velocity the positions cannot follow
-// (a block at rest on `incline` kept 4e-14 rad/s; bench/lumped_vs_bullet.md, tenth session).
+// every coordinate of the moving bodies stays within 1/1024 of a unit of round-off of where it was
+// detected (ContactDetector::positions_within: ε (|x| + the body's radius) a length, ε (|x| + 1) an angle
+// or a quaternion entry) and the step's margin within the one it was detected with, twice that step's.
+// A detection there would round to the same numbers but where an exact value lies that close to a
+// rounding boundary, and then differ by an ulp: the kept one is the same to round-off. A body at rest
+// costs no detection and no Delassus operator (incline-3d: the coordinates near zero move by about 1e-25
+// a step, the others not at all); a candidate kept beyond the step's margin is not considered (the same
+// set as a new detection). SolverCounters::detections_kept counts those steps.
+// With W kept, a contact problem whose b, μ and warm start are the last solved ones to the bit (a body
+// at rest: sdnd100-a's pad once stopped, whose condensed problem takes Gauss–Seidel's slip scan at every
+// step) takes that solve's impulses and statistics (SolverCounters::solves_repeated).
+// Why a fraction of an ulp: kept over a few ulps of motion, a contact's gap, frozen or moved to first
+// order, falls below what the coordinates resolve, and the closing term of step 3 then pushes at it at
+// every step with a velocity the positions cannot follow (a block at rest on `incline` kept 4e-14 rad/s;
+// bench/lumped_vs_bullet.md, tenth session).
 //
 // Finite-strain bodies (nonlinear internal force f(q), tangent K_T(q)): the step is the implicit
 //   M (v_{k+1} − v_k) = h [f_loads + θ f(q_{k+1}) + (1−θ) f(q_k) − C v_θ] + Hᵀ r,

@@ -96,21 +96,21 @@ TEST(ContactDetector, TravelBoundCoversTheFastestPoint) {
   EXPECT_GE(detector.travel_bound(v, 0.1), 0.1 * (3.0 + 2.0 * std::sqrt(0.5)) - 1e-12);
 }
 
-// poses_within: the pose of every moving body against the last detection's, to a fraction of its
-// round-off (ε (|x| + radius) a translation entry, ε a rotation entry). A coordinate near zero may move
+// positions_within: every moving body's coordinates against the last detection's, to a fraction of their
+// round-off (ε (|x| + radius) a length, ε (|x| + 1) a quaternion entry). A coordinate near zero may move
 // by far less than that (a cube at rest: 1e-25 m a step); a move the numbers can show may not.
-TEST(ContactDetector, PosesWithinAFractionOfRoundOffOfTheLastDetection) {
+TEST(ContactDetector, PositionsWithinAFractionOfRoundOffOfTheLastDetection) {
   const auto scene = flat_cube();
   const World& world = scene->world;
   ContactDetector detector(world);
   const State state = initial_state(world);
   constexpr double kFraction = 1.0 / 1024.0;
-  EXPECT_FALSE(detector.poses_within(state.q, kFraction));  // nothing detected yet
+  EXPECT_FALSE(detector.positions_within(state.q, kFraction));  // nothing detected yet
   std::vector<ActiveContact> contacts;
   std::vector<SparseRow> rows;
   detector.detect(state.q, 1e-6, contacts, rows);
-  EXPECT_TRUE(detector.poses_within(state.q, kFraction));
-  EXPECT_TRUE(detector.poses_within(state.q, 0.0));  // the same bits
+  EXPECT_TRUE(detector.positions_within(state.q, kFraction));
+  EXPECT_TRUE(detector.positions_within(state.q, 0.0));  // the same bits
   const int offset = world.bodies[world.body_index("block")].position_offset;
   const double radius = world.bodies[world.body_index("block")].body->bounding_radius;
   ASSERT_GT(radius, 0.8);  // √3/2 for the unit cube
@@ -125,7 +125,7 @@ TEST(ContactDetector, PosesWithinAFractionOfRoundOffOfTheLastDetection) {
                         Move{0, 1e-17, false}, Move{2, 1e-12, false}, Move{4, 1e-25, true}, Move{4, 1e-15, false}}) {
     Vector q = state.q;
     q(offset + m.coordinate) += m.by;
-    EXPECT_EQ(detector.poses_within(q, kFraction), m.within) << "coordinate " << m.coordinate << " moved by " << m.by;
+    EXPECT_EQ(detector.positions_within(q, kFraction), m.within) << "coordinate " << m.coordinate << " moved by " << m.by;
   }
 }
 
