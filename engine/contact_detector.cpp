@@ -166,8 +166,14 @@ void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b
   }
 }
 
+void ContactDetector::remember_positions(const Vector& q) {
+  detected_positions_.resize(coordinate_index_.size());
+  for (std::size_t j = 0; j < coordinate_index_.size(); ++j) detected_positions_[j] = q(coordinate_index_[j]);
+  remembered_ = true;
+}
+
 bool ContactDetector::positions_within(const Vector& q, double ulps) const {
-  if (!detected_ || deformable_) return false;
+  if (!remembered_ || deformable_) return false;
   const double tolerance = ulps * std::numeric_limits<double>::epsilon();
   for (std::size_t j = 0; j < detected_positions_.size(); ++j) {
     const double then = detected_positions_[j];
@@ -199,9 +205,7 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   contacts.clear();
   rows.clear();
   if (!collision_) return;
-  detected_positions_.resize(coordinate_index_.size());
-  for (std::size_t j = 0; j < coordinate_index_.size(); ++j) detected_positions_[j] = q(coordinate_index_[j]);
-  detected_ = true;
+  remembered_ = false;
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;

@@ -27,12 +27,15 @@ class ContactDetector {
   // point with its frame), `rows` their H rows: contact i owns rows [dimension·i, dimension·(i+1)).
   void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, std::vector<SparseRow>& rows);
 
+  // Keeps the coordinates q that the last detect() was made at, for positions_within (a detection whose
+  // positions are not remembered keeps nothing).
+  void remember_positions(const Vector& q);
   // Whether every moving body that touches through shapes is where the last detect() put it, to `ulps`
   // units of round-off (a fraction of one, for MoreauJean's kept detection): each coordinate x within
   // ulps·ε·(|x| + s), s the body's bounding radius (m) for a length and 1 for an angle or a quaternion
   // entry (ε the double's machine epsilon). A point of a shape then moved by at most a few times that
-  // fraction of its coordinates' round-off. False before the first detect() and for a World with a
-  // deformable surface.
+  // fraction of its coordinates' round-off. False unless the last detect()'s positions were remembered,
+  // and for a World with a deformable surface.
   bool positions_within(const Vector& q, double ulps) const;
 
   // The Jacobian of a contact's point on one side: on an elastic body its surface point (nodes and
@@ -61,7 +64,7 @@ class ContactDetector {
   // (positions_within) and their values at the last detect().
   std::vector<int> coordinate_index_;
   std::vector<double> coordinate_scale_, detected_positions_;
-  bool detected_ = false, deformable_ = false;
+  bool remembered_ = false, deformable_ = false;
   std::vector<ContactPoint> points_;
 };
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace csim {
@@ -203,7 +204,7 @@ void MoreauJean::detect(const State& state) {
   }
   const double h = parameters_.step, theta = parameters_.theta;
   // Broad-phase margin: twice the farthest any point can travel in one step.
-  double reach = 0.0;
+  double reach = 0.0, still = std::numeric_limits<double>::infinity();  // still: v_k's travel
   if (two_halves_ && !free_velocity_formed_) {
     // No v_free (see the header): twice the travel of the faster of v_k and the last step's v_θ, which
     // step_in_two_halves checks the step's motion against.
@@ -227,16 +228,21 @@ void MoreauJean::detect(const State& state) {
     }
     // Unprescribed, v_θ,free lies between v_k and v_free (θ ∈ [½, 1]), and a travel bound, convex in v,
     // is then at most the larger of theirs (to a rounding of the margin).
-    reach = std::max(detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h));
+    still = detector_.travel_bound(state.v, h);
+    reach = std::max(still, detector_.travel_bound(v_free_, h));
     if (!equalities_.prescriptions.empty()) reach = std::max(reach, detector_.travel_bound(v_predicted_, h));
     if (reach_velocity_.size() > 0) reach = std::max(reach, detector_.travel_bound(reach_velocity_, h));
   }
   const double margin = detection_margin_ = 2.0 * reach + 1e-12;
   if (operators_.explicit_inverse()) {  // a lumped World: the last detection kept, or a new one with slack
-    detection_kept_ = margin <= kept_margin_ && detector_.positions_within(state.q, kKeptPoseUlps);
+    // Only at rest (v_k travels less than the tolerance in a step) is a detection remembered and kept:
+    // a moving World's step does none of that bookkeeping.
+    at_rest_ = still <= kKeptPoseUlps * std::numeric_limits<double>::epsilon() * length_;
+    detection_kept_ = at_rest_ && margin <= kept_margin_ && detector_.positions_within(state.q, kKeptPoseUlps);
     if (!detection_kept_) {
       kept_margin_ = kKeptMarginSlack * margin;
       detector_.detect(state.q, kept_margin_, candidates_, candidate_rows_);
+      if (at_rest_) detector_.remember_positions(state.q);
     }
   } else {
     detector_.detect(state.q, margin, candidates_, candidate_rows_);
@@ -345,9 +351,11 @@ void MoreauJean::dense_delassus() {
                   delassus_factorization_ == operators_.factorizations() && delassus_equalities_ == equalities_built_;
   if (delassus_kept_) return;
   ++delassus_formed_;
-  delassus_rows_ = active_rows_;
-  delassus_factorization_ = operators_.factorizations();
-  delassus_equalities_ = equalities_built_;
+  if (at_rest_) {  // what the next steps compare, if they keep the detection (only at rest)
+    delassus_rows_ = active_rows_;
+    delassus_factorization_ = operators_.factorizations();
+    delassus_equalities_ = equalities_built_;
+  }
   const int m = static_cast<int>(rows_.size()) + equality_count();
   problem_columns_.setZero(world_.velocity_size, m);  // Hᵀ
   const int contact_rows = static_cast<int>(rows_.size());

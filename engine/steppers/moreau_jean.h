@@ -48,7 +48,9 @@
 // rounding boundary, and then differ by an ulp: the kept one is the same to round-off. A body at rest
 // costs no detection and no Delassus operator (incline-3d: the coordinates near zero move by about 1e-25
 // a step, the others not at all); a candidate kept beyond the step's margin is not considered (the same
-// set as a new detection). SolverCounters::detections_kept counts those steps.
+// set as a new detection). Only a World whose v_k travels less than that tolerance in a step (about
+// 2e-19 of its length scale) remembers and compares: a moving one does none of it. SolverCounters::
+// detections_kept counts the steps that kept their detection.
 // With W kept, a contact problem whose b, μ and warm start are the last solved ones to the bit (a body
 // at rest: sdnd100-a's pad once stopped, whose condensed problem takes Gauss–Seidel's slip scan at every
 // step) takes that solve's impulses and statistics (SolverCounters::solves_repeated).
@@ -207,10 +209,11 @@ class MoreauJean final : public Stepper {
   std::vector<Vector> tie_columns_;
   Matrix problem_rows_;  // the problem's rows H (m × n), for a direct Delassus operator (structural_operators.h)
   Matrix problem_columns_, dense_columns_;  // a lumped World's Hᵀ and G = A⁻¹ Hᵀ (n × m each)
-  // A lumped World's kept detection (see the header): whether this step kept it, the margin it was made
-  // with (m), and what W, Hᵀ and G were formed for (the active candidates, A's factorization count and
-  // the equality rows' build count).
-  bool detection_kept_ = false;
+  // A lumped World's kept detection (see the header): whether v_k travels less than its tolerance in a
+  // step (the bookkeeping is done only then), whether this step kept it, the margin it was made with
+  // (m), and what W, Hᵀ and G were formed for (the active candidates, A's factorization count and the
+  // equality rows' build count).
+  bool at_rest_ = false, detection_kept_ = false;
   double kept_margin_ = -1.0;
   std::vector<int> delassus_rows_;
   long delassus_factorization_ = -1, delassus_equalities_ = -1, equalities_built_ = 0;

@@ -109,6 +109,8 @@ TEST(ContactDetector, PositionsWithinAFractionOfRoundOffOfTheLastDetection) {
   std::vector<ActiveContact> contacts;
   std::vector<SparseRow> rows;
   detector.detect(state.q, 1e-6, contacts, rows);
+  EXPECT_FALSE(detector.positions_within(state.q, kFraction));  // detected, its positions not remembered
+  detector.remember_positions(state.q);
   EXPECT_TRUE(detector.positions_within(state.q, kFraction));
   EXPECT_TRUE(detector.positions_within(state.q, 0.0));  // the same bits
   const int offset = world.bodies[world.body_index("block")].position_offset;
@@ -127,6 +129,8 @@ TEST(ContactDetector, PositionsWithinAFractionOfRoundOffOfTheLastDetection) {
     q(offset + m.coordinate) += m.by;
     EXPECT_EQ(detector.positions_within(q, kFraction), m.within) << "coordinate " << m.coordinate << " moved by " << m.by;
   }
+  detector.detect(state.q, 1e-6, contacts, rows);  // a new detection forgets the remembered positions
+  EXPECT_FALSE(detector.positions_within(state.q, kFraction));
 }
 
 // contact_rows appends a column of J at a time when no velocity component can appear twice (two
