@@ -252,7 +252,7 @@ void MoreauJean::detect(const State& state) {
     return;
   }
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    if (candidates_[k].point.gap > margin) continue;  // beyond this step's margin: a lumped World's slack
+    if (kept_margin_ > margin && candidates_[k].point.gap > margin) continue;  // a lumped World's slack
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at
     // rest under a load that presses it on the surface is caught at the first step, whatever the
     // round-off in its gap. A step taken again over its converged motion (step_newton) also
