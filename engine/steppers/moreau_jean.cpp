@@ -549,11 +549,9 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
                          &statuses_, &kept.statistics);
       !failure.empty())
     throw RunError(t_next, failure);
-  if (delassus_kept_) {
+  if (delassus_kept_) {  // (a W formed since has another count: delassus_formed_ moved on)
     kept.r = r_;
     kept.status = statuses_;
-  } else {
-    kept.delassus = -1;
   }
 }
 
