@@ -172,7 +172,7 @@ void SparseLdlt::analyse(const SparseMatrix& A) {
   outer_.assign(outer, outer + n + 1);
   inner_.assign(inner, inner + nnz);
   ++analyses_;
-  cholmod_complete_ = supernodal_ready_ = false;
+  cholmod_complete_ = supernodal_ready_ = sweeps_ready_ = false;
 }
 
 bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
@@ -204,6 +204,7 @@ bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
   cholmod_sparse upper = view_triangle(n, c.upper_start.data(), c.upper_row.data(), c.upper_value.data(), 1);
   double no_shift[2] = {0.0, 0.0};
   cholmod_factorize_p(&upper, no_shift, nullptr, 0, c.factor, &c.common);
+  sweeps_ready_ = false;
   if (c.common.status < CHOLMOD_OK) throw std::runtime_error("CHOLMOD could not factor the matrix (out of memory?)");
   cholmod_complete_ = c.factor->minor == c.factor->n && !c.factor->is_ll;
   if (!cholmod_complete_) {
@@ -308,20 +309,22 @@ double SparseLdlt::delassus_entry(const ForwardColumn& a, const ForwardColumn& b
   return sum;
 }
 
-// CHOLMOD's own L⁻ᵀ D⁻¹ sweep: it takes chains of columns that share their pattern up to four at a
-// time, so that the columns' sums run side by side instead of one long chain of dependent
-// subtractions (a column-by-column loop is bound by that latency: 2.5 to 3 times slower on the FE
-// shoe's factor, bench_factor's backward column). Its order of the sums within a chain differs from
-// such a loop's at round-off.
+const SupernodalSweeps& SparseLdlt::sweeps() const {
+  if (!sweeps_ready_) {
+    const Cholmod& c = *cholmod_;
+    sweeps_.analyse(size(), c.column_start(), c.column_count(), c.row_index());
+    sweeps_ready_ = true;
+  }
+  return sweeps_;
+}
+
 void SparseLdlt::back_substitute(const Vector& z, Vector& x) const {
   Cholmod& c = *cholmod_;
   const int n = size();
-  cholmod_dense rhs = dense_view(const_cast<double*>(z.data()), n);
-  if (!cholmod_solve2(CHOLMOD_DLt, c.factor, &rhs, nullptr, &c.x, nullptr, &c.y, &c.e, &c.common))
-    throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
-  const double* solution = static_cast<const double*>(c.x->x);
+  c.permuted = z;
+  sweeps().backward(c.column_start(), c.values(), c.permuted.data());
   x.resize(n);
-  for (int k = 0; k < n; ++k) x(c.permutation[k]) = solution[k];
+  for (int k = 0; k < n; ++k) x(c.permutation[k]) = c.permuted(k);
 }
 
 void SparseLdlt::scatter_scaled(const ForwardColumn& y, Vector& x) const {
@@ -338,19 +341,17 @@ void SparseLdlt::add_scaled(double a, const ForwardColumn& y, Vector& x) {
   for (std::size_t k = 0; k < y.index.size(); ++k) x(y.index[k]) += a * y.value[k];
 }
 
-// L⁻¹ P f into w (CHOLMOD's forward sweep on the permuted right-hand side).
+// L⁻¹ P f into w.
 void SparseLdlt::forward_sweep(const Vector& f, Vector& w) const {
-  Cholmod& c = *cholmod_;
+  const Cholmod& c = *cholmod_;
   const int n = size();
-  c.permuted.resize(n);
-  for (int k = 0; k < n; ++k) c.permuted(k) = f(c.permutation[k]);
-  cholmod_dense rhs = dense_view(c.permuted.data(), n);
-  if (!cholmod_solve2(CHOLMOD_L, c.factor, &rhs, nullptr, &c.x, nullptr, &c.y, &c.e, &c.common))
-    throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
-  w = Eigen::Map<const Vector>(static_cast<const double*>(c.x->x), n);
+  w.resize(n);
+  for (int k = 0; k < n; ++k) w(k) = f(c.permutation[k]);
+  sweeps().forward(c.column_start(), c.values(), w.data());
 }
 
 void SparseLdlt::forward_substitute(const Vector& f, Vector& w, Vector& z) const {
+  if (&f == &w) throw std::logic_error("SparseLdlt::forward_substitute: w must not be f");
   prepare_tree();
   forward_sweep(f, w);
   z = w.cwiseQuotient(pivots_);

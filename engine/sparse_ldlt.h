@@ -10,6 +10,11 @@
 // factorization's time. A matrix that is not positive definite is factored again by CHOLMOD, so that
 // the factor left is its complete LDLᵀ, as before.
 //
+// Solves. A whole solve (solve, solve_in_place) is CHOLMOD's. The two halves a linear step takes around
+// its contact solve (forward_substitute, back_substitute) are swept by supernodes over CHOLMOD's storage
+// (supernodal_sweeps.h): they stream a large L once each per step, and read by supernodes it is 8 bytes
+// an entry instead of 12 (docs/solver-measurements.md, ninth round). The two agree at round-off.
+//
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
 // iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
 // that couple nodes not yet coupled, such as a smoothed surface's, change it); they are recomputed
@@ -34,6 +39,7 @@
 
 #include "engine/bodies/body.h"
 #include "engine/supernodal_ldlt.h"
+#include "engine/supernodal_sweeps.h"
 
 #include <memory>
 #include <vector>
@@ -67,7 +73,7 @@ class SparseLdlt {
   // forward and one backward substitution for the pair, where A⁻¹ f and A⁻¹ Hᵀ r take two of each.
   void solve_free(const Vector& f, Vector& Hx);
   void solve_with_reactions(const Vector& r, Vector& x);
-  // The first half of a solve: w ← L⁻¹ P f and z ← D⁻¹ w (the factor's order), so that a row's
+  // The first half of a solve: w ← L⁻¹ P f and z ← D⁻¹ w (the factor's order; w is not f), so that a row's
   // h A⁻¹ f = dot(y_h, z) from its forward column y_h, and A⁻¹ (f + Hᵀ r) = back_substitute(w + Σ r_a y_a).
   void forward_substitute(const Vector& f, Vector& w, Vector& z) const;
   // y ← L⁻¹ P hᵀ for the row h = Σ_k value[k] e_{index[k]}ᵀ (count entries, distinct indices).
@@ -100,6 +106,11 @@ class SparseLdlt {
   // CHOLMOD's last complete factor of it, whose row indices they keep: ready once its pattern is checked.
   SupernodalLdlt supernodal_;
   bool cholmod_complete_ = false, supernodal_ready_ = false;
+  // The forward and backward sweeps by supernodes (supernodal_sweeps.h), of the pattern CHOLMOD's last
+  // complete factorization left in its storage (a supernodal refactorization keeps it).
+  mutable SupernodalSweeps sweeps_;
+  mutable bool sweeps_ready_ = false;
+  const SupernodalSweeps& sweeps() const;
   long supernodal_factorizations_ = 0;
   // The elimination tree (parent of each column of L, −1 at a root) and the diagonal D, read from L
   // after each factorization when forward asks.

@@ -3,6 +3,7 @@
 
 #include "engine/bodies/body.h"
 
+#include <cmath>
 #include <random>
 
 namespace csim::test {
@@ -32,6 +33,51 @@ inline SparseMatrix random_grid(int side, std::mt19937& random) {
   SparseMatrix A(n, n);
   A.setFromTriplets(t.begin(), t.end());
   return A;
+}
+
+inline SparseMatrix from_triplets(int n, const Triplets& t) {
+  SparseMatrix A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  A.makeCompressed();
+  return A;
+}
+
+// Random couplings (a few per row), diagonally dominant.
+inline SparseMatrix random_sparse(int n, std::mt19937& random) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::uniform_int_distribution<int> other(0, n - 1);
+  Triplets t;
+  Vector diagonal = Vector::Constant(n, 0.1);
+  for (int i = 0; i < n; ++i)
+    for (int e = 0; e < 2; ++e) {
+      const int j = other(random);
+      if (j == i) continue;
+      const double v = uniform(random);
+      t.emplace_back(i, j, v);
+      t.emplace_back(j, i, v);
+      diagonal(i) += std::abs(v);
+      diagonal(j) += std::abs(v);
+    }
+  for (int i = 0; i < n; ++i) t.emplace_back(i, i, diagonal(i));
+  return from_triplets(n, t);
+}
+
+// A chain whose last `hub` unknowns couple to every other one (a rigid hub carrying a ring).
+inline SparseMatrix arrow(int n, int hub) {
+  Triplets t;
+  for (int i = 0; i < n; ++i) {
+    t.emplace_back(i, i, 4.0 + 0.01 * i);
+    if (i > 0 && i < n - hub) {
+      t.emplace_back(i, i - 1, -1.0);
+      t.emplace_back(i - 1, i, -1.0);
+    }
+    for (int h = n - hub; h < n; ++h)
+      if (h != i) {
+        t.emplace_back(i, h, 0.1 / (1 + h - i + n));
+        t.emplace_back(h, i, 0.1 / (1 + h - i + n));
+      }
+  }
+  return from_triplets(n, t);
 }
 
 }  // namespace csim::test
