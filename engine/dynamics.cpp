@@ -258,18 +258,13 @@ struct SpringEnds {
   bool has_b = false;
 };
 
+// Each end's Jacobian is made in its place (a braced prvalue), not made and then copied in.
 SpringEnds spring_ends(const World& world, const Spring& s, const Vector& q) {
-  SpringEnds ends;
   const BodyInstance& a = world.bodies[s.body_a];
-  ends.a = a.body->point_jacobian(a.positions(q), s.point_a);
-  ends.offset_a = a.velocity_offset;
-  if (s.body_b >= 0) {
-    const BodyInstance& b = world.bodies[s.body_b];
-    ends.b = b.body->point_jacobian(b.positions(q), s.point_b);
-    ends.offset_b = b.velocity_offset;
-    ends.has_b = true;
-  }
-  return ends;
+  if (s.body_b < 0) return {a.body->point_jacobian(a.positions(q), s.point_a), {}, a.velocity_offset, 0, false};
+  const BodyInstance& b = world.bodies[s.body_b];
+  return {a.body->point_jacobian(a.positions(q), s.point_a), b.body->point_jacobian(b.positions(q), s.point_b),
+          a.velocity_offset, b.velocity_offset, true};
 }
 
 // The (global index, column) entries of a spring's Jacobian, at most six per end: a fixed-size list,

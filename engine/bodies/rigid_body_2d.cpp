@@ -35,6 +35,17 @@ Eigen::Isometry3d RigidBody2d::pose(const ConstVectorRef& q) const {
   return pose;
 }
 
+// pose(q) * local without forming the pose (springs and probes ask for points at every step): the
+// translation plus R local, each row's products summed over R's columns in turn, as Eigen's affine
+// product sums them (the terms of the zero entries included, for the same bits).
+Eigen::Vector3d RigidBody2d::point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
+  double c, s;
+  cos_sin(q(2), c, s);
+  const double x = local.x(), y = local.y(), z = local.z();
+  return {q(0) + ((c * x + (-s) * y) + 0.0 * z), q(1) + ((s * x + c * y) + 0.0 * z),
+          0.0 + ((0.0 * x + 0.0 * y) + ((1.0 - c) + c) * z)};
+}
+
 // v_point = v + ω e_z × (R r): the rotation column is e_z × (R r) = (−(Rr)_y, (Rr)_x, 0).
 PointJacobian RigidBody2d::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
   double c, s;

@@ -17,6 +17,7 @@ class RigidBody2d final : public Body {
   double mass() const override { return mass_; }
   void add_mass(int offset, Triplets& mass) const override;
   Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
+  Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   void project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x, const Eigen::Vector3d* const* axes,
                                     int axis_count, ProjectedJacobian& out) const override;

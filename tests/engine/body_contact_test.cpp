@@ -10,6 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 namespace csim {
 namespace {
 
@@ -73,6 +76,29 @@ TEST(BodyContact, RigidBody2dPointJacobianIsTheDerivativeOfItsPositionMap) {
   EXPECT_EQ(axes[0].first, 2);
   EXPECT_EQ(axes[0].second, Eigen::Vector3d::UnitZ());
   EXPECT_FALSE(body.contact_surface(true).has_value());
+}
+
+// A 2D rigid body's points are asked for at every step (springs, probes) without forming its pose: they
+// must be pose(q) * local to the bit, at any angle, for points on and off its plane and signed zeros.
+TEST(BodyContact, RigidBody2dPointWorldIsItsPoseTimesThePointToTheBit) {
+  const RigidBody2d body(1.5, 0.02);
+  std::mt19937 random(41);
+  std::uniform_real_distribution<double> uniform(-3.0, 3.0);
+  const double specials[] = {0.0, -0.0, 1.0, -1.0, 0.5, 1e-300, 3.0e17};
+  int differing = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Eigen::Vector3d q(uniform(random), uniform(random), 4.0 * uniform(random));
+    Eigen::Vector3d local(uniform(random), uniform(random), trial % 3 == 0 ? uniform(random) : 0.0);
+    if (trial < 343) {  // every combination of special values in x, y and the angle
+      q(2) = specials[trial % 7];
+      local(0) = specials[(trial / 7) % 7];
+      local(1) = specials[(trial / 49) % 7];
+    }
+    const Eigen::Vector3d expected = body.pose(q) * local, got = body.point_world(q, local);
+    for (int i = 0; i < 3; ++i)
+      if (std::signbit(expected(i)) != std::signbit(got(i)) || !(expected(i) == got(i))) ++differing;
+  }
+  EXPECT_EQ(differing, 0);
 }
 
 // The lumped bodies project a world point's Jacobian on the contact axes from the world lever arm
