@@ -10,10 +10,11 @@
 // factorization's time. A matrix that is not positive definite is factored again by CHOLMOD, so that
 // the factor left is its complete LDLᵀ, as before.
 //
-// Solves. A whole solve (solve, solve_in_place) is CHOLMOD's. The two halves a linear step takes around
-// its contact solve (forward_substitute, back_substitute) are swept by supernodes over CHOLMOD's storage
-// (supernodal_sweeps.h): they stream a large L once each per step, and read by supernodes it is 8 bytes
-// an entry instead of 12 (docs/solver-measurements.md, ninth round). The two agree at round-off.
+// Solves. A whole solve (solve, solve_in_place) is CHOLMOD's. The two halves of a solve around a contact
+// solve (forward_substitute, back_substitute, and solve_free, solve_with_reactions: a linear step's, the
+// quasi-static stepper's, a Newton step's impulses) are swept by supernodes over CHOLMOD's storage
+// (supernodal_sweeps.h): a linear step streams a large L once in each, and read by supernodes it is 8
+// bytes an entry instead of 12 (docs/solver-measurements.md, ninth round). The two agree at round-off.
 //
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
 // iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
