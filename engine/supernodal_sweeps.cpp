@@ -89,7 +89,7 @@ void SupernodalSweeps::forward(const int* start, const double* values, double* x
 // The supernodes from the last; within one, the dots below the diagonal block (independent of each other:
 // x there is final) in the storage's order, then the diagonal block from its last column.
 void SupernodalSweeps::backward(const int* start, const double* values, double* x) const {
-  long prefetched = empty() ? 0 : static_cast<long>(start[first_column_.back() - 1]) * 8;  // bytes from values
+  long prefetched = supernodes() == 0 ? 0 : static_cast<long>(start[first_column_.back() - 1]) * 8;  // bytes from values
   for (int s = supernodes() - 1; s >= 0; --s) {
     const int c0 = first_column_[s], w = first_column_[s + 1] - c0;
     const int* below = below_.data() + below_start_[s];

@@ -25,8 +25,7 @@ class SupernodalSweeps {
   // The supernodes of the storage's pattern (which the values do not change): column j + 1 joins j's
   // supernode when it is j's parent and its rows are j's below j.
   void analyse(int n, const int* start, const int* count, const int* row);
-  bool empty() const { return first_column_.empty(); }
-  int supernodes() const { return static_cast<int>(first_column_.size()) - 1; }
+  int supernodes() const { return first_column_.empty() ? 0 : static_cast<int>(first_column_.size()) - 1; }
   // x ← L⁻¹ x (x in the factor's order).
   void forward(const int* start, const double* values, double* x) const;
   // x ← L⁻ᵀ D⁻¹ x.

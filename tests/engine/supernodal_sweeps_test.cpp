@@ -90,6 +90,21 @@ TEST(SupernodalSweeps, SolveAsDenseTriangularSolvesOnEveryWidthOfSupernode) {
   EXPECT_LE(one.backward, 1e-14);
 }
 
+// Nothing to sweep: before any analysis, and for a pattern of no columns.
+TEST(SupernodalSweeps, AnEmptyPatternSweepsNothing) {
+  SupernodalSweeps sweeps;
+  double x = 1.5;
+  const int start[1] = {0};
+  sweeps.forward(start, nullptr, &x);
+  sweeps.backward(start, nullptr, &x);
+  EXPECT_EQ(sweeps.supernodes(), 0);
+  sweeps.analyse(0, start, nullptr, nullptr);
+  sweeps.forward(start, nullptr, &x);
+  sweeps.backward(start, nullptr, &x);
+  EXPECT_EQ(sweeps.supernodes(), 0);
+  EXPECT_EQ(x, 1.5);
+}
+
 // Inside SparseLdlt (its ordering, CHOLMOD's storage): the forward and backward halves compose to
 // CHOLMOD's whole solve at round-off, before and after a supernodal refactorization of the pattern.
 TEST(SupernodalSweeps, HalvesInSparseLdltComposeToItsSolve) {
