@@ -21,27 +21,13 @@ using test::random_sparse;
 // Factors A (its upper triangle, natural order) into a storage of L's own pattern; returns
 // |L D Lᵀ − A|∞ / |A|∞ (NaN when the factorization reports a pivot that is not > 0).
 double reconstruction_error(const SparseMatrix& A, int* supernodes = nullptr) {
-  const SparseMatrix upper = A.triangularView<Eigen::Upper>();
-  const int n = static_cast<int>(A.rows());
-  SupernodalLdlt factor;
-  factor.analyse(n, upper.outerIndexPtr(), upper.innerIndexPtr());
-  if (supernodes) *supernodes = factor.supernodes();
-  std::vector<int> start, row;
-  factor.pattern(start, row);
-  std::vector<int> count(n);
-  for (int j = 0; j < n; ++j) count[j] = start[j + 1] - start[j];
-  EXPECT_TRUE(factor.matches(start.data(), count.data(), row.data()));
-  std::vector<double> x(start[n], 0.0);
-  if (!factor.factor(upper.valuePtr(), start.data(), x.data())) return NAN;
-  Matrix L = Matrix::Identity(n, n);
-  Vector D(n);
-  for (int j = 0; j < n; ++j) {
-    EXPECT_EQ(row[start[j]], j);  // the diagonal first
-    D(j) = x[start[j]];
-    for (int q = start[j] + 1; q < start[j + 1]; ++q) L(row[q], j) = x[q];
-  }
+  const test::SimplicialFactor f = test::simplicial_factor(A);
+  if (supernodes) *supernodes = f.supernodes;
+  EXPECT_TRUE(f.pattern_matches);
+  if (!f.positive) return NAN;
+  for (int j = 0; j < static_cast<int>(A.rows()); ++j) EXPECT_EQ(f.row[f.start[j]], j);  // the diagonal first
   const Matrix dense(A);
-  return (L * D.asDiagonal() * L.transpose() - dense).lpNorm<Eigen::Infinity>() / dense.lpNorm<Eigen::Infinity>();
+  return (f.L * f.D.asDiagonal() * f.L.transpose() - dense).lpNorm<Eigen::Infinity>() / dense.lpNorm<Eigen::Infinity>();
 }
 
 TEST(SupernodalLdlt, FactorsGridsRandomAndArrowPatterns) {

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace csim {
@@ -20,42 +21,30 @@ using test::random_sparse;
 
 struct SweepErrors {
   double forward = 0.0, backward = 0.0;
-  int supernodes = 0, widest = 0;
+  int supernodes = 0;
 };
 
 // Factors A (natural order) into a simplicial storage, then sweeps b both ways by supernodes and
 // compares with L⁻¹ b and L⁻ᵀ D⁻¹ b by dense triangular solves (relative, in the largest entry).
 SweepErrors sweep_errors(const SparseMatrix& A, std::mt19937& random) {
-  const SparseMatrix upper = A.triangularView<Eigen::Upper>();
+  const test::SimplicialFactor f = test::simplicial_factor(A);
+  EXPECT_TRUE(f.positive);
+  if (!f.positive) return {NAN, NAN, 0};  // fails every bound below
   const int n = static_cast<int>(A.rows());
-  SupernodalLdlt factor;
-  factor.analyse(n, upper.outerIndexPtr(), upper.innerIndexPtr());
-  std::vector<int> start, row;
-  factor.pattern(start, row);
-  std::vector<int> count(n);
-  for (int j = 0; j < n; ++j) count[j] = start[j + 1] - start[j];
-  std::vector<double> values(start[n], 0.0);
-  EXPECT_TRUE(factor.factor(upper.valuePtr(), start.data(), values.data()));
-  Matrix L = Matrix::Identity(n, n);
-  Vector D(n);
-  for (int j = 0; j < n; ++j) {
-    D(j) = values[start[j]];
-    for (int q = start[j] + 1; q < start[j + 1]; ++q) L(row[q], j) = values[q];
-  }
   SupernodalSweeps sweeps;
-  sweeps.analyse(n, start.data(), count.data(), row.data());
+  sweeps.analyse(n, f.start.data(), f.count.data(), f.row.data());
   SweepErrors errors;
   errors.supernodes = sweeps.supernodes();
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   Vector b(n);
   for (int i = 0; i < n; ++i) b(i) = uniform(random);
   Vector x = b;
-  sweeps.forward(start.data(), values.data(), x.data());
-  const Vector forward = L.triangularView<Eigen::UnitLower>().solve(b);
+  sweeps.forward(f.start.data(), f.values.data(), x.data());
+  const Vector forward = f.L.triangularView<Eigen::UnitLower>().solve(b);
   errors.forward = (x - forward).lpNorm<Eigen::Infinity>() / forward.lpNorm<Eigen::Infinity>();
   x = b;
-  sweeps.backward(start.data(), values.data(), x.data());
-  const Vector backward = L.transpose().triangularView<Eigen::UnitUpper>().solve(b.cwiseQuotient(D));
+  sweeps.backward(f.start.data(), f.values.data(), x.data());
+  const Vector backward = f.L.transpose().triangularView<Eigen::UnitUpper>().solve(b.cwiseQuotient(f.D));
   errors.backward = (x - backward).lpNorm<Eigen::Infinity>() / backward.lpNorm<Eigen::Infinity>();
   return errors;
 }

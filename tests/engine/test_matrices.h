@@ -1,7 +1,8 @@
-// Sparse test matrices for the factorization tests.
+// Sparse test matrices for the factorization tests, and their factor in a simplicial storage.
 #pragma once
 
 #include "engine/bodies/body.h"
+#include "engine/supernodal_ldlt.h"
 
 #include <cmath>
 #include <random>
@@ -78,6 +79,43 @@ inline SparseMatrix arrow(int n, int hub) {
       }
   }
   return from_triplets(n, t);
+}
+
+
+// A = L D Lᵀ (A's upper triangle, natural order) by SupernodalLdlt into a storage of L's own pattern
+// (CHOLMOD's simplicial layout: column j at start[j], count[j] rows from its diagonal), with L and D
+// also dense, for comparisons.
+struct SimplicialFactor {
+  std::vector<int> start, count, row;
+  std::vector<double> values;
+  int supernodes = 0;             // SupernodalLdlt's
+  bool pattern_matches = false;   // SupernodalLdlt::matches on the storage
+  bool positive = false;          // every pivot > 0 (otherwise values hold a partial factor, L and D unset)
+  Matrix L;                       // unit lower triangular
+  Vector D;
+};
+
+inline SimplicialFactor simplicial_factor(const SparseMatrix& A) {
+  const SparseMatrix upper = A.triangularView<Eigen::Upper>();
+  const int n = static_cast<int>(A.rows());
+  SupernodalLdlt factor;
+  factor.analyse(n, upper.outerIndexPtr(), upper.innerIndexPtr());
+  SimplicialFactor f;
+  f.supernodes = factor.supernodes();
+  factor.pattern(f.start, f.row);
+  f.count.resize(n);
+  for (int j = 0; j < n; ++j) f.count[j] = f.start[j + 1] - f.start[j];
+  f.pattern_matches = factor.matches(f.start.data(), f.count.data(), f.row.data());
+  f.values.assign(f.start[n], 0.0);
+  f.positive = factor.factor(upper.valuePtr(), f.start.data(), f.values.data());
+  if (!f.positive) return f;
+  f.L = Matrix::Identity(n, n);
+  f.D.resize(n);
+  for (int j = 0; j < n; ++j) {
+    f.D(j) = f.values[f.start[j]];
+    for (int q = f.start[j] + 1; q < f.start[j + 1]; ++q) f.L(f.row[q], j) = f.values[q];
+  }
+  return f;
 }
 
 }  // namespace csim::test
