@@ -5,45 +5,7 @@
 
 namespace csim {
 
-namespace {
-
-bool rotates(const Body& body) { return !body.rotation_axes().empty(); }
-
-Eigen::Matrix3d projector(const Eigen::Vector3d& direction) {
-  if (direction.isZero()) return Eigen::Matrix3d::Identity();
-  return direction * direction.transpose();
-}
-
-}  // namespace
-
-Dynamics::Dynamics(const World& world) : world_(world) {
-  // A body's orientation coordinates: its positions that are not the coordinate of a translation
-  // (a plane body's angle, a rigid body's quaternion).
-  auto add_orientation_coordinates = [&](const BodyInstance& b) {
-    std::vector<bool> translation(b.body->position_size(), false);
-    const auto axes = b.body->rotation_axes();
-    for (int c = 0; c < b.body->velocity_size(); ++c) {
-      const bool rotation = std::any_of(axes.begin(), axes.end(), [c](const auto& axis) { return axis.first == c; });
-      if (const int coordinate = b.body->coordinate_of(c); !rotation && coordinate >= 0) translation[coordinate] = true;
-    }
-    for (int p = 0; p < b.body->position_size(); ++p)
-      if (!translation[p]) spring_stiffness_coordinates_.push_back(b.position_offset + p);
-  };
-  for (const Spring& s : world.springs) {
-    projectors_.push_back(projector(s.direction));
-    const BodyInstance& a = world.bodies[s.body_a];
-    reference_points_a_.push_back(a.body->point_world(a.reference_position, s.point_a));
-    if (s.body_b >= 0) {
-      const BodyInstance& b = world.bodies[s.body_b];
-      reference_points_b_.push_back(b.body->point_world(b.reference_position, s.point_b));
-    } else {
-      reference_points_b_.push_back(Eigen::Vector3d::Zero());
-    }
-    const bool offset_a = rotates(*a.body) && !s.point_a.isZero();
-    const bool offset_b = s.body_b >= 0 && rotates(*world.bodies[s.body_b].body) && !s.point_b.isZero();
-    if (offset_a) add_orientation_coordinates(a);
-    if (offset_b) add_orientation_coordinates(world.bodies[s.body_b]);
-  }
+Dynamics::Dynamics(const World& world) : world_(world), springs_(world) {
   for (const Load& load : world.loads) {
     PointJacobian& at_origin = origin_load_jacobians_.emplace_back();
     const BodyInstance& b = world.bodies[load.body];
@@ -52,10 +14,6 @@ Dynamics::Dynamics(const World& world) : world_(world) {
     for (int k = 0; k < J.count; ++k)
       if (!J.column.col(k).isZero()) at_origin.add(J.index[k], J.column.col(k));
   }
-  std::sort(spring_stiffness_coordinates_.begin(), spring_stiffness_coordinates_.end());
-  spring_stiffness_coordinates_.erase(
-      std::unique(spring_stiffness_coordinates_.begin(), spring_stiffness_coordinates_.end()),
-      spring_stiffness_coordinates_.end());
   const int n = world.velocity_size;
   position_of_velocity_.assign(n, -1);
   Triplets mass, damping;
@@ -112,10 +70,8 @@ void Dynamics::add_inertial_forces(const Vector& v, Vector& f) const {
                                  f.segment(b.velocity_offset, b.body->velocity_size()));
 }
 
-void Dynamics::add_internal_forces(const Vector& q, Vector& f) const { add_internal_forces(q, f, nullptr); }
-
-void Dynamics::add_internal_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns) const {
-  add_spring_forces(q, f, spring_columns);
+void Dynamics::add_internal_forces(const Vector& q, Vector& f) const {
+  add_spring_forces(q, f);
   add_body_internal_forces(q, f);
 }
 
@@ -250,72 +206,6 @@ void Dynamics::add_body_internal_forces(const Vector& q, Vector& f) const {
 
 namespace {
 
-// The relative velocity of a spring's two points, ṗ_a − ṗ_b, as the Jacobians of its ends, each with
-// its body's velocity offset.
-struct SpringEnds {
-  PointJacobian a, b;
-  int offset_a = 0, offset_b = 0;
-  bool has_b = false;
-};
-
-// Each end's Jacobian is made in its place (a braced prvalue), not made and then copied in.
-SpringEnds spring_ends(const World& world, const Spring& s, const Vector& q) {
-  const BodyInstance& a = world.bodies[s.body_a];
-  if (s.body_b < 0) return {a.body->point_jacobian(a.positions(q), s.point_a), {}, a.velocity_offset, 0, false};
-  const BodyInstance& b = world.bodies[s.body_b];
-  return {a.body->point_jacobian(a.positions(q), s.point_a), b.body->point_jacobian(b.positions(q), s.point_b),
-          a.velocity_offset, b.velocity_offset, true};
-}
-
-// The (global index, column) entries of a spring's Jacobian, at most six per end: a fixed-size list,
-// because this runs in every step.
-struct Entry {  // not initialized: only the first `count` of an Entries are written and read
-  int index;
-  Eigen::Vector3d column;
-};
-struct Entries {
-  std::array<Entry, 12> entry;
-  int count = 0;
-  const Entry* begin() const { return entry.data(); }
-  const Entry* end() const { return entry.data() + count; }
-};
-Entries entries_of(const SpringEnds& ends) {
-  Entries entries;
-  for (int k = 0; k < ends.a.count; ++k) entries.entry[entries.count++] = {ends.offset_a + ends.a.index[k], ends.a.column.col(k)};
-  if (ends.has_b)
-    for (int k = 0; k < ends.b.count; ++k)
-      entries.entry[entries.count++] = {ends.offset_b + ends.b.index[k], -ends.b.column.col(k)};
-  return entries;
-}
-
-// Appends a spring's ends' Jacobian columns to columns from `size` on (spring_jacobian_columns' layout:
-// end a's columns, then end b's).
-void append_jacobian_columns(const SpringEnds& ends, std::vector<double>& columns, std::size_t& size) {
-  const PointJacobian* sides[2] = {&ends.a, &ends.b};
-  for (int side = 0; side < (ends.has_b ? 2 : 1); ++side) {
-    const PointJacobian& J = *sides[side];
-    if (columns.size() < size + 3 * J.count) columns.resize(size + 3 * J.count);
-    std::copy(J.column.data(), J.column.data() + 3 * J.count, columns.data() + size);
-    size += 3 * J.count;
-  }
-}
-
-}  // namespace
-
-void Dynamics::add_spring_stiffness(const Vector& q, Triplets& K) const {
-  for (const Spring& s : world_.springs) {
-    const Eigen::Matrix3d& P = projectors_[&s - world_.springs.data()];
-    const Entries entries = entries_of(spring_ends(world_, s, q));
-    for (const Entry& i : entries)
-      for (const Entry& j : entries) {
-        const double value = s.stiffness * i.column.dot(P * j.column);
-        if (value != 0.0) K.emplace_back(i.index, j.index, value);
-      }
-  }
-}
-
-namespace {
-
 // Loads and gravity at each of N times, the loads' points taken at q once (their Jacobians do not depend
 // on t): forces[i] at times[i], each the same to the bit as a call at that time alone. weight: the
 // bodies' weight, formed once (0 + w is w to the bit, as add_weight's sum into zeros).
@@ -356,66 +246,6 @@ void Dynamics::external(const Vector& q, double t_a, double t_b, Vector& f_a, Ve
   external_forces<2>(world_, weight_, origin_load_jacobians_, q, {t_a, t_b}, {&f_a, &f_b});
 }
 
-Eigen::Vector3d Dynamics::spring_displacement(const Spring& s, const Vector& q) const {
-  const std::size_t i = &s - world_.springs.data();
-  const BodyInstance& a = world_.bodies[s.body_a];
-  Eigen::Vector3d d = a.body->point_world(a.positions(q), s.point_a) - reference_points_a_[i];
-  if (s.body_b >= 0) {
-    const BodyInstance& b = world_.bodies[s.body_b];
-    d -= b.body->point_world(b.positions(q), s.point_b) - reference_points_b_[i];
-  }
-  return d;
-}
-
-const std::vector<Eigen::Vector3d>& Dynamics::spring_strains(const Vector& q) const {
-  if (kept_spring_positions_.size() == q.size() &&
-      std::equal(q.data(), q.data() + q.size(), kept_spring_positions_.data()))
-    return kept_spring_strains_;
-  kept_spring_strains_.resize(world_.springs.size());
-  for (std::size_t i = 0; i < world_.springs.size(); ++i)
-    kept_spring_strains_[i].noalias() = projectors_[i] * spring_displacement(world_.springs[i], q);
-  kept_spring_positions_ = q;
-  return kept_spring_strains_;
-}
-
-void Dynamics::add_spring_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns) const {
-  std::size_t size = 0;
-  const std::vector<Eigen::Vector3d>* strains = world_.springs.empty() ? nullptr : &spring_strains(q);
-  for (const Spring& s : world_.springs) {
-    const Eigen::Vector3d force_on_a = -s.stiffness * (*strains)[&s - world_.springs.data()];
-    const SpringEnds ends = spring_ends(world_, s, q);
-    // Each end's columns straight from its Jacobian: f − j·F on b's is entries_of's f + (−j)·F to the
-    // bit (a negation is exact, and rounding symmetric).
-    for (int k = 0; k < ends.a.count; ++k) f(ends.offset_a + ends.a.index[k]) += ends.a.column.col(k).dot(force_on_a);
-    for (int k = 0; ends.has_b && k < ends.b.count; ++k)
-      f(ends.offset_b + ends.b.index[k]) -= ends.b.column.col(k).dot(force_on_a);
-    if (spring_columns) append_jacobian_columns(ends, *spring_columns, size);  // the ends' columns, on the way
-  }
-  if (spring_columns) spring_columns->resize(size);
-}
-
-// A lumped World's A is rebuilt from this whenever a body with a spring turns: P J_j is formed once
-// per column, not once per entry (the same products, so the same K to the bit).
-void Dynamics::spring_stiffness(const Vector& q, Matrix& K) const {
-  K.setZero(world_.velocity_size, world_.velocity_size);
-  for (std::size_t k = 0; k < world_.springs.size(); ++k) {
-    const Spring& s = world_.springs[k];
-    const Eigen::Matrix3d& P = projectors_[k];
-    const Entries entries = entries_of(spring_ends(world_, s, q));
-    std::array<Eigen::Vector3d, 12> projected;
-    for (int j = 0; j < entries.count; ++j) projected[j] = P * entries.entry[j].column;
-    for (const Entry& i : entries)
-      for (int j = 0; j < entries.count; ++j)
-        K(i.index, entries.entry[j].index) += s.stiffness * i.column.dot(projected[j]);
-  }
-}
-
-void Dynamics::spring_jacobian_columns(const Vector& q, std::vector<double>& columns) const {
-  std::size_t size = 0;
-  for (const Spring& s : world_.springs) append_jacobian_columns(spring_ends(world_, s, q), columns, size);
-  columns.resize(size);
-}
-
 double Dynamics::elastic_energy(const Vector& q) const {
   double energy = 0.0;
   const Vector* products = has_linear_bodies_ ? &linear_body_products(q) : nullptr;
@@ -424,9 +254,7 @@ double Dynamics::elastic_energy(const Vector& q) const {
     if (b.body->nonlinear()) energy += b.body->strain_energy(b.positions(q));
     else energy += 0.5 * b.positions(q).dot(products->segment(b.velocity_offset, b.body->velocity_size()));
   }
-  if (world_.springs.empty()) return energy;
-  const std::vector<Eigen::Vector3d>& strains = spring_strains(q);
-  for (const Spring& s : world_.springs) energy += 0.5 * s.stiffness * strains[&s - world_.springs.data()].squaredNorm();
+  springs_.add_energy(q, energy);
   return energy;
 }
 

@@ -19,6 +19,7 @@
 // Evaluated with no allocation once the work buffers are sized.
 #pragma once
 
+#include "engine/springs.h"
 #include "engine/world.h"
 
 #include <utility>
@@ -63,10 +64,7 @@ class Dynamics {
   void external(const Vector& q, double t_a, double t_b, Vector& f_a, Vector& f_b) const;
   void add_inertial_forces(const Vector& v, Vector& f) const;   // gyroscopic terms
   void add_internal_forces(const Vector& q, Vector& f) const;   // springs and bodies
-  // The same, and the springs' Jacobian columns at q (spring_jacobian_columns' to the bit) from the
-  // ends the forces were computed with: a step that needs both takes the ends once.
-  void add_internal_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns) const;
-  void add_spring_forces(const Vector& q, Vector& f, std::vector<double>* spring_columns = nullptr) const;
+  void add_spring_forces(const Vector& q, Vector& f) const { springs_.add_forces(q, f); }
   void add_body_internal_forces(const Vector& q, Vector& f) const;
   void add_damping_force(const Vector& v, Vector& f) const;     // f −= C v
   // The internal forces and, when stiffness is given, their tangent K = −∂f/∂q as triplets, in one
@@ -81,8 +79,8 @@ class Dynamics {
   // The bodies' K at u = 0, assembled at each call and not held here: the operators that need it keep
   // it, so that a large FE body's K is not held once more.
   SparseMatrix body_stiffness() const;
-  void add_spring_stiffness(const Vector& q, Triplets& K) const;
-  void spring_stiffness(const Vector& q, Matrix& K) const;       // dense, the springs only
+  void add_spring_stiffness(const Vector& q, Triplets& K) const { springs_.add_stiffness(q, K); }
+  void spring_stiffness(const Vector& q, Matrix& K) const { springs_.stiffness(q, K); }  // dense, the springs only
   void add_stiffness(const Vector& q, Triplets& K) const;        // the bodies' tangent at q and the springs'
   void add_body_stiffness(const Vector& q, Triplets& K) const;   // the bodies' tangent at q alone
   // −∂f_loads/∂v: the gyroscopic forces' tangent, by differences on each rotating body (N·m·s).
@@ -110,29 +108,29 @@ class Dynamics {
   // iteration matrix can be factored once.
   bool constant_stiffness() const { return constant_spring_stiffness() && !nonlinear_; }
   // The same for the springs alone (a World of linear bodies may still have springs on rotating points).
-  bool constant_spring_stiffness() const { return spring_stiffness_coordinates_.empty(); }
+  bool constant_spring_stiffness() const { return spring_stiffness_coordinates().empty(); }
   // The indices in q that the springs' K depends on: the orientation coordinates of the bodies with a
   // spring attached off their origin (none: the springs' K is constant). K is a function of these
   // alone, so that equal values give the same K to the bit.
-  const std::vector<int>& spring_stiffness_coordinates() const { return spring_stiffness_coordinates_; }
+  const std::vector<int>& spring_stiffness_coordinates() const { return springs_.stiffness_coordinates(); }
   // The springs' K at q is a function of their ends' Jacobian columns alone (m per unit velocity
   // component): columns gets them, end by end, so that equal values mean the same K to the bit even
   // where an orientation coordinate moved (a body turned by round-off).
-  void spring_jacobian_columns(const Vector& q, std::vector<double>& columns) const;
+  void spring_jacobian_columns(const Vector& q, std::vector<double>& columns) const {
+    springs_.jacobian_columns(q, columns);
+  }
+  bool same_spring_jacobian_columns(const Vector& q, const std::vector<double>& columns) const {
+    return springs_.same_jacobian_columns(q, columns);
+  }
 
  private:
-  // Relative displacement d of a spring's two points from the reference configuration (m).
-  Eigen::Vector3d spring_displacement(const Spring& s, const Vector& q) const;
-
   const World& world_;
-  std::vector<Eigen::Vector3d> reference_points_a_, reference_points_b_;  // world points at q_ref
-  std::vector<Eigen::Matrix3d> projectors_;  // each spring's P: d dᵀ along its direction, I without one
+  Springs springs_;
   // Each load's Jacobian when it is the same at every q: at a rigid body's origin (its centre of mass),
   // the body's translations, its rotations' columns there being zero (their ±0 would leave the force as
   // it is); count 0 for a load whose Jacobian turns with its body.
   std::vector<PointJacobian> origin_load_jacobians_;
   std::vector<int> position_of_velocity_;
-  std::vector<int> spring_stiffness_coordinates_;
   SparseMatrix mass_, damping_;
   bool has_elastic_bodies_ = false;
   bool nonlinear_ = false;
@@ -144,12 +142,6 @@ class Dynamics {
   bool has_linear_bodies_ = false;
   mutable Vector kept_positions_, kept_products_;
   const Vector& linear_body_products(const Vector& q) const;
-  // Each spring's projected displacement P d (m) at kept_spring_positions_ (empty before the first
-  // call), in the same way: a step's elastic energy at q_{k+1} and the next step's spring forces there
-  // share them (each is P d at that q, computed once).
-  mutable Vector kept_spring_positions_;
-  mutable std::vector<Eigen::Vector3d> kept_spring_strains_;
-  const std::vector<Eigen::Vector3d>& spring_strains(const Vector& q) const;
   // The bodies' weight (each in its velocity segment; empty without gravity), formed once: it does not
   // depend on q (Body::add_weight), and forming it reads an elastic body's M, or takes a rigid body's
   // Jacobian at its centre, at every step otherwise.

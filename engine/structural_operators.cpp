@@ -75,22 +75,18 @@ bool StructuralOperators::factored_for(const Vector& q, double damping_coefficie
   return true;
 }
 
-void StructuralOperators::update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient,
-                                              std::vector<double>* spring_columns) {
+void StructuralOperators::update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient) {
   if (factored_for(q, damping_coefficient, stiffness_coefficient)) return;
   // A is a function of K and its coefficients, and the springs' K of their Jacobian columns: a body
   // that turned by round-off alone (a shoe held flat by its contacts turns by 1e-25 rad) has the same
-  // columns to the bit, and a dense A and its inverse are kept.
+  // columns to the bit, and a dense A and its inverse are kept. The columns at q come from the springs'
+  // evaluation there, which the step's forces at q made (springs.h).
   const bool compare_columns = compares_columns();
-  if (compare_columns) {
-    if (spring_columns) spring_columns_.swap(*spring_columns);  // the caller's, taken at q
-    else dynamics_.spring_jacobian_columns(q, spring_columns_);
-    if (factored_ && damping_coefficient == factored_damping_ && stiffness_coefficient == factored_stiffness_ &&
-        spring_columns_ == factored_spring_columns_) {
-      for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
-        factored_coordinates_[i] = q(dynamics_.spring_stiffness_coordinates()[i]);
-      return;
-    }
+  if (compare_columns && factored_ && damping_coefficient == factored_damping_ &&
+      stiffness_coefficient == factored_stiffness_ && dynamics_.same_spring_jacobian_columns(q, factored_spring_columns_)) {
+    for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
+      factored_coordinates_[i] = q(dynamics_.spring_stiffness_coordinates()[i]);
+    return;
   }
   const auto start = std::chrono::steady_clock::now();
   const double scale = stiffness_coefficient;
@@ -129,7 +125,7 @@ void StructuralOperators::update_coefficients(const Vector& q, double damping_co
     factor_dense(A);
   }
   factored_ = true;
-  if (compare_columns) factored_spring_columns_.swap(spring_columns_);
+  if (compare_columns) dynamics_.spring_jacobian_columns(q, factored_spring_columns_);
   for (std::size_t i = 0; i < factored_coordinates_.size(); ++i)
     factored_coordinates_[i] = q(dynamics_.spring_stiffness_coordinates()[i]);
   ++factorizations_;

@@ -28,20 +28,9 @@ class StructuralOperators {
 
   // Refreshes K at q and refactors A when needed (always the first time).
   void update(const Vector& q, double h, double theta) { update_coefficients(q, h * theta, h * h * theta * theta); }
-  // Whether update(q, h, θ) compares the springs' Jacobian columns at q (a dense linear World with
-  // springs, whose A was not formed for q: the first step, or bodies with springs that turned since);
-  // then the caller may hand them over, taken with the springs' forces (Dynamics::add_internal_forces),
-  // and update uses (and takes) them instead of forming them.
-  bool compares_spring_columns(const Vector& q, double h, double theta) const {
-    return compares_columns() && !factored_for(q, h * theta, h * h * theta * theta);
-  }
-  void update(const Vector& q, double h, double theta, std::vector<double>* spring_columns) {
-    update_coefficients(q, h * theta, h * h * theta * theta, spring_columns);
-  }
   // The same for A = M + c_C C + c_K K with the coefficients of another scheme (c_C in s, c_K in s²;
   // the generalized-α iteration matrix of generalized_alpha.h).
-  void update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient,
-                           std::vector<double>* spring_columns = nullptr);
+  void update_coefficients(const Vector& q, double damping_coefficient, double stiffness_coefficient);
   bool nonlinear() const { return nonlinear_; }  // a body's K depends on q (a finite-strain body)
   bool has_stiffness() const { return has_stiffness_; }
   bool has_damping() const { return has_damping_; }
@@ -82,9 +71,8 @@ class StructuralOperators {
   long factorizations_ = 0, regularizations_ = 0;
   std::vector<double> factored_coordinates_;  // the springs' orientation coordinates A was factored at
   Matrix dense_mass_, dense_stiffness_, dense_damping_, dense_iteration_;
-  // A dense linear World's springs' Jacobian columns (Dynamics::spring_jacobian_columns) where A was
-  // formed, and at the q of the last update.
-  std::vector<double> factored_spring_columns_, spring_columns_;
+  // A dense linear World's springs' Jacobian columns (Dynamics::spring_jacobian_columns) where A was formed.
+  std::vector<double> factored_spring_columns_;
   Matrix dense_inverse_, dense_scratch_;  // A⁻¹, and the Cholesky factor it is computed from
   // A lumped World's M, and A⁻¹, when diagonal (a point, an unsprung rigid body in space): their
   // products by the diagonal alone, the same to the bit (small_dense_products.h).

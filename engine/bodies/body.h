@@ -132,6 +132,13 @@ class Body {
 
   // World velocity of a material point = J v.
   virtual PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const = 0;
+  // Both at once, J set in place: the two above to the bit. A body whose two share work (a rigid body's
+  // turn) overrides it; a spring asks for both at every step.
+  virtual Eigen::Vector3d point_kinematics(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                                           PointJacobian& J) const {
+    J = point_jacobian(q, local);
+    return point_world(q, local);
+  }
 
   // Adds the weight in the uniform field g (m/s²) as a generalized force (N, N·m): m g at the centre of
   // mass of a rigid body (its Jacobian there is its translations, whatever its turn), M·(g per node) for

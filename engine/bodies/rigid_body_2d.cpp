@@ -59,6 +59,21 @@ PointJacobian RigidBody2d::point_jacobian(const ConstVectorRef& q, const Eigen::
   return J;
 }
 
+// point_world and point_jacobian with one lever arm R r: c x − s y is point_world's c x + (−s) y to
+// the bit (a negation is exact).
+Eigen::Vector3d RigidBody2d::point_kinematics(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                                              PointJacobian& J) const {
+  double c, s;
+  cos_sin(q(2), c, s);
+  const double x = local.x(), y = local.y(), z = local.z();
+  const double rx = c * x - s * y, ry = s * x + c * y;
+  J.count = 0;
+  J.add(0, Eigen::Vector3d::UnitX());
+  J.add(1, Eigen::Vector3d::UnitY());
+  J.add(2, Eigen::Vector3d(-ry, rx, 0.0));
+  return {q(0) + (rx + 0.0 * z), q(1) + (ry + 0.0 * z), 0.0 + ((0.0 * x + 0.0 * y) + ((1.0 - c) + c) * z)};
+}
+
 // The rotation column e_z × r with r = x − c, the world lever arm: (−r_y, r_x, 0).
 void RigidBody2d::project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x,
                                                const Eigen::Vector3d* const* axes, int axis_count,

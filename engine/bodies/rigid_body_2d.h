@@ -19,6 +19,8 @@ class RigidBody2d final : public Body {
   Eigen::Isometry3d pose(const ConstVectorRef& q) const override;
   Eigen::Vector3d point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
+  Eigen::Vector3d point_kinematics(const ConstVectorRef& q, const Eigen::Vector3d& local,
+                                   PointJacobian& J) const override;
   void project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x, const Eigen::Vector3d* const* axes,
                                     int axis_count, ProjectedJacobian& out) const override;
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,

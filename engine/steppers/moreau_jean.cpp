@@ -133,13 +133,10 @@ void MoreauJean::compute_free_velocity(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
   compute_loads(state);
   f_total_ = f_loads_;
-  // The springs' Jacobian columns that A's update compares come with their forces (the same ends).
-  if (!operators_.has_stiffness()) {
-    operators_.update(state.q, h, theta);
-  } else {
-    std::vector<double>* columns = operators_.compares_spring_columns(state.q, h, theta) ? &spring_columns_ : nullptr;
-    dynamics_.add_internal_forces(state.q, f_total_, columns);
-    operators_.update(state.q, h, theta, columns);
+  // The forces before A's update: it compares the springs' Jacobian columns of the same evaluation.
+  if (operators_.has_stiffness()) dynamics_.add_internal_forces(state.q, f_total_);
+  operators_.update(state.q, h, theta);
+  if (operators_.has_stiffness()) {
     if (!stiffness_velocity_kept(state.v)) operators_.apply_stiffness(state.v, stiffness_velocity_);
     f_total_ -= (theta * h) * stiffness_velocity_;
   }

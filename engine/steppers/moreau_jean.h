@@ -175,7 +175,6 @@ class MoreauJean final : public Stepper {
   std::vector<ContactStatus> statuses_;  // the contact solve's, kept to avoid allocation
   std::vector<ActiveContact> candidates_;
   std::vector<ActiveContact> active_;
-  std::vector<double> spring_columns_;  // the springs' Jacobian columns at q_k, for A's update
   std::vector<SparseRow> candidate_rows_;  // rows of every candidate contact (dimension each)
   std::vector<int> active_rows_;      // candidate index of each active contact
   // Rows of the active contacts: candidate_rows_ of active_rows_, pointed at rather than copied (a

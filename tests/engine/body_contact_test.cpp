@@ -101,6 +101,58 @@ TEST(BodyContact, RigidBody2dPointWorldIsItsPoseTimesThePointToTheBit) {
   EXPECT_EQ(differing, 0);
 }
 
+// A spring asks for a point's position and Jacobian at once (Body::point_kinematics, springs.h): they
+// must be point_world's and point_jacobian's to the bit, for every lumped body, at any turn, for points
+// on and off the plane and signed zeros.
+TEST(BodyContact, PointKinematicsArePointWorldAndPointJacobianToTheBit) {
+  const RigidBody2d rigid_2d(1.5, 0.02);
+  const RigidBody3d rigid_3d(2.0, Eigen::Vector3d(0.1, 0.2, 0.3));
+  const PointMass point_2d(2, 1.5), point_3d(3, 1.5);
+  std::mt19937 random(43);
+  std::uniform_real_distribution<double> uniform(-3.0, 3.0);
+  const double specials[] = {0.0, -0.0, 1.0, -1.0, 0.5, 1e-300, 3.0e17};
+  const auto same = [](double a, double b) { return std::signbit(a) == std::signbit(b) && a == b; };
+  int differing = 0, compared = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    Eigen::Vector3d local(uniform(random), uniform(random), trial % 3 == 0 ? uniform(random) : 0.0);
+    double angle = 4.0 * uniform(random);
+    if (trial < 343) {  // every combination of special values in x, y and the angle
+      angle = specials[trial % 7];
+      local(0) = specials[(trial / 7) % 7];
+      local(1) = specials[(trial / 49) % 7];
+    }
+    Eigen::VectorXd q2(3), q3(7), p2(2), p3(3);
+    q2 << uniform(random), uniform(random), angle;
+    if (trial < 343) q2.head<2>() << specials[(trial / 49) % 7], specials[trial % 7];  // signed zeros in the sums
+    const Eigen::Quaterniond turn =
+        Eigen::Quaterniond(uniform(random), uniform(random), uniform(random), uniform(random)).normalized();
+    q3 << uniform(random), uniform(random), uniform(random), turn.w(), turn.x(), turn.y(), turn.z();
+    p2 << uniform(random), uniform(random);
+    p3 << uniform(random), uniform(random), uniform(random);
+    const std::pair<const Body*, const Eigen::VectorXd*> cases[] = {
+        {&rigid_2d, &q2}, {&rigid_3d, &q3}, {&point_2d, &p2}, {&point_3d, &p3}};
+    for (const auto& [body, q] : cases) {
+      PointJacobian J;
+      J.count = 5;  // stale: point_kinematics sets it
+      const Eigen::Vector3d x = body->point_kinematics(*q, local, J);
+      const Eigen::Vector3d expected_x = body->point_world(*q, local);
+      const PointJacobian expected_J = body->point_jacobian(*q, local);
+      for (int i = 0; i < 3; ++i) differing += !same(x(i), expected_x(i));
+      if (J.count != expected_J.count) {
+        ++differing;
+        continue;
+      }
+      for (int k = 0; k < J.count; ++k) {
+        differing += J.index[k] != expected_J.index[k];
+        for (int i = 0; i < 3; ++i) differing += !same(J.column(i, k), expected_J.column(i, k));
+      }
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 16000);
+  EXPECT_EQ(differing, 0);
+}
+
 // The lumped bodies project a world point's Jacobian on the contact axes from the world lever arm
 // (Body::project_world_point_jacobian); it must be the base's projection of world_point_jacobian
 // (pose⁻¹, the body-frame point, its Jacobian) to round-off, component for component, at turned poses.
