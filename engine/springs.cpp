@@ -112,13 +112,14 @@ void Springs::jacobian_columns(const Vector& q, std::vector<double>& columns) co
     columns.insert(columns.end(), end.jacobian.column.data(), end.jacobian.column.data() + 3 * end.jacobian.count);
 }
 
+// The same bits: those give the same K to the bit (equal values alone would not, −0 against +0).
 bool Springs::same_jacobian_columns(const Vector& q, const std::vector<double>& columns) const {
   if (empty()) return columns.empty();
   std::size_t size = 0;
   for (const End& end : at(q).ends) {
     const std::size_t length = 3 * end.jacobian.count;
     if (size + length > columns.size() ||
-        !std::equal(end.jacobian.column.data(), end.jacobian.column.data() + length, columns.data() + size))
+        std::memcmp(end.jacobian.column.data(), columns.data() + size, length * sizeof(double)) != 0)
       return false;
     size += length;
   }

@@ -34,7 +34,7 @@ class Springs {
   // The ends' Jacobian columns at q, spring by spring, end a then end b (m per unit velocity
   // component): K is a function of them alone, so that equal columns mean the same K to the bit.
   void jacobian_columns(const Vector& q, std::vector<double>& columns) const;
-  // Whether those at q equal `columns`, entry for entry (compared where they are, not copied out).
+  // Whether those at q are `columns` to the bit (compared where they are, not copied out).
   bool same_jacobian_columns(const Vector& q, const std::vector<double>& columns) const;
   // The indices in q that K depends on: the orientation coordinates of the bodies with a spring
   // attached off their origin, sorted (none: K is constant).

@@ -468,7 +468,8 @@ TEST(Dynamics, KeptSpringEvaluationIsAFreshOneToTheBit) {
 }
 
 // A dense A is kept while the springs' Jacobian columns are the same (structural_operators.h): the
-// comparison where they are must tell any change of one column entry, or of their number.
+// comparison where they are must tell any change of one column entry (a zero's sign included: the same
+// bits give the same K to the bit), or of their number.
 TEST(Dynamics, SameSpringJacobianColumnsTellsEveryChange) {
   const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-rigid/scene.yaml", {});
   const Dynamics dynamics(scene->world);
@@ -478,11 +479,17 @@ TEST(Dynamics, SameSpringJacobianColumnsTellsEveryChange) {
   dynamics.spring_jacobian_columns(q, columns);
   ASSERT_EQ(columns.size(), 18u);  // two springs, three columns of one end each
   EXPECT_TRUE(dynamics.same_spring_jacobian_columns(q, columns));
+  int zeros = 0;
   for (std::size_t i = 0; i < columns.size(); ++i) {
     std::vector<double> changed = columns;
     changed[i] = std::nextafter(changed[i], 2.0);
     EXPECT_FALSE(dynamics.same_spring_jacobian_columns(q, changed)) << i;
+    if (columns[i] != 0.0) continue;
+    changed[i] = -columns[i];  // a zero of the other sign: equal, not the same bits
+    EXPECT_FALSE(dynamics.same_spring_jacobian_columns(q, changed)) << i;
+    ++zeros;
   }
+  EXPECT_EQ(zeros, 10);  // a translation's two zeros and the rotation column's z, at each end
   std::vector<double> shorter(columns.begin(), columns.end() - 1), longer = columns;
   longer.push_back(0.0);
   EXPECT_FALSE(dynamics.same_spring_jacobian_columns(q, shorter));
