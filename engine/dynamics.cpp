@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 
 namespace csim {
 
@@ -192,6 +193,29 @@ const Vector& Dynamics::linear_body_products(const Vector& q) const {
       b.body->stiffness_product(b.positions(q), kept_products_.segment(b.velocity_offset, b.body->velocity_size()));
   kept_positions_ = q;
   return kept_products_;
+}
+
+const LinearProducts& Dynamics::linear_product_table() const {
+  if (nonlinear_) throw std::logic_error("Dynamics: the linear products of a World with a nonlinear body");
+  if (linear_products_.size() != size()) {
+    std::vector<LinearProducts::StiffnessBlock> blocks;
+    for (const BodyInstance& b : world_.bodies)
+      if (const SparseMatrix* K = b.body->linear_stiffness()) blocks.push_back({b.velocity_offset, K});
+    linear_products_ = LinearProducts(std::move(blocks), mass_);
+  }
+  return linear_products_;
+}
+
+void Dynamics::linear_products(const Vector& q, const Vector& v, const Vector* dv, Vector& Kv, Vector& Mv,
+                               Vector* Mdv) const {
+  linear_product_table().multiply(q, v, dv, kept_products_, Kv, Mv, Mdv);
+  kept_positions_ = q;
+  springs_.add_stiffness_product(q, v, Kv);
+}
+
+void Dynamics::apply_linear_stiffness(const Vector& q, const Vector& v, Vector& Kv) const {
+  linear_product_table().multiply_stiffness(v, Kv);
+  springs_.add_stiffness_product(q, v, Kv);
 }
 
 void Dynamics::add_body_internal_forces(const Vector& q, Vector& f) const {

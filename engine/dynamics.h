@@ -19,6 +19,7 @@
 // Evaluated with no allocation once the work buffers are sized.
 #pragma once
 
+#include "engine/linear_products.h"
 #include "engine/springs.h"
 #include "engine/world.h"
 
@@ -99,6 +100,14 @@ class Dynamics {
   // the same to the bit as its own product.
   double kinetic_energy(const Vector& v, const Vector& x, Vector& Mx) const;
 
+  // A linear World's K v (the bodies' and the springs') and M v, and M dv when dv is given, with the
+  // bodies' K q, in one pass over K and M (linear_products.h); each of the bodies' products is the
+  // separate product's to the bit. K q is kept as the bodies' products at q, which elastic_energy(q) and
+  // the internal forces at q then read.
+  void linear_products(const Vector& q, const Vector& v, const Vector* dv, Vector& Kv, Vector& Mv, Vector* Mdv) const;
+  // Kv = K v alone, the bodies' and the springs' at q: linear_products' K v to the bit.
+  void apply_linear_stiffness(const Vector& q, const Vector& v, Vector& Kv) const;
+
   bool has_elastic_bodies() const { return has_elastic_bodies_; }
   bool has_springs() const { return !world_.springs.empty(); }
   bool has_stiffness() const { return has_springs() || has_elastic_bodies_; }
@@ -141,6 +150,8 @@ class Dynamics {
   // internal force share one product.
   bool has_linear_bodies_ = false;
   mutable Vector kept_positions_, kept_products_;
+  mutable LinearProducts linear_products_;  // empty until first asked for (linear_product_table)
+  const LinearProducts& linear_product_table() const;
   const Vector& linear_body_products(const Vector& q) const;
   // The bodies' weight (each in its velocity segment; empty without gravity), formed once: it does not
   // depend on q (Body::add_weight), and forming it reads an elastic body's M, or takes a rigid body's

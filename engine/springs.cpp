@@ -152,6 +152,20 @@ void Springs::add_stiffness(const Vector& q, Triplets& K) const {
   }
 }
 
+void Springs::add_stiffness_product(const Vector& q, const Vector& v, Vector& out) const {
+  if (empty()) return;
+  const Evaluation& e = at(q);
+  for (std::size_t i = 0; i < world_.springs.size(); ++i) {
+    const End &a = e.ends[2 * i], &b = e.ends[2 * i + 1];
+    Eigen::Vector3d relative_velocity = Eigen::Vector3d::Zero();  // J v = J_a v − J_b v (m/s)
+    for (int k = 0; k < a.jacobian.count; ++k) relative_velocity += a.jacobian.column.col(k) * v(a.offset + a.jacobian.index[k]);
+    for (int k = 0; k < b.jacobian.count; ++k) relative_velocity -= b.jacobian.column.col(k) * v(b.offset + b.jacobian.index[k]);
+    const Eigen::Vector3d force = world_.springs[i].stiffness * (projectors_[i] * relative_velocity);
+    for (int k = 0; k < a.jacobian.count; ++k) out(a.offset + a.jacobian.index[k]) += a.jacobian.column.col(k).dot(force);
+    for (int k = 0; k < b.jacobian.count; ++k) out(b.offset + b.jacobian.index[k]) -= b.jacobian.column.col(k).dot(force);
+  }
+}
+
 // A lumped World's A is rebuilt from this whenever a body with a spring turns: P J_j is formed once
 // per column, not once per entry (the same products, so the same K to the bit).
 void Springs::stiffness(const Vector& q, Matrix& K) const {

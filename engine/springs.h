@@ -31,6 +31,8 @@ class Springs {
   // K = Σ k Jᵀ P J at q, as triplets (one per nonzero product) or dense (set, the springs only).
   void add_stiffness(const Vector& q, Triplets& K) const;
   void stiffness(const Vector& q, Matrix& K) const;
+  // out += K v at q, spring by spring: k Jᵀ P (J v) (N).
+  void add_stiffness_product(const Vector& q, const Vector& v, Vector& out) const;
   // The ends' Jacobian columns at q, spring by spring, end a then end b (m per unit velocity
   // component): K is a function of them alone, so that equal columns mean the same K to the bit.
   void jacobian_columns(const Vector& q, std::vector<double>& columns) const;

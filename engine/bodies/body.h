@@ -106,6 +106,8 @@ class Body {
   // internal force is −K u and its strain energy ½ uᵀ(K u): Dynamics keeps the last product, which a
   // Moreau–Jean step asks for twice (the strain energy at q_{k+1}, the next step's force there).
   virtual void stiffness_product(const ConstVectorRef& q, VectorRef product) const {}
+  // A linear elastic body's constant K in its velocity coordinates (N/m), where it holds one; null else.
+  virtual const SparseMatrix* linear_stiffness() const { return nullptr; }
   virtual bool elastic() const { return false; }
   // Bodies whose internal force is nonlinear in q (finite-strain elements): the tangent stiffness
   // K_T(q) = −∂f_int/∂q (N/m) as triplets; linear bodies give their constant K.

@@ -48,6 +48,7 @@ class FeBody final : public Body {
   void add_internal_force(const ConstVectorRef& q, VectorRef f) const override;
   double strain_energy(const ConstVectorRef& q) const override;
   void stiffness_product(const ConstVectorRef& q, VectorRef product) const override;
+  const SparseMatrix* linear_stiffness() const override { return finite_strain_ ? nullptr : &stiffness_; }
   bool nonlinear() const override { return finite_strain_.has_value(); }
   void add_tangent_stiffness(const ConstVectorRef& q, int offset, Triplets& stiffness) const override;
   void add_internal_force_and_tangent(const ConstVectorRef& q, VectorRef f, int offset,

@@ -137,7 +137,11 @@ void MoreauJean::compute_free_velocity(const State& state) {
   if (operators_.has_stiffness()) dynamics_.add_internal_forces(state.q, f_total_);
   operators_.update(state.q, h, theta);
   if (operators_.has_stiffness()) {
-    if (!stiffness_velocity_kept(state.v)) operators_.apply_stiffness(state.v, stiffness_velocity_);
+    if (!stiffness_velocity_kept(state.v)) {
+      // K v_k as account_energy forms it for the next step where it keeps it (the same bits either way).
+      if (keeps_stiffness_velocity()) dynamics_.apply_linear_stiffness(state.q, state.v, stiffness_velocity_);
+      else operators_.apply_stiffness(state.v, stiffness_velocity_);
+    }
     f_total_ -= (theta * h) * stiffness_velocity_;
   }
   // −C v_θ = −C v_k − θ C (v_{k+1} − v_k), the latter in W
@@ -607,15 +611,22 @@ void MoreauJean::account_energy(State& state) {
   } else {
     for (int a = 0; a < static_cast<int>(r_.size()); ++a) e.contact_dissipation -= r_(a) * problem_row_dot(a, v_theta_);
   }
-  if (keeps_stiffness_velocity()) operators_.apply_stiffness(v_next_, stiffness_velocity_next_);  // the next step's K v_k
+  // (θ−½)(|Δv|²_M + |Δq|²_K) is zero when θ = ½ whatever its factors: neither is formed then (the ±0
+  // it would add leaves the sum as it is).
+  if (theta != 0.5) dv_ = v_next_ - state.v;
   double kinetic = 0.0;
-  if (theta == 0.5) {
-    // (θ−½)(|Δv|²_M + |Δq|²_K) is zero whatever its factors: neither is formed (the ±0 it would add
-    // leaves the sum as it is).
+  if (keeps_stiffness_velocity()) {
+    // A sparse linear World: the next step's K v_k, M v_{k+1}, M Δv into work_, and K q_{k+1} (the
+    // elastic energy's, below) in one pass over K and M (linear_products.h).
+    dynamics_.linear_products(q_next_, v_next_, theta == 0.5 ? nullptr : &dv_, stiffness_velocity_next_,
+                              mass_velocity_, &work_);
+    kinetic = 0.5 * v_next_.dot(mass_velocity_);
+  } else if (theta == 0.5) {
     kinetic = operators_.kinetic_energy(v_next_, work_);
   } else {
-    dv_ = v_next_ - state.v;
     kinetic = operators_.kinetic_energy(v_next_, dv_, work_);  // and M Δv into work_
+  }
+  if (theta != 0.5) {
     double numerical = dv_.dot(work_);
     if (operators_.nonlinear()) {  // −Δq·(f(q_{k+1}) − f(q_k)), f at Newton's last iterate (see the header)
       numerical -= h * v_theta_.dot(f_iterate_ - f_start_);

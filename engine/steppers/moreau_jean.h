@@ -170,6 +170,7 @@ class MoreauJean final : public Stepper {
   SecantRelaxation relaxation_;       // Newton: the length of its step (secant_relaxation.h)
   PhaseClock clock_;                  // State::timers (phase_clock.h)
   Vector stiffness_velocity_, stiffness_velocity_next_, kept_velocity_;  // K v_k, K v_{k+1}, the v_k kept
+  Vector mass_velocity_;              // M v_{k+1} of a sparse linear World (account_energy)
   long kept_factorization_ = -1;      // operators_.factorizations() when K v was kept
   Vector f_loads_, f_total_, v_free_, v_predicted_, v_next_, v_theta_, q_next_, r_, dv_, work_, local_work_;
   std::vector<ContactStatus> statuses_;  // the contact solve's, kept to avoid allocation
