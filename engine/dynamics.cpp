@@ -200,7 +200,7 @@ const LinearProducts& Dynamics::linear_product_table() const {
   if (linear_products_.size() != size()) {
     std::vector<LinearProducts::StiffnessBlock> blocks;
     for (const BodyInstance& b : world_.bodies)
-      if (const SparseMatrix* K = b.body->linear_stiffness()) blocks.push_back({b.velocity_offset, K});
+      if (const SparseMatrix* K = b.body->linear_stiffness()) blocks.push_back({b.velocity_offset, b.position_offset, K});
     linear_products_ = LinearProducts(std::move(blocks), mass_);
   }
   return linear_products_;

@@ -26,10 +26,11 @@ void LinearProducts::multiply_columns(const double* q, const double* v, const do
   std::size_t block = 0;
   for (int j = 0; j < size(); ++j) {
     while (block < stiffness_.size() && j >= stiffness_[block].offset + stiffness_[block].stiffness->cols()) ++block;
-    const double qj = q[j], vj = v[j];
+    const double vj = v[j];
     if (block < stiffness_.size() && j >= stiffness_[block].offset) {
       const SparseMatrix& K = *stiffness_[block].stiffness;
       const int offset = stiffness_[block].offset, column = j - offset;
+      const double qj = q[stiffness_[block].position_offset + column];
       const int* row = K.innerIndexPtr();
       const double* value = K.valuePtr();
       double* Kq_block = Kq + offset;
@@ -64,14 +65,8 @@ void LinearProducts::multiply(const Vector& q, const Vector& v, const Vector* dv
 void LinearProducts::multiply_stiffness(const Vector& x, Vector& Kx) const {
   Kx.setZero(size());
   for (const StiffnessBlock& block : stiffness_) {
-    const SparseMatrix& K = *block.stiffness;
-    const int* row = K.innerIndexPtr();
-    const double* value = K.valuePtr();
-    double* y = Kx.data() + block.offset;
-    for (int column = 0; column < K.cols(); ++column) {
-      const double xj = x(block.offset + column);
-      for (int p = K.outerIndexPtr()[column]; p < K.outerIndexPtr()[column + 1]; ++p) y[row[p]] += value[p] * xj;
-    }
+    const Eigen::Index n = block.stiffness->cols();
+    Kx.segment(block.offset, n).noalias() = *block.stiffness * x.segment(block.offset, n);
   }
 }
 

@@ -19,8 +19,11 @@ namespace csim {
 class LinearProducts {
  public:
   // A body's K (compressed, square) at its velocity offset: the World's K is their block-diagonal sum.
+  // Its columns take the body's positions from position_offset in q (a body with a quaternion before
+  // it moves q's offsets away from v's).
   struct StiffnessBlock {
     int offset;
+    int position_offset;
     const SparseMatrix* stiffness;
   };
 
@@ -30,7 +33,8 @@ class LinearProducts {
 
   int size() const { return mass_ ? static_cast<int>(mass_->rows()) : -1; }
 
-  // Kq = K q, Kv = K v, Mv = M v and, when dv is given, Mdv = M dv (each set, at size n).
+  // Kq = K q, Kv = K v, Mv = M v and, when dv is given, Mdv = M dv (each set, at size n, in v's layout;
+  // q in the World's positions, the others in its velocities).
   void multiply(const Vector& q, const Vector& v, const Vector* dv, Vector& Kq, Vector& Kv, Vector& Mv,
                 Vector* Mdv) const;
   // Kx = K x alone, the same to the bit as multiply's K q.
