@@ -6,13 +6,18 @@
 //   point_a, point_b : the closest (or deepest) points on A's and B's surfaces, world frame (m), with
 //             point_b − point_a = gap·normal (exact for the analytic pairs);
 //   (normal, t1, t2) : right-handed orthonormal frame; in plane scenes t1 lies in the plane z = 0 and
-//             t2 = e_z is unused.
+//             t2 = e_z is unused;
+//   arm_a, arm_b : where point_a (point_b) is a material point of its shape (a box's vertex), the world
+//             vector from the shape's origin to it, R times the point in the shape's frame (m); NaN
+//             where the point is not a fixed point of the shape (a closest point, a node).
 #pragma once
 
 #include <Eigen/Dense>
 #include <array>
+#include <cmath>
 #include <compare>
 #include <cstdint>
+#include <limits>
 
 namespace csim {
 
@@ -55,6 +60,13 @@ struct ContactPoint {
   Eigen::Vector3d t1 = Eigen::Vector3d::UnitX();
   Eigen::Vector3d t2 = Eigen::Vector3d::UnitY();
   double gap = 0.0;
+  // A rigid body's lever arm is taken from these where they are known, not as point − origin: the
+  // position's rounding then does not reach the contact's rows, which stay the same to the bit while a
+  // box slides without turning, and so does its Delassus operator (MoreauJean keeps it).
+  Eigen::Vector3d arm_a = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d arm_b = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  bool has_arm_a() const { return !std::isnan(arm_a.x()); }
+  bool has_arm_b() const { return !std::isnan(arm_b.x()); }
 };
 
 // Completes (n, t1, t2). When `direction` has a component orthogonal to n, t1 is that component

@@ -190,10 +190,12 @@ void box_halfspace(const CollisionShape& first, const CollisionShape& second, Pa
   if (centre_height - reach > query.margin) return;
 
   for (int i = 0; i < box_vertex_count(kPlanar); ++i) {
-    const Eigen::Vector3d vertex = first.pose * box_vertex(box, i, kPlanar);
+    const Eigen::Vector3d arm = R * box_vertex(box, i, kPlanar);  // a vertex is a material point of the box
+    const Eigen::Vector3d vertex = arm + c;                           // pose * vertex, to the bit
     const double gap = plane.normal.dot(vertex) - plane.offset;
     if (gap > query.margin) continue;
     add_contact(vertex, vertex - gap * plane.normal, -plane.normal, gap, i, out);
+    out.back().arm_a = arm;
   }
 }
 
@@ -209,6 +211,7 @@ constexpr PairFunction kPairTable[2][3][3] = {
 
 void flip(ContactPoint& c) {
   std::swap(c.point_a, c.point_b);
+  std::swap(c.arm_a, c.arm_b);
   c.normal = -c.normal;
 }
 
@@ -218,6 +221,8 @@ void project_to_plane(ContactPoint& c) {
   c.normal.normalize();
   c.point_a.z() = 0.0;
   c.point_b.z() = 0.0;
+  if (c.has_arm_a()) c.arm_a.z() = 0.0;
+  if (c.has_arm_b()) c.arm_b.z() = 0.0;
 }
 
 }  // namespace

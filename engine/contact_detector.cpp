@@ -118,6 +118,7 @@ ContactDetector::ContactDetector(const World& world)
       node_positions_.resize(object + 1);
       object_body_[object] = i;
       object_shape_[object] = -1;
+      shape_at_origin_.resize(object + 1);
       deformable_ = true;
       continue;
     }
@@ -133,6 +134,8 @@ ContactDetector::ContactDetector(const World& world)
       object_shape_.resize(object + 1);
       object_body_[object] = i;
       object_shape_[object] = static_cast<int>(s);
+      shape_at_origin_.resize(object + 1);
+      shape_at_origin_[object] = b.shapes[s].local_pose.translation().isZero(0.0);
       collision_->set_pose(object, b.body->pose(b.initial_position) * b.shapes[s].local_pose);
     }
   }
@@ -155,11 +158,16 @@ void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b
   for (int k = 0; k < d; ++k) rows[k].clear();
   const int ids[2] = {body_a, body_b};
   const Eigen::Vector3d* points[2] = {&c.point_a, &c.point_b};
+  const Eigen::Vector3d* arms[2] = {&c.arm_a, &c.arm_b};
+  const bool has_arm[2] = {c.has_arm_a() && shape_at_origin_[c.key.object_a],
+                           c.has_arm_b() && shape_at_origin_[c.key.object_b]};
   ProjectedJacobian P;
   for (int side = 0; side < 2; ++side) {
     const BodyInstance& b = world_.bodies[ids[side]];
     if (b.body->fixed()) continue;
-    b.body->project_world_point_jacobian(b.positions(q), *points[side], axes, d, P);
+    // A material point's arm from its shape's origin is the body's where the two origins are one.
+    if (has_arm[side]) b.body->project_lever_arm_jacobian(b.positions(q), *arms[side], axes, d, P);
+    else b.body->project_world_point_jacobian(b.positions(q), *points[side], axes, d, P);
     const double sign = side == 0 ? -1.0 : 1.0;
     if (d == 2) append_projections<2>(b.velocity_offset, P, sign, rows);
     else append_projections<3>(b.velocity_offset, P, sign, rows);

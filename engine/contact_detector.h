@@ -48,8 +48,9 @@ class ContactDetector {
 
  private:
   // The rows of a contact between shapes of two distinct bodies (no deformable surface): each side's
-  // point Jacobian projected on the contact's axes by its body (Body::project_world_point_jacobian),
-  // the same rows as contact_rows' to round-off.
+  // point Jacobian projected on the contact's axes by its body (Body::project_world_point_jacobian, or
+  // project_lever_arm_jacobian with the contact's arm where its shape knows it), the same rows as
+  // contact_rows' to round-off.
   void shape_contact_rows(const Vector& q, int body_a, int body_b, const ContactPoint& c, SparseRow* rows) const;
 
   const World& world_;
@@ -57,6 +58,7 @@ class ContactDetector {
   std::unique_ptr<CollisionWorld> collision_;
   std::vector<int> object_body_;   // collision object → body index
   std::vector<int> object_shape_;  // collision object → shape index in its body, −1 for a deformable surface
+  std::vector<char> shape_at_origin_;  // collision object → its shape's origin is its body's (no offset)
   // Each deformable surface's node positions by collision object (its body's nodes; the surface's kept current).
   std::vector<std::vector<Eigen::Vector3d>> node_positions_;
   std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1

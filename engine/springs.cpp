@@ -1,8 +1,9 @@
 #include "engine/springs.h"
 
+#include "engine/same_bits.h"
+
 #include <algorithm>
 #include <array>
-#include <cstring>
 
 namespace csim {
 
@@ -67,7 +68,7 @@ Springs::Springs(const World& world) : world_(world) {
 const Springs::Evaluation& Springs::at(const Vector& q) const {
   Evaluation& e = kept_;
   // The same bits, not merely equal values: −0 and +0 may give zeros of other signs.
-  if (e.positions.size() == q.size() && std::memcmp(q.data(), e.positions.data(), q.size() * sizeof(double)) == 0)
+  if (e.positions.size() == q.size() && same_bits(q.data(), e.positions.data(), q.size()))
     return e;
   for (std::size_t i = 0; i < world_.springs.size(); ++i) {
     const Spring& s = world_.springs[i];
@@ -119,7 +120,7 @@ bool Springs::same_jacobian_columns(const Vector& q, const std::vector<double>& 
   for (const End& end : at(q).ends) {
     const std::size_t length = 3 * end.jacobian.count;
     if (size + length > columns.size() ||
-        std::memcmp(end.jacobian.column.data(), columns.data() + size, length * sizeof(double)) != 0)
+        !same_bits(end.jacobian.column.data(), columns.data() + size, length))
       return false;
     size += length;
   }

@@ -214,6 +214,15 @@ class Body {
     }
   }
 
+  // The same projection for the material point at the world lever arm r from the body's origin (m): a
+  // contact point whose arm its shape knows (ContactPoint::arm_a), so that the position's rounding in
+  // x − origin does not reach the rows. The default forms the world point.
+  virtual void project_lever_arm_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& r,
+                                          const Eigen::Vector3d* const* axes, int axis_count,
+                                          ProjectedJacobian& out) const {
+    project_world_point_jacobian(q, pose(q).translation() + r, axes, axis_count, out);
+  }
+
   // Nodes of a body discretized by nodes (an elastic body's mesh nodes); none for a lumped body.
   virtual int node_count() const { return 0; }
   // Displacement components per node (2 in plane scenes, 3 in space).

@@ -28,6 +28,13 @@ void PointMass::project_world_point_jacobian(const ConstVectorRef&, const Eigen:
     for (int j = 0; j < dimension_; ++j) out.value(k, j) = (*axes[k])(j);
 }
 
+// A point mass's Jacobian is the same at every point.
+void PointMass::project_lever_arm_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& r,
+                                           const Eigen::Vector3d* const* axes, int axis_count,
+                                           ProjectedJacobian& out) const {
+  project_world_point_jacobian(q, r, axes, axis_count, out);
+}
+
 void PointMass::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                                    VectorRef q_next) const {
   q_next = q + h * v_theta;

@@ -18,6 +18,8 @@ class PointMass final : public Body {
   PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   void project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x, const Eigen::Vector3d* const* axes,
                                     int axis_count, ProjectedJacobian& out) const override;
+  void project_lever_arm_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& r, const Eigen::Vector3d* const* axes,
+                                    int axis_count, ProjectedJacobian& out) const override;
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                           VectorRef q_next) const override;
   int velocity_index(const std::string& component) const override;

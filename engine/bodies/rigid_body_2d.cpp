@@ -74,11 +74,17 @@ Eigen::Vector3d RigidBody2d::point_kinematics(const ConstVectorRef& q, const Eig
   return {q(0) + (rx + 0.0 * z), q(1) + (ry + 0.0 * z), 0.0 + ((0.0 * x + 0.0 * y) + ((1.0 - c) + c) * z)};
 }
 
-// The rotation column e_z × r with r = x − c, the world lever arm: (−r_y, r_x, 0).
 void RigidBody2d::project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x,
                                                const Eigen::Vector3d* const* axes, int axis_count,
                                                ProjectedJacobian& out) const {
-  const double rx = x.x() - q(0), ry = x.y() - q(1);
+  project_lever_arm_jacobian(q, Eigen::Vector3d(x.x() - q(0), x.y() - q(1), 0.0), axes, axis_count, out);
+}
+
+// The rotation column e_z × r with r the world lever arm: (−r_y, r_x, 0).
+void RigidBody2d::project_lever_arm_jacobian(const ConstVectorRef&, const Eigen::Vector3d& r,
+                                             const Eigen::Vector3d* const* axes, int axis_count,
+                                             ProjectedJacobian& out) const {
+  const double rx = r.x(), ry = r.y();
   out.count = 3;
   out.ascending = true;
   for (int j = 0; j < 3; ++j) out.index[j] = j;

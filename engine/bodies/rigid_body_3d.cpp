@@ -44,13 +44,18 @@ PointJacobian RigidBody3d::point_jacobian(const ConstVectorRef& q, const Eigen::
   return J;
 }
 
-// a · (R_i × r) = R_i · (r × a), r = x − c the world lever arm: a translation column's projection is
-// a itself, a rotation column's R_i · (r × a).
 void RigidBody3d::project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x,
                                                const Eigen::Vector3d* const* axes, int axis_count,
                                                ProjectedJacobian& out) const {
+  project_lever_arm_jacobian(q, x - q.head<3>(), axes, axis_count, out);
+}
+
+// a · (R_i × r) = R_i · (r × a), r the world lever arm: a translation column's projection is a itself,
+// a rotation column's R_i · (r × a).
+void RigidBody3d::project_lever_arm_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& r,
+                                             const Eigen::Vector3d* const* axes, int axis_count,
+                                             ProjectedJacobian& out) const {
   const Eigen::Matrix3d& R = rotation(q);
-  const Eigen::Vector3d r = x - q.head<3>();
   out.count = 6;
   out.ascending = true;
   for (int j = 0; j < 6; ++j) out.index[j] = j;

@@ -24,6 +24,8 @@ class RigidBody3d final : public Body {
   PointJacobian point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const override;
   void project_world_point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& x, const Eigen::Vector3d* const* axes,
                                     int axis_count, ProjectedJacobian& out) const override;
+  void project_lever_arm_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& r, const Eigen::Vector3d* const* axes,
+                                    int axis_count, ProjectedJacobian& out) const override;
   void integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,
                           VectorRef q_next) const override;
   int coordinate_of(int c) const override { return c < 3 ? c : -1; }

@@ -1,5 +1,6 @@
 #include "engine/steppers/moreau_jean.h"
 
+#include "engine/same_bits.h"
 #include "engine/small_dense_products.h"
 #include "engine/steppers/contact_solve.h"
 #include "fem/mesh.h"
@@ -110,6 +111,7 @@ void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) c
   if (two_halves_) out.add("detections_retaken", state.counters.detections_retaken);
   if (operators_.explicit_inverse() && !detector_.empty()) {
     out.add("detections_kept", state.counters.detections_kept);
+    out.add("delassus_kept", state.counters.delassus_kept);
     out.add("contact_solves_repeated", state.counters.solves_repeated);
   }
 }
@@ -351,21 +353,28 @@ void MoreauJean::dense_delassus() {
   delassus_kept_ = detection_kept_ && delassus_rows_ == active_rows_ &&
                   delassus_factorization_ == operators_.factorizations() && delassus_equalities_ == equalities_built_;
   if (delassus_kept_) return;
-  ++delassus_formed_;
-  if (at_rest_) {  // what the next steps compare, if they keep the detection (only at rest)
-    delassus_rows_ = active_rows_;
-    delassus_factorization_ = operators_.factorizations();
-    delassus_equalities_ = equalities_built_;
-  }
   const int m = static_cast<int>(rows_.size()) + equality_count();
-  problem_columns_.setZero(world_.velocity_size, m);  // Hᵀ
+  fresh_columns_.setZero(world_.velocity_size, m);  // Hᵀ
   const int contact_rows = static_cast<int>(rows_.size());
   for (int a = 0; a < contact_rows; ++a) {  // a contact row's distinct entries: scatter's 0 + 1·x, written
     const SparseRow& row = *rows_[a];
-    double* column = problem_columns_.col(a).data();
+    double* column = fresh_columns_.col(a).data();
     for (int k = 0; k < row.count; ++k) column[row.index[k]] = 0.0 + row.value[k];
   }
-  for (int a = contact_rows; a < m; ++a) add_problem_row(a, 1.0, problem_columns_.col(a));
+  for (int a = contact_rows; a < m; ++a) add_problem_row(a, 1.0, fresh_columns_.col(a));
+  // Also kept for Hᵀ the same to the bit with the same A⁻¹ (a box sliding without turning): W and
+  // G = A⁻¹ Hᵀ are functions of them.
+  delassus_kept_ = delassus_factorization_ == operators_.factorizations() &&
+                   fresh_columns_.cols() == problem_columns_.cols() && fresh_columns_.rows() == problem_columns_.rows() &&
+                   same_bits(fresh_columns_.data(), problem_columns_.data(), static_cast<std::size_t>(fresh_columns_.size()));
+  if (at_rest_) {  // what the next steps compare, if they keep the detection (only at rest)
+    delassus_rows_ = active_rows_;
+    delassus_equalities_ = equalities_built_;
+  }
+  if (delassus_kept_) return;
+  ++delassus_formed_;
+  delassus_factorization_ = operators_.factorizations();
+  problem_columns_.swap(fresh_columns_);
   operators_.dense_columns(problem_columns_, dense_columns_);
   small_symmetric_gram(problem_columns_, dense_columns_, problem_.W);
 }
@@ -526,10 +535,15 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
     warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
   const double t_next = state.t + parameters_.step;
   // A lumped World's problem the same to the bit as the last kept one (the same W, b, μ and warm start)
-  // has its solution: the solve is a function of them (see the header).
+  // has its solution: the solve is a function of them (see the header). Only at rest: a moving World's
+  // b differs at every step, and its W is kept only while the rows stay the same to the bit.
   KeptSolve& kept = kept_solve_;
-  if (delassus_kept_ && kept.delassus == delassus_formed_ && problem_.size() > 0 && kept.b.size() == problem_.b.size() &&
-      kept.b == problem_.b && kept.mu == problem_.mu && kept.warm == r_) {
+  const bool repeatable = delassus_kept_ && at_rest_;
+  if (repeatable && kept.delassus == delassus_formed_ && problem_.size() > 0 && kept.b.size() == problem_.b.size() &&
+      kept.mu.size() == problem_.mu.size() && same_bits(kept.b.data(), problem_.b.data(), kept.b.size()) &&
+      same_bits(reinterpret_cast<const double*>(kept.mu.data()), reinterpret_cast<const double*>(problem_.mu.data()),
+                2 * kept.mu.size()) &&
+      same_bits(kept.warm.data(), r_.data(), kept.warm.size())) {
     r_ = kept.r;
     statuses_ = kept.status;
     ++state.counters.solves_repeated;
@@ -539,7 +553,7 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
       throw RunError(t_next, failure);
     return;
   }
-  if (delassus_kept_) {
+  if (repeatable) {
     kept.delassus = delassus_formed_;
     kept.b = problem_.b;
     kept.mu = problem_.mu;
@@ -550,7 +564,7 @@ void MoreauJean::solve(State& state, bool warm_from_state) {
                          &statuses_, &kept.statistics);
       !failure.empty())
     throw RunError(t_next, failure);
-  if (delassus_kept_) {  // (a W formed since has another count: delassus_formed_ moved on)
+  if (repeatable) {  // (a W formed since has another count: delassus_formed_ moved on)
     kept.r = r_;
     kept.status = statuses_;
   }
@@ -792,6 +806,7 @@ void MoreauJean::step(State& state) {
     if (two_halves_) step_in_two_halves(state);
     else detect_solve_update(state);
     if (detection_kept_) ++state.counters.detections_kept;
+    if (delassus_kept_ && problem_.size() > 0) ++state.counters.delassus_kept;
   }
   account_energy(state);
   if (!v_next_.allFinite() || !q_next_.allFinite()) {

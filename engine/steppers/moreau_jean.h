@@ -51,9 +51,13 @@
 // set as a new detection). Only a World whose v_k travels less than that tolerance in a step (about
 // 2e-19 of its length scale) remembers and compares: a moving one does none of it. SolverCounters::
 // detections_kept counts the steps that kept their detection.
-// With W kept, a contact problem whose b, μ and warm start are the last solved ones to the bit (a body
-// at rest: sdnd100-a's pad once stopped, whose condensed problem takes Gauss–Seidel's slip scan at every
-// step) takes that solve's impulses and statistics (SolverCounters::solves_repeated).
+// A new detection whose Hᵀ is the last one to the bit, with the same A⁻¹, also keeps W and A⁻¹ Hᵀ (they
+// are functions of them): a box sliding without turning (sdnv104-rigid), whose contacts' lever arms are
+// its vertices' R r (ContactPoint::arm_a), not point − centre, whose rounding follows the position.
+// SolverCounters::delassus_kept counts the steps with contacts that kept W either way.
+// With W kept at rest, a contact problem whose b, μ and warm start are the last solved ones to the bit (a
+// body at rest: sdnd100-a's pad once stopped, whose condensed problem takes Gauss–Seidel's slip scan at
+// every step) takes that solve's impulses and statistics (SolverCounters::solves_repeated).
 // Why a fraction of an ulp: kept over a few ulps of motion, a contact's gap, frozen or moved to first
 // order, falls below what the coordinates resolve, and the closing term of step 3 then pushes at it at
 // every step with a velocity the positions cannot follow (a block at rest on `incline` kept 4e-14 rad/s;
@@ -209,6 +213,7 @@ class MoreauJean final : public Stepper {
   std::vector<Vector> tie_columns_;
   Matrix problem_rows_;  // the problem's rows H (m × n), for a direct Delassus operator (structural_operators.h)
   Matrix problem_columns_, dense_columns_;  // a lumped World's Hᵀ and G = A⁻¹ Hᵀ (n × m each)
+  Matrix fresh_columns_;                    // this step's Hᵀ, compared with the kept one before it replaces it
   // A lumped World's kept detection (see the header): whether v_k travels less than its tolerance in a
   // step (the bookkeeping is done only then), whether this step kept it, the margin it was made with
   // (m), and what W, Hᵀ and G were formed for (the active candidates, A's factorization count and the

@@ -366,6 +366,40 @@ TEST(BoxHalfspace, RotatedBoxGivesExactVertexGaps) {
   EXPECT_EQ(reported, expected);
 }
 
+// A box vertex is a material point of the box: its contact carries the arm R r (r the vertex in the
+// box's frame) on the box's side, and the vertex is pose · r to the bit, formed as arm + centre. A point
+// that is not a fixed point of its shape (the plane's side, a sphere's lowest point) has none.
+TEST(BoxHalfspace, VertexContactsCarryTheirArmsOnTheBoxSide) {
+  const Box shape{{0.5, 0.4, 0.3}};
+  for (const bool planar : {false, true}) {
+    const Placed ground{Halfspace{Eigen::Vector3d(0.2, 1.0, planar ? 0.0 : 0.4).normalized(), 0.1},
+                        Eigen::Isometry3d::Identity(), true};
+    const Placed box{shape, planar ? translation(13.7, 0.5, 0.0) * rotation(0.35, {0, 0, 1})
+                                   : translation(13.7, 0.5, -2.3) * rotation(0.9, {1, -2, 0.5})};
+    for (const bool reversed : {false, true}) {
+      SCOPED_TRACE(testing::Message() << (planar ? "planar" : "3D") << (reversed ? ", ids swapped" : ""));
+      const auto contacts = detect(ground, box, 10.0, reversed, planar);
+      ASSERT_EQ(contacts.size(), planar ? 4u : 8u);
+      for (const ContactPoint& c : contacts) {
+        const Eigen::Vector3d r = box_vertex(shape, c.key.feature, planar);
+        const Eigen::Vector3d arm = box.pose.linear() * r;
+        const Eigen::Vector3d& on_box = reversed ? c.point_a : c.point_b;
+        ASSERT_TRUE(reversed ? c.has_arm_a() : c.has_arm_b());
+        EXPECT_FALSE(reversed ? c.has_arm_b() : c.has_arm_a());  // the plane's point slides on it
+        const Eigen::Vector3d& carried = reversed ? c.arm_a : c.arm_b;
+        EXPECT_TRUE(carried == arm) << carried.transpose() << " against " << arm.transpose();
+        EXPECT_TRUE(on_box == box.pose * r) << on_box.transpose();
+        if (planar) EXPECT_EQ(carried.z(), 0.0);
+      }
+    }
+  }
+  const Placed ground{Halfspace{Eigen::Vector3d::UnitZ(), 0.0}, Eigen::Isometry3d::Identity(), true};
+  const auto sphere = detect(ground, {Sphere{0.3}, translation(1.0, 2.0, 0.25)}, 0.1);
+  ASSERT_EQ(sphere.size(), 1u);
+  EXPECT_FALSE(sphere[0].has_arm_a());
+  EXPECT_FALSE(sphere[0].has_arm_b());
+}
+
 TEST(BoxHalfspace, RestingOnInclinedPlane) {
   // Box aligned with the 20° incline, bottom face on the plane.
   const Placed box{Box{{0.5, 0.4, 0.3}}, kIncline * translation(0.6, -0.3, 0.1 + 0.3)};
