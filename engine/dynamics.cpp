@@ -1,5 +1,7 @@
 #include "engine/dynamics.h"
 
+#include "engine/same_bits.h"
+
 #include <algorithm>
 #include <array>
 #include <stdexcept>
@@ -185,7 +187,7 @@ double Dynamics::kinetic_energy(const Vector& v, const Vector& x, Vector& Mx) co
 
 const Vector& Dynamics::linear_body_products(const Vector& q) const {
   if (kept_positions_.size() == q.size() &&
-      std::equal(q.data(), q.data() + q.size(), kept_positions_.data()))
+      same_bits(q.data(), kept_positions_.data(), q.size()))
     return kept_products_;
   kept_products_.resize(size());
   for (const BodyInstance& b : world_.bodies)

@@ -1,5 +1,7 @@
 #include "engine/bodies/rigid_body_3d.h"
 
+#include "engine/same_bits.h"
+
 #include <cstring>
 
 namespace csim {
@@ -17,7 +19,7 @@ void RigidBody3d::add_mass(int offset, Triplets& mass) const {
 
 const Eigen::Matrix3d& RigidBody3d::rotation(const ConstVectorRef& q) const {
   const double quaternion[4] = {q(3), q(4), q(5), q(6)};
-  if (!rotation_cached_ || std::memcmp(quaternion, cached_quaternion_, sizeof quaternion) != 0) {
+  if (!rotation_cached_ || !same_bits(quaternion, cached_quaternion_, 4)) {
     std::memcpy(cached_quaternion_, quaternion, sizeof quaternion);
     cached_rotation_ = orientation(q).normalized().toRotationMatrix();
     rotation_cached_ = true;

@@ -186,7 +186,7 @@ bool MoreauJean::keeps_stiffness_velocity() const {
 
 bool MoreauJean::stiffness_velocity_kept(const Vector& v) const {
   return keeps_stiffness_velocity() && kept_factorization_ == operators_.factorizations() &&
-         kept_velocity_.size() == v.size() && std::equal(v.data(), v.data() + v.size(), kept_velocity_.data());
+         kept_velocity_.size() == v.size() && same_bits(v.data(), kept_velocity_.data(), v.size());
 }
 
 void MoreauJean::check_free_velocity(const Vector& v_free, double t) const {
