@@ -58,14 +58,16 @@ std::uint64_t lumped_run_bits(const std::string& scene_name, double step, int st
 // b = H v_free and H v_θ by dense dots), and sdnv104-rigid's, which the box's lever arms from its frame
 // (ContactPoint::arm_a) moved by round-off: over the scene's run (h 1e-3, 10 s), dx the same to the bit
 // at every output row, the normal force by 1.0e-10 N of 7e4 N, the energy balance's largest residual
-// 9.569e-8 → 9.558e-8 J.
+// 9.569e-8 → 9.558e-8 J. incline-3d's again since the Gauss–Seidel's frozen velocities sum rows in
+// packets of two (pgs_solver.cpp): over the scene's run, the slide the same to the bit at every output row, the
+// sideways drift's largest 9.9e-19 → 7.7e-19 m, the normal force by 3.1e-13 N of 92 N.
 TEST(MoreauJean, LumpedBenchmarkRunsAreTheSameToTheBit) {
   struct Case {
     const char* scene;
     double step;
     std::uint64_t bits;
   };
-  for (const Case& c : {Case{"sdnv104-rigid", 1e-5, 0xc012ae681677d1bcull}, Case{"incline-3d", 1e-5, 0xa08f6d3ac70ea311ull},
+  for (const Case& c : {Case{"sdnv104-rigid", 1e-5, 0xc012ae681677d1bcull}, Case{"incline-3d", 1e-5, 0xbee1e684c518f13bull},
                         Case{"sdnd100-a", 2e-6, 0xae50ecee7cfff9f8ull}}) {
     const std::uint64_t bits = lumped_run_bits(c.scene, c.step, 20000);
     EXPECT_EQ(bits, c.bits) << c.scene << ": 0x" << std::hex << bits;
