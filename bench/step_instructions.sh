@@ -14,7 +14,8 @@ for scene in incline-3d sdnv104-rigid sdnd100-a; do
   if [ "$scene" = sdnd100-a ]; then overrides=(--set time.step=2e-6 --set time.end=0.04)
   else overrides=(--set time.step=1e-5 --set time.end=0.2); fi
   valgrind --tool=callgrind --callgrind-out-file="$out/$scene.callgrind" "$csim" run "$scenes/$scene" \
-    "${overrides[@]}" --out "$out/$scene" --quiet > /dev/null 2>&1
+    "${overrides[@]}" --out "$out/$scene" --quiet > /dev/null 2>&1 ||
+    true  # a run this short leaves some checks unevaluated: csim exits 1, the count stands
   callgrind_annotate --inclusive=yes "$out/$scene.callgrind" 2>/dev/null |
     awk -v scene="$scene" '/MoreauJean::step\(csim::State&\) \[/ { gsub(",", "", $1); step = $1 }
       END { printf "%-14s %6.0f instructions a step\n", scene, step / 20000 }'
