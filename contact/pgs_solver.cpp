@@ -56,9 +56,9 @@ ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::V
 // single contact this is b_c exactly and the local solve is the global one to the last bit.
 // The contact's D columns are summed side by side (W is symmetric, its columns contiguous), four rows
 // a pass in two packets of two, whose four partial sums are added at the end: Eigen's general product
-// costs more in set-up than a dozen rows' arithmetic, and a single packet a column waits on its own
-// additions (a sweep at m = 82 in 2D: 2.7 µs with one, 2.1 µs with two, Eigen's 2.3 µs; the measurements
-// are in docs/solver-measurements.md).
+// costs more in set-up than a dozen rows' arithmetic, and with a single packet a column each addition
+// waits on the last, which made 2D sweeps slower than Eigen's (docs/solver-measurements.md, twelfth
+// round; bench/bench_pgs).
 template <int D>
 Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
                                Eigen::Index first) {
