@@ -101,6 +101,14 @@ Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const Eige
   return b_c;
 }
 
+// ‖(W r)_c‖², (m/s)², of the contact whose rows start at `first`, from its frozen velocity (above) and
+// its impulse r_c: (frozen − b_c) + W_cc r_c.
+template <int D>
+double product_squared(const FrictionContactProblem& problem, Eigen::Index first, const Vector<D>& frozen,
+                       const Matrix<D>& W_cc, const Vector<D>& r_c) {
+  return (frozen - problem.b.template segment<D>(first) + W_cc * r_c).squaredNorm();
+}
+
 // Elliptic radius of r_t over r_n, on the rough axes only; 1 (on the boundary) for a frictionless
 // contact, whose disk is the single point r_t = 0.
 template <int D>
@@ -164,7 +172,7 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
     if (!r_local.allFinite()) {
       ++rejected;
       result.settled_from = c + 1;
-      result.Wr_squared += (b_c - problem.b.template segment<D>(first) + W_cc * r_old).squaredNorm();
+      result.Wr_squared += product_squared<D>(problem, first, b_c, W_cc, r_old);
       continue;
     }
     Vector<D> r_new = r_local;
@@ -174,7 +182,7 @@ SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& pa
     }
     if (r_new != r_old || r_local != r_new) result.settled_from = r_local == r_new ? c : c + 1;
     result.increment_squared += W_cc.diagonal().cwiseProduct(r_new - r_old).squaredNorm();
-    result.Wr_squared += (b_c - problem.b.template segment<D>(first) + W_cc * r_new).squaredNorm();
+    result.Wr_squared += product_squared<D>(problem, first, b_c, W_cc, r_new);
     r.template segment<D>(first) = r_new;
   }
 
@@ -200,10 +208,10 @@ void add_equality_sums(const FrictionContactProblem& problem, const Eigen::Vecto
 
 // The contacts' terms; the law's is infinite if a local solution is not finite. The law's terms of the
 // contacts from `settled_from` on are known to be zero (SweepResult) and not computed: adding them
-// would add +0 to the sum, which leaves it the same to the bit. (W r)_c comes from the frozen velocity,
-// (b_c + Σ_{d≠c} W_cd r_d − b_c) + W_cc r_c, formed for every contact so that a skipped term leaves the
-// scale the same to the bit too: the subtraction's round-off, a fraction 1e-16 of ‖b‖, is below what a
-// scale of max(‖b‖, ‖W r‖) can see.
+// would add +0 to the sum, which leaves it the same to the bit. (W r)_c comes from the frozen velocity
+// (product_squared), formed for every contact so that a skipped term leaves the scale the same to the
+// bit too: the subtraction's round-off, a fraction 1e-16 of ‖b‖, is below what a scale of
+// max(‖b‖, ‖W r‖) can see.
 template <int D>
 void add_contact_sums(const FrictionContactProblem& problem, const Eigen::VectorXd& r, int settled_from,
                       ResidualSums& sums) {
@@ -212,7 +220,7 @@ void add_contact_sums(const FrictionContactProblem& problem, const Eigen::Vector
     const Vector<D> b_c = frozen_free_velocity<D>(problem, r, first);
     const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
     const Vector<D> r_c = r.template segment<D>(first);
-    sums.product += (b_c - problem.b.template segment<D>(first) + W_cc * r_c).squaredNorm();
+    sums.product += product_squared<D>(problem, first, b_c, W_cc, r_c);
     if (c >= settled_from) continue;
     Vector<D> r_local;
     solve_local<D>(W_cc, b_c, problem.mu[c], r_local);

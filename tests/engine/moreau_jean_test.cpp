@@ -59,8 +59,8 @@ std::uint64_t lumped_run_bits(const std::string& scene_name, double step, int st
 // (ContactPoint::arm_a) moved by round-off: over the scene's run (h 1e-3, 10 s), dx the same to the bit
 // at every output row, the normal force by 1.0e-10 N of 7e4 N, the energy balance's largest residual
 // 9.569e-8 → 9.558e-8 J. incline-3d's again since the Gauss–Seidel's frozen velocities sum rows in
-// packets of two (pgs_solver.cpp): over the scene's run, the slide the same to the bit at every output row, the
-// sideways drift's largest 9.9e-19 → 7.7e-19 m, the normal force by 3.1e-13 N of 92 N.
+// packets of two (pgs_solver.cpp): over the scene's run, the slide the same to the bit at every output
+// row, the sideways drift's largest 9.9e-19 → 7.7e-19 m, the normal force by 3.1e-13 N of 92 N.
 TEST(MoreauJean, LumpedBenchmarkRunsAreTheSameToTheBit) {
   struct Case {
     const char* scene;
