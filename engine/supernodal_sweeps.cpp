@@ -8,25 +8,37 @@ namespace csim {
 
 namespace {
 
-// How far ahead of its reads the backward sweep prefetches the storage (docs/solver-measurements.md,
-// ninth round).
-constexpr long kPrefetchBytes = 8192;
-
 using Column = Eigen::Map<Eigen::VectorXd>;
 using ConstColumn = Eigen::Map<const Eigen::VectorXd>;
 
-// Σ_i a_i x[rows_i] in four independent sums, so that a long column is not one chain of dependent
-// additions (the latency that bounds a column-by-column sweep).
-double gathered_dot(const double* a, const int* rows, int m, const double* x) {
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-  int i = 0;
-  for (; i + 4 <= m; i += 4) {
-    s0 += a[i] * x[rows[i]];
-    s1 += a[i + 1] * x[rows[i + 1]];
-    s2 += a[i + 2] * x[rows[i + 2]];
-    s3 += a[i + 3] * x[rows[i + 3]];
+// Σ_i a_i b_i from the last i down, in two packets of two: the backward sweep reads the storage from
+// its end, and each of its dots reads its column the same way.
+double descending_dot(const double* a, const double* b, int m) {
+  using Pair = Eigen::Map<const Eigen::Vector2d>;
+  Eigen::Vector2d upper = Eigen::Vector2d::Zero(), lower = upper;
+  int i = m;
+  for (; i >= 4; i -= 4) {
+    upper += Pair(a + i - 2).cwiseProduct(Pair(b + i - 2));
+    lower += Pair(a + i - 4).cwiseProduct(Pair(b + i - 4));
   }
-  for (; i < m; ++i) s0 += a[i] * x[rows[i]];
+  const Eigen::Vector2d sum = upper + lower;
+  double dot = sum[0] + sum[1];
+  for (; i > 0; --i) dot += a[i - 1] * b[i - 1];
+  return dot;
+}
+
+// Σ_i a_i x[rows_i] from the last i down, in four independent sums, so that a long column is not one
+// chain of dependent additions (the latency that bounds a column-by-column sweep).
+double descending_gathered_dot(const double* a, const int* rows, int m, const double* x) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  int i = m;
+  for (; i >= 4; i -= 4) {
+    s0 += a[i - 1] * x[rows[i - 1]];
+    s1 += a[i - 2] * x[rows[i - 2]];
+    s2 += a[i - 3] * x[rows[i - 3]];
+    s3 += a[i - 4] * x[rows[i - 4]];
+  }
+  for (; i > 0; --i) s0 += a[i - 1] * x[rows[i - 1]];
   return (s0 + s1) + (s2 + s3);
 }
 
@@ -50,13 +62,9 @@ void SupernodalSweeps::analyse(int n, const int* start, const int* count, const 
   }
   first_column_.push_back(n);
   below_start_.push_back(static_cast<int>(below_.size()));
-  int rows = 0, columns = 0;
-  for (int s = 0; s < supernodes(); ++s) {
-    rows = std::max(rows, below_start_[s + 1] - below_start_[s]);
-    columns = std::max(columns, first_column_[s + 1] - first_column_[s]);
-  }
+  int rows = 0;
+  for (int s = 0; s < supernodes(); ++s) rows = std::max(rows, below_start_[s + 1] - below_start_[s]);
   work_.assign(rows, 0.0);
-  dots_.assign(columns, 0.0);
 }
 
 // Each supernode's storage is read once, in the order it lies: column by column, each column's entries in
@@ -86,32 +94,27 @@ void SupernodalSweeps::forward(const int* start, const double* values, double* x
   }
 }
 
-// The supernodes from the last; within one, the dots below the diagonal block (independent of each other:
-// x there is final) in the storage's order, then the diagonal block from its last column.
+// The supernodes from the last; within one, its columns from the last, each read from its end (the rows
+// below the diagonal block, then the block, then D_j): the whole sweep reads the storage in descending
+// order, a stream the hardware prefetches as it does the forward sweep's (docs/solver-measurements.md,
+// thirteenth round). x below the supernode is final, and x_k once the supernode's columns after k are.
 void SupernodalSweeps::backward(const int* start, const double* values, double* x) const {
-  long prefetched = supernodes() == 0 ? 0 : static_cast<long>(start[first_column_.back() - 1]) * 8;  // bytes from values
   for (int s = supernodes() - 1; s >= 0; --s) {
     const int c0 = first_column_[s], w = first_column_[s + 1] - c0;
     const int* below = below_.data() + below_start_[s];
     const int m = below_start_[s + 1] - below_start_[s];
-    // The storage is read from its end, a stream the hardware does not prefetch well: the bytes below
-    // the supernode are asked for ahead.
-    for (const long target = std::max(0L, static_cast<long>(start[c0]) * 8 - kPrefetchBytes); prefetched > target;) {
-      prefetched -= 64;
-      __builtin_prefetch(reinterpret_cast<const char*>(values) + prefetched);
-    }
     if (w == 1) {
       const double* column = values + start[c0];
-      x[c0] = x[c0] / column[0] - gathered_dot(column + 1, below, m, x);
+      x[c0] = x[c0] / column[0] - descending_gathered_dot(column + 1, below, m, x);
       continue;
     }
-    Column gathered(work_.data(), m);
-    for (int i = 0; i < m; ++i) gathered[i] = x[below[i]];
-    for (int k = 0; k < w; ++k) dots_[k] = ConstColumn(values + start[c0 + k] + w - k, m).dot(gathered);
+    double* gathered = work_.data();
+    for (int i = m - 1; i >= 0; --i) gathered[i] = x[below[i]];
     for (int k = w - 1; k >= 0; --k) {
       const double* column = values + start[c0 + k];
-      const double block_sum = ConstColumn(column + 1, w - 1 - k).dot(ConstColumn(x + c0 + k + 1, w - 1 - k));
-      x[c0 + k] = x[c0 + k] / column[0] - (block_sum + dots_[k]);
+      const double below_sum = descending_dot(column + w - k, gathered, m);
+      const double block_sum = descending_dot(column + 1, x + c0 + k + 1, w - 1 - k);
+      x[c0 + k] = x[c0 + k] / column[0] - (block_sum + below_sum);
     }
   }
 }

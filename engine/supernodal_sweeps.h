@@ -7,8 +7,8 @@
 // larger than the last-level cache (the FE shoe's L is 44 MB at 52k DOFs), the two sweeps of a step are
 // bound by that traffic (docs/solver-measurements.md). Here a supernode's off-diagonal entries are read
 // as dense columns of equal length against its row list: 8 bytes an entry, and products over contiguous
-// values that the compiler vectorizes. Each supernode's storage is read once, in the order it lies; the
-// backward sweep, which takes the supernodes from the last, prefetches the storage below the one it reads.
+// values that the compiler vectorizes. Each sweep reads the storage as one stream: the forward sweep from
+// its start, the backward sweep from its end (each supernode, and each column in it, from its end too).
 //
 // Storage. Column j of L holds its rows ascending with the diagonal first (which holds D_j), at start[j],
 // count[j] entries, in rows row[...]: the layout SupernodalLdlt writes and CHOLMOD's simplicial solves
@@ -36,7 +36,6 @@ class SupernodalSweeps {
   // below_[below_start_[s] … below_start_[s + 1]).
   std::vector<int> first_column_, below_start_, below_;
   mutable std::vector<double> work_;  // a supernode's gathered rows below its diagonal block, or their updates
-  mutable std::vector<double> dots_;  // backward: each column's dot below the diagonal block
 };
 
 }  // namespace csim
