@@ -274,10 +274,8 @@ void MoreauJean::activate_by_forward_columns(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
   const int d = contact_dimension_;
   gather_candidates();
-  free_normal_.resize(candidates_.size());
   for (std::size_t k = 0; k < candidates_.size(); ++k) {
-    free_normal_[k] = SparseLdlt::dot(delassus_cache_.forward(candidate_slots_[d * k]), free_scaled_);
-    const double approach = candidate_rows_[d * k].dot(state.v) + theta * free_normal_[k];
+    const double approach = candidate_rows_[d * k].dot(state.v) + theta * candidate_dots_[d * k];
     if (candidates_[k].point.gap + kActivationGamma * h * approach > 0.0) continue;
     active_.push_back(candidates_[k]);
     active_rows_.push_back(static_cast<int>(k));
@@ -428,6 +426,16 @@ void MoreauJean::gather_candidates() {
     }
   for (int e = 0; e < ne; ++e) candidate_slots_[d * candidates + e] = equality_slot(e);
   delassus_cache_.finish();
+  forward_rows_.assign(delassus_cache_, candidate_slots_, operators_.sparse_factor().size());
+  forward_rows_.dots(free_scaled_, candidate_dots_);
+}
+
+// Two halves: the candidate row (in candidate_slots_' order) of the problem's row a: an active contact's
+// rows are its candidate's, the equalities' come after every candidate's.
+int MoreauJean::candidate_row(int a) const {
+  const int d = contact_dimension_;
+  const int nc = static_cast<int>(active_.size());
+  return a < d * nc ? d * active_rows_[a / d] + a % d : d * static_cast<int>(candidates_.size()) + (a - d * nc);
 }
 
 void MoreauJean::assemble(const State& state) {
@@ -465,8 +473,12 @@ void MoreauJean::assemble(const State& state) {
     } else {
       gather_delassus();
     }
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) problem_.W(a, b) = delassus_cache_(delassus_slots_[a], delassus_slots_[b]);
+    if (delassus_slots_ != copied_slots_ || delassus_cache_.computed_entries() != copied_entries_) {
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) problem_.W(a, b) = delassus_cache_(delassus_slots_[a], delassus_slots_[b]);
+      copied_slots_ = delassus_slots_;
+      copied_entries_ = delassus_cache_.computed_entries();
+    }
   } else {
     gather_columns();
     for (int a = 0; a < m; ++a)
@@ -478,13 +490,8 @@ void MoreauJean::assemble(const State& state) {
   const bool dense_rows = operators_.explicit_inverse();
   if (dense_rows) {
     small_transpose_multiply(problem_columns_, v_free_, problem_.b);
-  } else if (two_halves_) {  // H v_free = H v_k + Yᵀ z (see the header), the normal rows' Yᵀ z from detect
-    for (int a = 0; a < m; ++a) {
-      const bool normal = a < d * nc && a % d == 0;
-      const double free = normal ? free_normal_[active_rows_[a / d]]
-                                 : SparseLdlt::dot(delassus_cache_.forward(delassus_slots_[a]), free_scaled_);
-      problem_.b(a) = problem_row_dot(a, state.v) + free;
-    }
+  } else if (two_halves_) {  // H v_free = H v_k + Yᵀ z (see the header), Yᵀ z from detect
+    for (int a = 0; a < m; ++a) problem_.b(a) = problem_row_dot(a, state.v) + candidate_dots_[candidate_row(a)];
   } else {
     for (int a = 0; a < m; ++a) problem_.b(a) = problem_row_dot(a, v_free_);
   }
@@ -575,7 +582,13 @@ void MoreauJean::update(State& state) {
   const int rows = static_cast<int>(r_.size());
   if (two_halves_) {  // v_k + Pᵀ L⁻ᵀ D⁻¹ (w + Y r): the backward half (see the header)
     forward_sum_ = free_forward_;
-    for (int a = 0; a < rows; ++a) SparseLdlt::add_scaled(r_(a), delassus_cache_.forward(delassus_slots_[a]), forward_sum_);
+    candidate_impulses_.assign(forward_rows_.columns(), 0.0);
+    candidate_in_problem_.assign(forward_rows_.columns(), 0);
+    for (int a = 0; a < rows; ++a) {
+      candidate_impulses_[candidate_row(a)] = r_(a);
+      candidate_in_problem_[candidate_row(a)] = 1;
+    }
+    forward_rows_.add(candidate_impulses_, candidate_in_problem_, forward_sum_);
     operators_.sparse_factor().back_substitute(forward_sum_, work_);
     v_next_ = state.v + work_;
   } else {

@@ -32,8 +32,9 @@
 // cache, and each pass over it is then bound by memory; docs/solver-measurements.md, sixth round):
 //   1. w = L⁻¹ P h f (forward), z = D⁻¹ w; no v_free: each row's H v_free = H v_k + y_hᵀ z from its
 //      forward column y_h = L⁻¹ P hᵀ, kept in the Delassus cache for every candidate (step 2's rule)
-//      and every row of the problem (step 3's b);
-//   5. v_{k+1} = v_k + Pᵀ L⁻ᵀ D⁻¹ (w + Y r) (backward).
+//      and every row of the problem (step 3's b), all the y_hᵀ z in one pass over the columns stored
+//      by the factor's rows (forward_rows.h);
+//   5. v_{k+1} = v_k + Pᵀ L⁻ᵀ D⁻¹ (w + Y r) (backward), w + Y r by the same rows.
 // Step 2's margin, which v_free bounded, then covers twice the travel of the faster of v_k and the
 // last step's v_θ; a step whose motion v_θ went farther is taken again with the margin of v_free,
 // formed whole by one more backward pass (SolverCounters::detections_retaken), so that no contact the
@@ -95,6 +96,7 @@
 #include "contact/pgs_solver.h"
 #include "engine/contact_detector.h"
 #include "engine/delassus_cache.h"
+#include "engine/forward_rows.h"
 #include "engine/dynamics.h"
 #include "engine/structural_operators.h"
 #include "engine/tie_rows.h"
@@ -134,6 +136,7 @@ class MoreauJean final : public Stepper {
   void detect_solve_update(State& state);  // steps 2–5 of a linear step
   void step_in_two_halves(State& state);   // a sparse linear World, after its forward half (see the header)
   void gather_candidates();               // two halves: every candidate's rows and the equalities in the cache
+  int candidate_row(int a) const;         // two halves: the candidate row of the problem's row a
   int equality_slot(int e);               // an equality row's slot in the Delassus cache
   int newton_iterations(State& state);
   void detect(const State& state);
@@ -195,6 +198,10 @@ class MoreauJean final : public Stepper {
   // nonzeros of an equality row.
   DelassusCache delassus_cache_;
   std::vector<int> delassus_slots_, equality_index_;
+  // The slots W was last copied from, and the cache's count of computed entries then: the same slots
+  // with no entry computed since give the same W, which is not copied again (m² entries a step).
+  std::vector<int> copied_slots_;
+  long copied_entries_ = -1;
   std::vector<double> equality_value_;
   Vector forward_sum_;  // Y r, in the factor's order
   // Two halves (see the header): whether this World takes them, whether this step formed v_free (a
@@ -204,7 +211,12 @@ class MoreauJean final : public Stepper {
   double reach_ = 0.0;
   Vector free_forward_, free_scaled_;
   std::vector<int> candidate_slots_;
-  std::vector<double> free_normal_;  // each candidate's normal row's h A⁻¹ f (u_n(v_free − v_k))
+  // The candidates' forward columns by the factor's rows (forward_rows.h); each candidate row's y_cᵀ z,
+  // its h A⁻¹ f (a normal row's: u_n(v_free − v_k)); the impulses in candidate order, with the rows of the
+  // problem marked, for w + Y r.
+  ForwardRows forward_rows_;
+  std::vector<double> candidate_dots_, candidate_impulses_;
+  std::vector<char> candidate_in_problem_;
   FrictionContactProblem problem_;
   EqualityRows equalities_;           // the World's constraints, then the active prescriptions (dynamics.h)
   // The ties' rows after the constraints', linearized at each iterate, their A⁻¹ tᵀ recomputed
