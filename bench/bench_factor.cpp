@@ -7,9 +7,8 @@
 // contact rows (those of the bench_fe runs): their mean length (the reach along the elimination tree)
 // and time, and the time of all their Delassus entries from the cache (delassus_cache.h), which is
 // what the first contact costs, against one full solve per row before.
+#include "bench/shoe_iteration_matrix.h"
 #include "engine/delassus_cache.h"
-#include "engine/dynamics.h"
-#include "tools/scene/scene.h"
 
 #include <algorithm>
 #include <chrono>
@@ -33,11 +32,7 @@ int main(int argc, char** argv) {
   std::printf("%5s %7s %10s %8s %22s %8s %9s %9s %8s %11s %11s %12s\n", "div", "dofs", "L entries", "L MB",
               "solve [min-max]", "ns/entry", "forward", "backward", "rows", "mean reach", "forward/row", "W all rows");
   for (int divisions = 10; divisions <= largest; divisions *= 2) {
-    const auto scene = csim::load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml",
-                                        {"parameters.divisions=" + std::to_string(divisions)});
-    const csim::Dynamics dynamics(scene->world);
-    const double h = 1e-3, theta = 0.51;
-    const csim::SparseMatrix A = dynamics.mass() + (h * h * theta * theta) * dynamics.body_stiffness();
+    const csim::SparseMatrix A = shoe_iteration_matrix(divisions);
     csim::SparseLdlt factor;
     factor.factor_positive_definite(A);
     const int n = static_cast<int>(A.rows());

@@ -4,9 +4,8 @@
 // θ = 0.51). Each sweep's median and [min–max] in ms. bench_factor times each sweep alone, repeated,
 // where the backward sweep finds what it read last in the cache; here it finds what the forward sweep
 // read, as in a step.
-#include "engine/dynamics.h"
+#include "bench/shoe_iteration_matrix.h"
 #include "engine/sparse_ldlt.h"
-#include "tools/scene/scene.h"
 
 #include <algorithm>
 #include <chrono>
@@ -32,11 +31,7 @@ int main(int argc, char** argv) {
   const int repeats = argc > 1 ? std::atoi(argv[1]) : 101;
   std::printf("forward then backward sweep, %d pairs; ms, median [min-max]\n", repeats);
   for (const int divisions : {80, 160}) {
-    const auto scene = csim::load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml",
-                                        {"parameters.divisions=" + std::to_string(divisions)});
-    const csim::Dynamics dynamics(scene->world);
-    const double h = 1e-3, theta = 0.51;
-    const csim::SparseMatrix A = dynamics.mass() + (h * h * theta * theta) * dynamics.body_stiffness();
+    const csim::SparseMatrix A = shoe_iteration_matrix(divisions);
     csim::SparseLdlt factor;
     factor.factor_positive_definite(A);
     factor.factor_positive_definite(A);  // the step's refactorization: the supernodal path

@@ -3,31 +3,12 @@
 // entries computed, and everything dropped on a refactorization.
 #include "engine/delassus_cache.h"
 
+#include "tests/engine/grid_stencil.h"
+
 #include <gtest/gtest.h>
 
 namespace csim {
 namespace {
-
-// A 2D grid's 5-point stencil, one unknown a node, plus a small mass: positive definite.
-SparseMatrix grid(int side, double mass) {
-  Triplets t;
-  const int n = side * side;
-  for (int x = 0; x < side; ++x)
-    for (int y = 0; y < side; ++y) {
-      const int i = x * side + y;
-      t.emplace_back(i, i, mass);
-      for (int j : {x + 1 < side ? i + side : -1, y + 1 < side ? i + 1 : -1}) {
-        if (j < 0) continue;
-        t.emplace_back(i, i, 1.0);
-        t.emplace_back(j, j, 1.0);
-        t.emplace_back(i, j, -1.0);
-        t.emplace_back(j, i, -1.0);
-      }
-    }
-  SparseMatrix A(n, n);
-  A.setFromTriplets(t.begin(), t.end());
-  return A;
-}
 
 struct Row {
   DelassusCache::Key key;
@@ -61,7 +42,7 @@ void expect_delassus(DelassusCache& cache, const SparseLdlt& factor, const Spars
 }
 
 TEST(DelassusCache, KeepsTheEntriesOfRowsThatStayAndComputesThoseOfRowsThatEnter) {
-  const SparseMatrix A = grid(10, 0.1);
+  const SparseMatrix A = grid_stencil(10, 0.1);
   SparseLdlt factor;
   ASSERT_TRUE(factor.factor_positive_definite(A));
   DelassusCache cache;
@@ -84,7 +65,7 @@ TEST(DelassusCache, KeepsTheEntriesOfRowsThatStayAndComputesThoseOfRowsThatEnter
 }
 
 TEST(DelassusCache, DropsEverythingWhenTheFactorIsRefactored) {
-  SparseMatrix A = grid(6, 0.1);
+  SparseMatrix A = grid_stencil(6, 0.1);
   SparseLdlt factor;
   ASSERT_TRUE(factor.factor_positive_definite(A));
   DelassusCache cache;

@@ -3,33 +3,14 @@
 // rebuilt when a row of the list changes.
 #include "engine/forward_rows.h"
 
+#include "tests/engine/grid_stencil.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 namespace csim {
 namespace {
-
-// A 2D grid's 5-point stencil, one unknown a node, plus a small mass: positive definite.
-SparseMatrix grid(int side, double mass) {
-  Triplets t;
-  const int n = side * side;
-  for (int x = 0; x < side; ++x)
-    for (int y = 0; y < side; ++y) {
-      const int i = x * side + y;
-      t.emplace_back(i, i, mass);
-      for (int j : {x + 1 < side ? i + side : -1, y + 1 < side ? i + 1 : -1}) {
-        if (j < 0) continue;
-        t.emplace_back(i, i, 1.0);
-        t.emplace_back(j, j, 1.0);
-        t.emplace_back(i, j, -1.0);
-        t.emplace_back(j, i, -1.0);
-      }
-    }
-  SparseMatrix A(n, n);
-  A.setFromTriplets(t.begin(), t.end());
-  return A;
-}
 
 // Contact rows on nodes along one edge of the grid (two rows a node), in the cache; their slots.
 std::vector<int> contact_slots(DelassusCache& cache, const SparseLdlt& factor, const std::vector<int>& nodes,
@@ -61,7 +42,7 @@ void expect_dots(const ForwardRows& rows, const DelassusCache& cache, const std:
 }
 
 TEST(ForwardRows, DotsAndSumsAreTheColumnByColumnOnesToTheBit) {
-  const SparseMatrix A = grid(14, 0.1);
+  const SparseMatrix A = grid_stencil(14, 0.1);
   SparseLdlt factor;
   ASSERT_TRUE(factor.factor_positive_definite(A));
   DelassusCache cache;
@@ -85,7 +66,7 @@ TEST(ForwardRows, DotsAndSumsAreTheColumnByColumnOnesToTheBit) {
 }
 
 TEST(ForwardRows, ARowThatChangesIsStoredAgain) {
-  const SparseMatrix A = grid(12, 0.1);
+  const SparseMatrix A = grid_stencil(12, 0.1);
   SparseLdlt factor;
   ASSERT_TRUE(factor.factor_positive_definite(A));
   DelassusCache cache;
