@@ -42,35 +42,12 @@ void ForwardRows::dots(const Vector& z, std::vector<double>& dots) const {
 }
 
 void ForwardRows::add(const std::vector<double>& r, const std::vector<char>& use, Vector& w) const {
-  if (std::find(use.begin(), use.end(), 0) == use.end()) {  // every column (every candidate active)
-    // Two rows at a time: a row's sum is one chain of additions in the columns' order (the bits), and
-    // the top separators' rows are reached by every column; two chains hide each other's latency.
-    std::size_t u = 0;
-    for (; u + 2 <= rows_.size(); u += 2) {
-      double w0 = w(rows_[u]), w1 = w(rows_[u + 1]);
-      int e0 = start_[u], e1 = start_[u + 1];
-      const int end0 = start_[u + 1], end1 = start_[u + 2];
-      for (; e0 < end0 && e1 < end1; ++e0, ++e1) {
-        w0 += r[column_[e0]] * value_[e0];
-        w1 += r[column_[e1]] * value_[e1];
-      }
-      for (; e0 < end0; ++e0) w0 += r[column_[e0]] * value_[e0];
-      for (; e1 < end1; ++e1) w1 += r[column_[e1]] * value_[e1];
-      w(rows_[u]) = w0;
-      w(rows_[u + 1]) = w1;
-    }
-    for (; u < rows_.size(); ++u) {
-      double wi = w(rows_[u]);
-      for (int e = start_[u]; e < start_[u + 1]; ++e) wi += r[column_[e]] * value_[e];
-      w(rows_[u]) = wi;
-    }
-    return;
-  }
+  const bool every = std::find(use.begin(), use.end(), 0) == use.end();  // every candidate active
   for (std::size_t u = 0; u < rows_.size(); ++u) {
     double wi = w(rows_[u]);
     for (int e = start_[u]; e < start_[u + 1]; ++e) {
       const int c = column_[e];
-      if (use[c]) wi += r[c] * value_[e];
+      if (every || use[c]) wi += r[c] * value_[e];
     }
     w(rows_[u]) = wi;
   }

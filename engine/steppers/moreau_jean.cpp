@@ -585,8 +585,9 @@ void MoreauJean::update(State& state) {
     candidate_impulses_.assign(forward_rows_.columns(), 0.0);
     candidate_in_problem_.assign(forward_rows_.columns(), 0);
     for (int a = 0; a < rows; ++a) {
-      candidate_impulses_[candidate_row(a)] = r_(a);
-      candidate_in_problem_[candidate_row(a)] = 1;
+      const int c = candidate_row(a);
+      candidate_impulses_[c] = r_(a);
+      candidate_in_problem_[c] = 1;
     }
     forward_rows_.add(candidate_impulses_, candidate_in_problem_, forward_sum_);
     operators_.sparse_factor().back_substitute(forward_sum_, work_);
