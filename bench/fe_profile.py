@@ -8,7 +8,7 @@ cancels. The runs of one repeat alternate the sizes; each cell is the median ove
 column is the 52k/13k ratio of a function, against 3.95 (the DOFs') and 4.85 (3.95^1.15, target 3).
 
 usage: bench/fe_profile.py CSIM [REPEATS]   (needs perf: apt-get install linux-perf; CSIM with -g
-       for readable names)
+       for readable names; ROWS=N in the environment lists N functions, 18 by default)
 """
 import os
 import re
@@ -63,7 +63,8 @@ def main():
         return statistics.median(run.get(name, 0.0) for run in per_step[size])
 
     small, large = SIZES
-    names = sorted(set().union(*per_step[large]), key=lambda name: -median(large, name))[:18]
+    rows = int(os.environ.get('ROWS', 18))
+    names = sorted(set().union(*per_step[large]), key=lambda name: -median(large, name))[:rows]
     print(f'ms a step, median of {repeats}; ratio = 51 842 / 13 122 DOFs (DOFs 3.95, target 4.85)')
     print(f'{"13 122":>9} {"51 842":>9} {"ratio":>7}  function')
     for name in names:
