@@ -4,6 +4,13 @@
 
 namespace csim {
 
+bool DelassusCache::still_holds(Taken& taken, const std::vector<int>& slots) const {
+  if (taken.slots == slots && taken.entries == computed_entries_) return true;
+  taken.slots = slots;
+  taken.entries = computed_entries_;
+  return false;
+}
+
 void DelassusCache::begin(const SparseLdlt& factor) {
   if (&factor != factor_ || factor.factorizations() != factorization_) {
     entries_.clear();

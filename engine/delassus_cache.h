@@ -42,6 +42,17 @@ class DelassusCache {
   std::size_t stored_values() const;  // entries of the forward columns kept, for the memory budget
   long computed_entries() const { return computed_entries_; }  // entries of W computed so far
 
+  // What a user took from the cache for a list of slots (a copy of W, their forward columns stored
+  // elsewhere): the slots, and computed_entries() then. The same slots with no entry computed since
+  // (a row that changes is computed again) hold the same forward columns and entries.
+  struct Taken {
+    std::vector<int> slots;
+    long entries = -1;
+  };
+  // Whether `taken` still holds for these slots; when not, it is set to them (the caller then takes
+  // them again).
+  bool still_holds(Taken& taken, const std::vector<int>& slots) const;
+
  private:
   struct Entry {
     std::vector<int> index;

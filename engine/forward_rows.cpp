@@ -5,9 +5,7 @@
 namespace csim {
 
 void ForwardRows::assign(const DelassusCache& cache, const std::vector<int>& slots, int factor_size) {
-  if (slots == slots_ && cache.computed_entries() == computed_entries_) return;
-  slots_ = slots;
-  computed_entries_ = cache.computed_entries();
+  if (cache.still_holds(taken_, slots)) return;
   // Counted by row, then filled column by column: each row's entries come in the columns' order.
   std::vector<int> place(factor_size + 1, 0);
   for (const int slot : slots) {
@@ -34,7 +32,7 @@ void ForwardRows::assign(const DelassusCache& cache, const std::vector<int>& slo
 }
 
 void ForwardRows::dots(const Vector& z, std::vector<double>& dots) const {
-  dots.assign(slots_.size(), 0.0);
+  dots.assign(taken_.slots.size(), 0.0);
   for (std::size_t u = 0; u < rows_.size(); ++u) {
     const double zi = z(rows_[u]);
     for (int e = start_[u]; e < start_[u + 1]; ++e) dots[column_[e]] += value_[e] * zi;

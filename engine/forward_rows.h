@@ -21,18 +21,17 @@ namespace csim {
 
 class ForwardRows {
  public:
-  // Stores the columns of these slots, in this order, unless they are those stored: the same slots, and
-  // no forward column recomputed since (the cache's count of computed entries unchanged).
+  // Stores the columns of these slots, in this order, unless those stored still hold
+  // (DelassusCache::still_holds: the same slots, no forward column recomputed since).
   void assign(const DelassusCache& cache, const std::vector<int>& slots, int factor_size);
-  int columns() const { return static_cast<int>(slots_.size()); }
+  int columns() const { return static_cast<int>(taken_.slots.size()); }
   // dots[c] = y_cᵀ z for every column c.
   void dots(const Vector& z, std::vector<double>& dots) const;
   // w(i) += r[c] y_c(i) for the columns c with use[c], in the columns' order (w in the factor's order).
   void add(const std::vector<double>& r, const std::vector<char>& use, Vector& w) const;
 
  private:
-  std::vector<int> slots_;
-  long computed_entries_ = -1;
+  DelassusCache::Taken taken_;  // the slots stored
   std::vector<int> rows_;    // the rows any column reaches, ascending
   std::vector<int> start_;   // row u's entries: start_[u] … start_[u + 1] − 1
   std::vector<int> column_;  // each entry's column (its place in the list), ascending within a row

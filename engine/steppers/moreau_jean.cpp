@@ -473,11 +473,9 @@ void MoreauJean::assemble(const State& state) {
     } else {
       gather_delassus();
     }
-    if (delassus_slots_ != copied_slots_ || delassus_cache_.computed_entries() != copied_entries_) {
+    if (!delassus_cache_.still_holds(copied_, delassus_slots_)) {
       for (int a = 0; a < m; ++a)
         for (int b = 0; b < m; ++b) problem_.W(a, b) = delassus_cache_(delassus_slots_[a], delassus_slots_[b]);
-      copied_slots_ = delassus_slots_;
-      copied_entries_ = delassus_cache_.computed_entries();
     }
   } else {
     gather_columns();

@@ -198,10 +198,8 @@ class MoreauJean final : public Stepper {
   // nonzeros of an equality row.
   DelassusCache delassus_cache_;
   std::vector<int> delassus_slots_, equality_index_;
-  // The slots W was last copied from, and the cache's count of computed entries then: the same slots
-  // with no entry computed since give the same W, which is not copied again (m² entries a step).
-  std::vector<int> copied_slots_;
-  long copied_entries_ = -1;
+  // The slots W was last copied from: while they still hold, W is not copied again (m² entries a step).
+  DelassusCache::Taken copied_;
   std::vector<double> equality_value_;
   Vector forward_sum_;  // Y r, in the factor's order
   // Two halves (see the header): whether this World takes them, whether this step formed v_free (a

@@ -20,8 +20,8 @@ Row contact_row(int node, int k, double slope) {
   return {{0, {0, 1, node}, k}, {node, node + 1}, {1.0, k == 0 ? slope : -slope}};
 }
 
-// W through the cache for these rows against the dense product.
-void expect_delassus(DelassusCache& cache, const SparseLdlt& factor, const SparseMatrix& A,
+// W through the cache for these rows against the dense product; the rows' slots.
+std::vector<int> expect_delassus(DelassusCache& cache, const SparseLdlt& factor, const SparseMatrix& A,
                      const std::vector<Row>& rows) {
   cache.begin(factor);
   std::vector<int> slots;
@@ -39,6 +39,7 @@ void expect_delassus(DelassusCache& cache, const SparseLdlt& factor, const Spars
       EXPECT_EQ(cache(slots[a], slots[b]), cache(slots[b], slots[a]));
     }
   EXPECT_EQ(cache.rows(), rows.size());
+  return slots;
 }
 
 TEST(DelassusCache, KeepsTheEntriesOfRowsThatStayAndComputesThoseOfRowsThatEnter) {
@@ -75,6 +76,26 @@ TEST(DelassusCache, DropsEverythingWhenTheFactorIsRefactored) {
   ASSERT_TRUE(factor.factor_positive_definite(A));
   expect_delassus(cache, factor, A, rows);  // the new A's entries, not the kept ones
   EXPECT_EQ(cache.computed_entries(), 6);
+}
+
+// What a user took for a list of slots holds while the slots are the same and no row was computed again.
+TEST(DelassusCache, TakenSlotsHoldUntilTheListOrARowChanges) {
+  const SparseMatrix A = grid_stencil(8, 0.1);
+  SparseLdlt factor;
+  ASSERT_TRUE(factor.factor_positive_definite(A));
+  DelassusCache cache;
+  std::vector<Row> rows = {contact_row(3, 0, 0.2), contact_row(3, 1, 0.2), contact_row(40, 0, 0.5)};
+  const std::vector<int> slots = expect_delassus(cache, factor, A, rows);
+  DelassusCache::Taken taken;
+  EXPECT_FALSE(cache.still_holds(taken, slots));  // nothing taken yet: taken now
+  EXPECT_TRUE(cache.still_holds(taken, slots));
+  EXPECT_EQ(expect_delassus(cache, factor, A, rows), slots);  // the same rows: nothing computed
+  EXPECT_TRUE(cache.still_holds(taken, slots));
+  rows[2] = contact_row(40, 0, 0.9);  // the same key and slot, a new row
+  EXPECT_EQ(expect_delassus(cache, factor, A, rows), slots);
+  EXPECT_FALSE(cache.still_holds(taken, slots));
+  EXPECT_TRUE(cache.still_holds(taken, slots));
+  EXPECT_FALSE(cache.still_holds(taken, {slots[0], slots[1]}));  // another list
 }
 
 }  // namespace
