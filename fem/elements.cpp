@@ -411,6 +411,34 @@ ElementVector element_lumped_mass(const ElementGeometry& element, double density
   });
 }
 
+namespace {
+
+// B(0), the strain–displacement matrix at the centroid ξ = 0.
+template <class E>
+auto centroid_strain_displacement(const ElementGeometry& element) {
+  const Coordinates<E> x = fixed_coordinates<E>(element);
+  const Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Matrix<double, E::nodes, E::dimension> dN_dx;
+  physical_gradients<E>(x, E::shape(centroid), element.index, centroid, dN_dx);
+  return strain_displacement<E::nodes>(dN_dx);
+}
+
+// σ = D (B u), in the order (xx, yy, zz, xy, yz, xz); plane strain: σzz = ν(σxx + σyy).
+template <class E, class StrainDisplacement>
+Stress centroid_stress(const StrainDisplacement& B, const Eigen::Matrix<double, E::nodes * E::dimension, 1>& u,
+                       const ElasticMaterial& material) {
+  const auto sigma = (elasticity<E::dimension>(material) * (B * u)).eval();
+  Stress stress;
+  if constexpr (E::dimension == 2) {
+    stress << sigma(0), sigma(1), material.poisson * (sigma(0) + sigma(1)), sigma(2), 0.0, 0.0;
+  } else {
+    stress = sigma;
+  }
+  return stress;
+}
+
+}  // namespace
+
 Stress element_centroid_stress(const ElementGeometry& element, const ElasticMaterial& material,
                                const ElementVector& displacement) {
   check_material(material);
@@ -422,20 +450,43 @@ Stress element_centroid_stress(const ElementGeometry& element, const ElasticMate
                      std::to_string(displacement.size()) + " displacement entries, expected " +
                      std::to_string(dofs));
     }
-    const Coordinates<E> x = fixed_coordinates<E>(element);
-    const Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    Eigen::Matrix<double, E::nodes, E::dimension> dN_dx;
-    physical_gradients<E>(x, E::shape(centroid), element.index, centroid, dN_dx);
     const Eigen::Matrix<double, dofs, 1> u = displacement;
-    const auto sigma =
-        (elasticity<E::dimension>(material) * (strain_displacement<E::nodes>(dN_dx) * u)).eval();
-    Stress stress;
-    if constexpr (E::dimension == 2) {
-      stress << sigma(0), sigma(1), material.poisson * (sigma(0) + sigma(1)), sigma(2), 0.0, 0.0;
-    } else {
-      stress = sigma;
+    return centroid_stress<E>(centroid_strain_displacement<E>(element), u, material);
+  });
+}
+
+CentroidStressMap::CentroidStressMap(const Mesh& mesh, const ElasticMaterial& material)
+    : type_(mesh.element_type), material_(material), dof_count_(mesh.dof_count()) {
+  check_material(material);
+  const int d = mesh.dofs_per_node();
+  for (int e = 0; e < static_cast<int>(mesh.elements.size()); ++e) {
+    const ElementGeometry element = element_geometry(mesh, e);
+    dispatch(type_, [&](auto kind) {
+      const auto B = centroid_strain_displacement<decltype(kind)>(element);
+      strain_displacement_.insert(strain_displacement_.end(), B.data(), B.data() + B.size());
+    });
+    for (const int node : mesh.elements[e])
+      for (int i = 0; i < d; ++i) dofs_.push_back(d * node + i);
+  }
+}
+
+void CentroidStressMap::stresses(const Eigen::VectorXd& displacement, std::vector<Stress>& out) const {
+  if (displacement.size() != dof_count_) {
+    throw FemError("the displacement has " + std::to_string(displacement.size()) + " entries, the mesh " +
+                   std::to_string(dof_count_) + " dofs");
+  }
+  dispatch(type_, [&](auto kind) {
+    using E = decltype(kind);
+    constexpr int dofs = E::nodes * E::dimension;
+    using StrainDisplacement = decltype(strain_displacement<E::nodes>(Eigen::Matrix<double, E::nodes, E::dimension>()));
+    const std::size_t elements = dofs_.size() / dofs;
+    out.resize(elements);
+    Eigen::Matrix<double, dofs, 1> u;
+    for (std::size_t e = 0; e < elements; ++e) {
+      for (int j = 0; j < dofs; ++j) u(j) = displacement(dofs_[dofs * e + j]);
+      const Eigen::Map<const StrainDisplacement> B(strain_displacement_.data() + e * StrainDisplacement::SizeAtCompileTime);
+      out[e] = centroid_stress<E>(B, u, material_);
     }
-    return stress;
   });
 }
 

@@ -363,5 +363,28 @@ TEST(ElementStress, RigidRotationIsStressFreeAndThicknessIsChecked) {
   EXPECT_THROW(element_stiffness(element, kSteel, 0.0), FemError);
 }
 
+// The ParaView output's map gives each element's centroid stress to the bit, on distorted meshes of
+// every type and a displacement with all components, and refuses a displacement of another size.
+TEST(ElementStress, CentroidStressMapIsElementCentroidStressToTheBit) {
+  std::mt19937 random(31);
+  std::uniform_real_distribution<double> uniform(-1e-3, 1e-3);
+  for (const ElementType type : kTypes) {
+    Mesh mesh = type == ElementType::hexa8 ? test::box(3, 2, 2, 2.0, 1.0, 0.5) : test::rectangle(type, 3, 2, 2.0, 1.0);
+    test::distort(mesh, 0.08);
+    Eigen::VectorXd u(mesh.dof_count());
+    for (Eigen::Index i = 0; i < u.size(); ++i) u(i) = uniform(random);
+    const CentroidStressMap map(mesh, kSteel);
+    std::vector<Stress> stresses(1, Stress::Constant(7.0));  // resized and overwritten
+    map.stresses(u, stresses);
+    ASSERT_EQ(stresses.size(), mesh.elements.size()) << to_string(type);
+    for (int e = 0; e < static_cast<int>(mesh.elements.size()); ++e) {
+      const Stress expected = element_centroid_stress(element_geometry(mesh, e), kSteel, element_values(mesh, e, u));
+      EXPECT_GT(expected.cwiseAbs().maxCoeff(), 1e5) << to_string(type);  // a strain of order 1e-3
+      for (int k = 0; k < 6; ++k) EXPECT_EQ(stresses[e](k), expected(k)) << to_string(type) << " element " << e;
+    }
+    EXPECT_THROW(map.stresses(Eigen::VectorXd::Zero(u.size() - 1), stresses), FemError) << to_string(type);
+  }
+}
+
 }  // namespace
 }  // namespace csim

@@ -14,6 +14,10 @@ Stress green_lagrange(const Eigen::Matrix3d& F) {
   return strain;
 }
 
+const char* const kLinearStress =
+    "linear elastic stress (Hooke's law of the small strain sym grad u; rotations must be small), "
+    "Pa, tension positive, at each element centroid";
+
 }  // namespace
 
 ElementFields element_fields(const FeBody& body, const Eigen::VectorXd& displacement) {
@@ -21,9 +25,7 @@ ElementFields element_fields(const FeBody& body, const Eigen::VectorXd& displace
   const std::optional<FiniteStrainLaw>& law = body.finite_strain_law();
   if (!law) {
     fields.stress = element_stresses(FeModel{body.mesh(), body.material(), body.thickness()}, displacement);
-    fields.stress_description =
-        "linear elastic stress (Hooke's law of the small strain sym grad u; rotations must be small), "
-        "Pa, tension positive, at each element centroid";
+    fields.stress_description = kLinearStress;
     return fields;
   }
   fields.stress = cauchy_stresses({body.mesh(), law->material, body.thickness(), law->formulation}, displacement);
@@ -35,6 +37,15 @@ ElementFields element_fields(const FeBody& body, const Eigen::VectorXd& displace
                               (mixed ? ": its volumetric part from the element's pressure" : "") +
                               ") on the current configuration, Pa, tension positive, at each element centroid";
   fields.strain_description = "Green-Lagrange strain E = (F^T F - I) / 2, dimensionless, at each element centroid";
+  return fields;
+}
+
+ElementFields ElementFieldsSeries::operator()(const Eigen::VectorXd& displacement) {
+  if (body_.finite_strain_law()) return element_fields(body_, displacement);
+  if (!linear_stresses_) linear_stresses_.emplace(body_.mesh(), body_.material());
+  ElementFields fields;
+  linear_stresses_->stresses(displacement, fields.stress);
+  fields.stress_description = kLinearStress;
   return fields;
 }
 

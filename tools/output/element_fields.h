@@ -27,6 +27,7 @@
 #include "fem/elements.h"
 
 #include <Eigen/Dense>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,5 +44,18 @@ struct ElementFields {
 // FeBody::full_displacement). Throws FemError from fem/ (a size mismatch, an inverted element: no
 // finite-strain law has a stress for det F ≤ 0).
 ElementFields element_fields(const FeBody& body, const Eigen::VectorXd& displacement);
+
+// element_fields of one body, frame after frame: a linear body's stresses through a CentroidStressMap
+// (fem/elements.h) formed at the first frame, the same bits at a quarter of the cost; a finite-strain
+// body's as element_fields. The body must outlive it.
+class ElementFieldsSeries {
+ public:
+  explicit ElementFieldsSeries(const FeBody& body) : body_(body) {}
+  ElementFields operator()(const Eigen::VectorXd& displacement);
+
+ private:
+  const FeBody& body_;
+  std::optional<CentroidStressMap> linear_stresses_;
+};
 
 }  // namespace csim

@@ -80,10 +80,10 @@ ParaviewSeries::ParaviewSeries(const World& world, const std::string& output_dir
   if (const auto problem = paraview_name_problem(world, 0))
     throw std::runtime_error(directory_ + ": body '" + problem->body + "': " + problem->message);
   for (std::size_t i = 0; i < world.bodies.size(); ++i)
-    if (world.bodies[i].body->finite_elements())
-      series_.push_back({static_cast<int>(i), file_stem(world.bodies[i].name),
-                         encode_mesh(world.bodies[i].body->finite_elements()->mesh(), encoding), {}});
-  series_.push_back({-1, "contacts", {}, {}});
+    if (const FeBody* body = world.bodies[i].body->finite_elements())
+      series_.push_back({static_cast<int>(i), file_stem(world.bodies[i].name), encode_mesh(body->mesh(), encoding),
+                         {}, ElementFieldsSeries(*body)});
+  series_.push_back({-1, "contacts", {}, {}, {}});
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
   if (error) throw std::runtime_error(directory_ + ": cannot create the folder (" + error.message() + ")");
@@ -147,10 +147,9 @@ void ParaviewSeries::write_files(const Frame& frame) {
       write_file_atomically(path, contacts_vtu(frame.contacts, frame.t, encoding_));
     } else {
       // Streamed: a large body's file is not assembled in memory beside its arrays.
-      const FeBody& body = *world_.bodies[s.body].body->finite_elements();
       const Eigen::VectorXd& u = frame.displacement[next_body];
       VtkFileText text(s.mesh->encoding);
-      fe_body_file(text, *s.mesh, u, frame.velocity[next_body], element_fields(body, u), frame.t);
+      fe_body_file(text, *s.mesh, u, frame.velocity[next_body], (*s.fields)(u), frame.t);
       write_file_atomically(path, [&text](std::ostream& out) { text.write(out); });
       ++next_body;
     }

@@ -8,6 +8,7 @@
 // for it. The files do not depend on the timing: each frame's are fixed when write_frame is called.
 #pragma once
 
+#include "tools/output/element_fields.h"
 #include "tools/output/vtk_writer.h"
 #include "engine/state.h"
 #include "engine/world.h"
@@ -68,6 +69,7 @@ class ParaviewSeries {
     std::string stem;   // file-name prefix
     std::optional<EncodedMesh> mesh;  // the body's; none for the contacts
     std::vector<std::string> written;
+    std::optional<ElementFieldsSeries> fields;  // the body's stresses (and strains); none for the contacts
   };
   // What one frame shows, copied from the state.
   struct Frame {

@@ -212,19 +212,44 @@ TEST(ElementFields, SimpleShearGivesEachLawsCauchyStress) {
 }
 
 // A linear body keeps the small-strain stress of its linear law (fem/assembly.h), and has no strain
-// field: the output of linear bodies is unchanged.
+// field: the output of linear bodies is unchanged. The series of frames the ParaView output uses
+// (its map formed at the first) gives the same, to the bit, frame after frame.
 TEST(ElementFields, LinearBodyKeepsTheSmallStrainStress) {
   for (const Mesh& mesh : meshes()) {
     const ElasticMaterial steel{2e11, 0.3, 7800.0};
     const FeBody body(mesh, steel, 0.1, true, {});
-    Eigen::VectorXd u(mesh.dof_count());
-    for (int r = 0; r < u.size(); ++r) u(r) = 1e-4 * std::sin(0.7 * r + 0.1);  // m
-    const ElementFields fields = element_fields(body, u);
-    const std::vector<Stress> linear = element_stresses(FeModel{mesh, steel, 0.1}, u);
-    ASSERT_EQ(fields.stress.size(), linear.size());
-    for (std::size_t e = 0; e < linear.size(); ++e) EXPECT_EQ(fields.stress[e], linear[e]);
-    EXPECT_TRUE(fields.strain.empty());
+    ElementFieldsSeries series(body);
+    for (const double phase : {0.1, 0.6}) {
+      Eigen::VectorXd u(mesh.dof_count());
+      for (int r = 0; r < u.size(); ++r) u(r) = 1e-4 * std::sin(0.7 * r + phase);  // m
+      const std::vector<Stress> linear = element_stresses(FeModel{mesh, steel, 0.1}, u);
+      const ElementFields fields = element_fields(body, u), framed = series(u);
+      ASSERT_EQ(fields.stress.size(), linear.size());
+      ASSERT_EQ(framed.stress.size(), linear.size());
+      for (std::size_t e = 0; e < linear.size(); ++e) {
+        EXPECT_EQ(fields.stress[e], linear[e]);
+        EXPECT_EQ(framed.stress[e], linear[e]);
+      }
+      EXPECT_TRUE(fields.strain.empty());
+      EXPECT_TRUE(framed.strain.empty());
+      EXPECT_EQ(framed.stress_description, fields.stress_description);
+    }
   }
+}
+
+// A finite-strain body's series is element_fields itself.
+TEST(ElementFields, FiniteStrainSeriesIsElementFields) {
+  const Mesh mesh = meshes().front();
+  const FeBody body = finite_strain_body(mesh, kNeoHookean, FiniteStrainFormulation::standard);
+  Eigen::VectorXd u(mesh.dof_count());
+  for (int r = 0; r < u.size(); ++r) u(r) = 1e-2 * std::sin(0.3 * r);  // m
+  const ElementFields fields = element_fields(body, u), framed = ElementFieldsSeries(body)(u);
+  ASSERT_EQ(framed.stress.size(), fields.stress.size());
+  for (std::size_t e = 0; e < fields.stress.size(); ++e) {
+    EXPECT_EQ(framed.stress[e], fields.stress[e]);
+    EXPECT_EQ(framed.strain[e], fields.strain[e]);
+  }
+  EXPECT_EQ(framed.strain_description, fields.strain_description);
 }
 
 }  // namespace
