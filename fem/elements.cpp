@@ -413,14 +413,14 @@ ElementVector element_lumped_mass(const ElementGeometry& element, double density
 
 namespace {
 
-// B(0), the strain–displacement matrix at the centroid ξ = 0.
+// ∂N/∂x at the centroid ξ = 0.
 template <class E>
-auto centroid_strain_displacement(const ElementGeometry& element) {
+Eigen::Matrix<double, E::nodes, E::dimension> centroid_gradients(const ElementGeometry& element) {
   const Coordinates<E> x = fixed_coordinates<E>(element);
   const Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   Eigen::Matrix<double, E::nodes, E::dimension> dN_dx;
   physical_gradients<E>(x, E::shape(centroid), element.index, centroid, dN_dx);
-  return strain_displacement<E::nodes>(dN_dx);
+  return dN_dx;
 }
 
 // σ = D (B u), in the order (xx, yy, zz, xy, yz, xz); plane strain: σzz = ν(σxx + σyy).
@@ -451,41 +451,38 @@ Stress element_centroid_stress(const ElementGeometry& element, const ElasticMate
                      std::to_string(dofs));
     }
     const Eigen::Matrix<double, dofs, 1> u = displacement;
-    return centroid_stress<E>(centroid_strain_displacement<E>(element), u, material);
+    return centroid_stress<E>(strain_displacement<E::nodes>(centroid_gradients<E>(element)), u, material);
   });
 }
 
 CentroidStressMap::CentroidStressMap(const Mesh& mesh, const ElasticMaterial& material)
-    : type_(mesh.element_type), material_(material), dof_count_(mesh.dof_count()) {
+    : mesh_(mesh), material_(material) {
   check_material(material);
-  const int d = mesh.dofs_per_node();
   for (int e = 0; e < static_cast<int>(mesh.elements.size()); ++e) {
     const ElementGeometry element = element_geometry(mesh, e);
-    dispatch(type_, [&](auto kind) {
-      const auto B = centroid_strain_displacement<decltype(kind)>(element);
-      strain_displacement_.insert(strain_displacement_.end(), B.data(), B.data() + B.size());
+    dispatch(mesh.element_type, [&](auto kind) {
+      const auto dN_dx = centroid_gradients<decltype(kind)>(element);
+      gradients_.insert(gradients_.end(), dN_dx.data(), dN_dx.data() + dN_dx.size());
     });
-    for (const int node : mesh.elements[e])
-      for (int i = 0; i < d; ++i) dofs_.push_back(d * node + i);
   }
 }
 
 void CentroidStressMap::stresses(const Eigen::VectorXd& displacement, std::vector<Stress>& out) const {
-  if (displacement.size() != dof_count_) {
+  if (displacement.size() != mesh_.dof_count()) {
     throw FemError("the displacement has " + std::to_string(displacement.size()) + " entries, the mesh " +
-                   std::to_string(dof_count_) + " dofs");
+                   std::to_string(mesh_.dof_count()) + " dofs");
   }
-  dispatch(type_, [&](auto kind) {
+  dispatch(mesh_.element_type, [&](auto kind) {
     using E = decltype(kind);
-    constexpr int dofs = E::nodes * E::dimension;
-    using StrainDisplacement = decltype(strain_displacement<E::nodes>(Eigen::Matrix<double, E::nodes, E::dimension>()));
-    const std::size_t elements = dofs_.size() / dofs;
-    out.resize(elements);
-    Eigen::Matrix<double, dofs, 1> u;
-    for (std::size_t e = 0; e < elements; ++e) {
-      for (int j = 0; j < dofs; ++j) u(j) = displacement(dofs_[dofs * e + j]);
-      const Eigen::Map<const StrainDisplacement> B(strain_displacement_.data() + e * StrainDisplacement::SizeAtCompileTime);
-      out[e] = centroid_stress<E>(B, u, material_);
+    using Gradients = Eigen::Matrix<double, E::nodes, E::dimension>;
+    constexpr int d = E::dimension;
+    out.resize(mesh_.elements.size());
+    Eigen::Matrix<double, E::nodes * d, 1> u;
+    for (std::size_t e = 0; e < out.size(); ++e) {
+      const std::vector<int>& nodes = mesh_.elements[e];
+      for (int a = 0; a < E::nodes; ++a) u.template segment<d>(d * a) = displacement.template segment<d>(d * nodes[a]);
+      const Gradients dN_dx = Eigen::Map<const Gradients>(gradients_.data() + e * Gradients::SizeAtCompileTime);
+      out[e] = centroid_stress<E>(strain_displacement<E::nodes>(dN_dx), u, material_);
     }
   });
 }

@@ -112,24 +112,22 @@ Stress element_centroid_stress(const ElementGeometry& element, const ElasticMate
                                const ElementVector& displacement);
 
 // The centroid stresses of every element of a mesh, frame after frame (the ParaView output's): each
-// element's B(0) is formed once, so that a frame costs B u_e and Hooke's law an element, the same
-// operations and hence the same bits as element_centroid_stress, without the geometry and the shape
-// gradients again. It keeps B (3 × 8 numbers a quad4, 3 × 16 a quad8, 6 × 24 a hexa8) and the
-// elements' dof indices.
+// element's ∂N/∂x at ξ = 0 is kept, so that a frame costs B u_e and Hooke's law an element, the same
+// operations and hence the same bits as element_centroid_stress, without the element's geometry and
+// Jacobian again. It keeps n·d numbers an element (8 a quad4, 16 a quad8, 24 a hexa8).
 class CentroidStressMap {
  public:
-  // Throws FemError as element_geometry and check_material do, or for a non-positive det J at ξ = 0.
+  // The mesh must outlive the map. Throws FemError as element_geometry and check_material do, or for
+  // a non-positive det J at ξ = 0.
   CentroidStressMap(const Mesh& mesh, const ElasticMaterial& material);
   // σ at each element's centroid (Pa), in the mesh's element order, from the displacement of every
   // dof (m, node-major); throws FemError when its size is not the mesh's dof count.
   void stresses(const Eigen::VectorXd& displacement, std::vector<Stress>& out) const;
 
  private:
-  ElementType type_;
+  const Mesh& mesh_;
   ElasticMaterial material_;
-  Eigen::Index dof_count_;
-  std::vector<double> strain_displacement_;  // each element's B(0), column-major
-  std::vector<int> dofs_;                    // each element's global dofs, node-major
+  std::vector<double> gradients_;  // each element's ∂N/∂x at ξ = 0, nodes × d, column-major
 };
 
 // ---- loads --------------------------------------------------------------------------------------
