@@ -151,12 +151,7 @@ std::vector<Stress> element_stresses(const FeModel& model, const Eigen::VectorXd
   check_material(model.material);
   check_size("the displacement", displacement.size(), mesh.dof_count());
   std::vector<Stress> stresses;
-  stresses.reserve(mesh.elements.size());
-  for (int e = 0; e < static_cast<int>(mesh.elements.size()); ++e) {
-    const ElementGeometry geometry = element_geometry(mesh, e);
-    const ElementVector u = element_values(mesh, e, displacement);
-    stresses.push_back(element_centroid_stress(geometry, model.material, u));
-  }
+  CentroidStressMap(mesh, model.material).stresses(displacement, stresses);
   return stresses;
 }
 

@@ -44,7 +44,8 @@ Eigen::VectorXd pressure_load(const FeModel& model, const std::vector<Face>& fac
                               double pressure);
 
 // Stress at each element's centroid (Pa), (σxx, σyy, σzz, σxy, σyz, σxz), from the global
-// displacement (m, dof_count entries); plane strain: σzz = ν(σxx + σyy).
+// displacement (m, dof_count entries); plane strain: σzz = ν(σxx + σyy). A CentroidStressMap
+// (elements.h) formed for this call; keep one for frame after frame.
 std::vector<Stress> element_stresses(const FeModel& model, const Eigen::VectorXd& displacement);
 
 // ½ uᵀ K u, J (K in N/m, u in m).

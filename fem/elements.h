@@ -111,10 +111,11 @@ ElementVector element_lumped_mass(const ElementGeometry& element, double density
 Stress element_centroid_stress(const ElementGeometry& element, const ElasticMaterial& material,
                                const ElementVector& displacement);
 
-// The centroid stresses of every element of a mesh, frame after frame (the ParaView output's): each
-// element's ∂N/∂x at ξ = 0 is kept, so that a frame costs B u_e and Hooke's law an element, the same
-// operations and hence the same bits as element_centroid_stress, without the element's geometry and
-// Jacobian again. It keeps n·d numbers an element (8 a quad4, 16 a quad8, 24 a hexa8).
+// The centroid stresses of every element of a mesh (assembly.h's element_stresses, and the ParaView
+// output's frame after frame): each element's ∂N/∂x at ξ = 0 is kept, so that a frame costs B u_e and
+// Hooke's law an element, the same operations and hence the same bits as element_centroid_stress,
+// without the element's geometry and Jacobian again. It keeps n·d numbers an element (8 a quad4, 16
+// a quad8, 24 a hexa8).
 class CentroidStressMap {
  public:
   // The mesh must outlive the map. Throws FemError as element_geometry and check_material do, or for

@@ -46,8 +46,8 @@ struct ElementFields {
 ElementFields element_fields(const FeBody& body, const Eigen::VectorXd& displacement);
 
 // element_fields of one body, frame after frame: a linear body's stresses through a CentroidStressMap
-// (fem/elements.h) formed at the first frame, the same bits at a quarter of the cost; a finite-strain
-// body's as element_fields. The body must outlive it.
+// (fem/elements.h) formed at the first frame, not at each as element_fields does (the same bits at a
+// quarter of the cost); a finite-strain body's as element_fields. The body must outlive it.
 class ElementFieldsSeries {
  public:
   explicit ElementFieldsSeries(const FeBody& body) : body_(body) {}
