@@ -68,17 +68,28 @@ std::size_t output_rows(const RunSettings& run) {
 
 // The checks of a run stopped by a numerical failure at time t (s): not judged, whatever the samples
 // before the failure say (a check of a later time, an extremum or a final value reads what the run did not
-// reach), those excluded by their only_if left as they are.
-std::vector<CheckResult> unjudged_checks(std::vector<CheckResult> checks, double t) {
+// reach), those excluded by their only_if left excluded. Formed from the definitions alone: nothing is
+// evaluated on a run cut short.
+std::vector<CheckResult> unjudged_checks(const RunSettings& run, double t) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   std::ostringstream why;
   why << "not evaluated: the run stopped by a numerical failure at t = " << t << " s";
-  for (CheckResult& c : checks) {
-    if (c.skipped) continue;
-    c.evaluated = c.passed = false;
-    c.value = c.error = std::numeric_limits<double>::quiet_NaN();
-    c.note = why.str();
+  std::vector<CheckResult> results;
+  for (const CheckDefinition& check : run.checks) {
+    CheckResult r;
+    r.name = check.name;
+    r.probe = run.probes[check.probe].name;
+    r.kind = check.kind;
+    r.source = check.source;
+    r.absolute_tolerance = check.absolute_tolerance;
+    r.relative_tolerance = check.relative_tolerance;
+    r.reference = r.value = r.error = r.time = nan;
+    r.evaluated = false;
+    r.skipped = !check.enabled;
+    r.note = check.enabled ? why.str() : "excluded: " + check.exclusion;
+    results.push_back(r);
   }
-  return checks;
+  return results;
 }
 
 }  // namespace
@@ -208,7 +219,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     // where and why the run stopped and whose checks are not judged (the run did not reach its end).
     report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     report.failure = RunFailure{e.time, k + 1, report.sample_times.back(), e.what()};
-    report.checks = unjudged_checks(checks.finish(state.t), e.time);
+    report.checks = unjudged_checks(run, e.time);
     stepper.summarize_settings(report.stepper_settings);
     stepper.summarize_statistics(state, report.stepper_statistics);
     report.energy_balance_tracked = stepper.tracks_energy_balance();
