@@ -135,7 +135,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   // ParaView frames of the elastic bodies, at the rows of probes.csv (docs/contract.md).
   std::unique_ptr<ParaviewSeries> paraview;
   if (!options.output_directory.empty() && run.paraview && has_elastic_bodies(scene.world))
-    paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory, *run.paraview);
+    paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory, *run.paraview,
+                                                // The quasi-static stepper's impulses are forces × h.
+                                                ContactAction{run.integrator == Integrator::quasi_static, run.step});
   const auto output_row = [&](const std::vector<double>& row) {
     append_row(csv, state.t, row, report);
     if (paraview) paraview->write_frame(scene.world, state, state.t);
