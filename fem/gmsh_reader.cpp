@@ -127,7 +127,8 @@ void read_nodes(MshTokens& in, MshContent& content) {
   const int total = in.count("the number of nodes");
   in.tag_bound("the smallest node tag");
   in.tag_bound("the largest node tag");
-  content.nodes.reserve(content.nodes.size() + static_cast<std::size_t>(total));
+  // Room for the nodes announced, as many as the file can hold (8 bytes each at least: "1\n0 0 0\n").
+  content.nodes.reserve(content.nodes.size() + std::min<std::size_t>(total, in.file_size() / 8));
   for (int block = 0; block < blocks; ++block) {
     const int entity_dimension = in.dimension("the entity dimension of a node block");
     in.int_value("the entity tag of a node block");
@@ -158,7 +159,7 @@ void read_elements(MshTokens& in, MshContent& content) {
   in.tag_bound("the smallest element tag");
   in.tag_bound("the largest element tag");
   const std::size_t first = content.elements.size();
-  content.elements.reserve(first + static_cast<std::size_t>(total));
+  content.elements.reserve(first + std::min<std::size_t>(total, in.file_size() / 4));  // "1 1\n" at least
   std::vector<long long> sorted;  // an element's node tags, sorted (one buffer for all)
   for (int block = 0; block < blocks; ++block) {
     const int entity_dimension = in.dimension("the entity dimension of an element block");
@@ -173,7 +174,10 @@ void read_elements(MshTokens& in, MshContent& content) {
               std::to_string(entity_dimension));
     const int in_block = in.count("the number of elements in a block");
     // Gmsh writes a block per entity, the mesh's in one or a few large ones: room for the block at once.
-    const std::size_t needed = content.node_tags.size() + static_cast<std::size_t>(in_block) * kind->node_count;
+    // (As many as the file can hold: 2 bytes a node tag at least.)
+    const std::size_t needed =
+        content.node_tags.size() + std::min<std::size_t>(static_cast<std::size_t>(in_block) * kind->node_count,
+                                                         in.file_size() / 2);
     if (needed > content.node_tags.capacity())
       content.node_tags.reserve(std::max(needed, 2 * content.node_tags.capacity()));
     for (int i = 0; i < in_block; ++i) {

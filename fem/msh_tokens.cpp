@@ -19,6 +19,8 @@ MshTokens::MshTokens(const std::string& path) : path_(path) {
     throw FemError(path + ": not a regular file (a directory, a FIFO or a device holds no Gmsh mesh)");
   file_.open(path, std::ios::binary);
   if (!file_) throw FemError(path + ": cannot open the Gmsh mesh file");
+  file_size_ = static_cast<std::size_t>(std::filesystem::file_size(path, error));
+  if (error) file_size_ = 0;
   buffer_.resize(kBufferSize);
 }
 

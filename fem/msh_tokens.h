@@ -29,6 +29,8 @@ class MshTokens {
   explicit MshTokens(const std::string& path);
 
   const std::string& path() const { return path_; }
+  // The file's size in bytes: a bound on what it can hold (no count it announces is believed beyond it).
+  std::size_t file_size() const { return file_size_; }
   // The line of the current position, 1-based; at the end of the file, its last line.
   int line() const;
   // The line of the next token (or the last line at the end of the file).
@@ -80,6 +82,7 @@ class MshTokens {
 
   std::string path_;
   std::ifstream file_;
+  std::size_t file_size_ = 0;
   std::vector<char> buffer_;
   std::size_t position_ = 0, filled_ = 0;
   std::size_t offset_ = 0;        // bytes of the file before buffer_[0]

@@ -284,6 +284,15 @@ TEST_F(MalformedGmshTest, IntegersOutOfTheirRange) {
   }
 }
 
+// A count is not believed beyond what the file can hold: announcing two billion nodes or elements in a
+// small file is a mismatch named with its line, not an allocation of 80 GB.
+TEST_F(MalformedGmshTest, HugeAnnouncedCountsAreMismatches) {
+  std::string message = error_reading(rectangle_with("\n7 6 1 10\n", "\n7 2000000000 1 10\n"));
+  EXPECT_CONTAINS(message, "$Nodes announces 2000000000 nodes, its blocks hold 6");
+  message = error_reading(rectangle_with("\n3 6 1 6\n", "\n3 2000000000 1 6\n"));
+  EXPECT_CONTAINS(message, "$Elements announces 2000000000 elements, its blocks hold 6");
+}
+
 // A token is quoted to its first 40 characters in a message, with its length: not a megabyte of it.
 TEST_F(MalformedGmshTest, LongTokenQuotedShort) {
   const std::string token = "7" + std::string(1 << 20, 'x');
