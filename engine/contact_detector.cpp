@@ -151,6 +151,21 @@ PointJacobian ContactDetector::side_jacobian(const Vector& q, int object, const 
   return b.body->world_point_jacobian(b.positions(q), world_point);
 }
 
+void ContactDetector::move_contact(const Vector& q0, const Vector& dq, ContactPoint& c) const {
+  Eigen::Vector3d motion[2];
+  const int objects[2] = {c.key.object_a, c.key.object_b};
+  const Eigen::Vector3d points[2] = {c.point_a, c.point_b};
+  for (int side = 0; side < 2; ++side) {
+    const PointJacobian J = side_jacobian(q0, objects[side], c, points[side]);
+    const int offset = world_.bodies[object_body_[objects[side]]].velocity_offset;
+    motion[side].setZero();
+    for (int k = 0; k < J.count; ++k) motion[side] += J.column.col(k) * dq(offset + J.index[k]);
+  }
+  c.point_a += motion[0];
+  c.point_b += motion[1];
+  c.gap += c.normal.dot(motion[1] - motion[0]);
+}
+
 void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b, const ContactPoint& c,
                                          SparseRow* rows) const {
   const int d = dimension_;

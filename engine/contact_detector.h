@@ -42,6 +42,12 @@ class ContactDetector {
   // weights), otherwise the body's material point under the world point.
   PointJacobian side_jacobian(const Vector& q, int object, const ContactPoint& c, const Eigen::Vector3d& world_point) const;
 
+  // A contact detected at q0 carried to the positions q0 ⊕ dq (dq in velocity components, small): each
+  // side's point moves with its material point (its Jacobian at q0 times dq), the gap by the normal
+  // component of their relative motion (the gap the linearized contact problem solves for). The frame
+  // is kept: the contact's impulse or force is given in it.
+  void move_contact(const Vector& q0, const Vector& dq, ContactPoint& c) const;
+
   // The bound on how far any material point moves in time h at velocities v (m), for margins: convex in
   // v (a sum of norms, or a largest entry, a body; the largest of the bodies').
   double travel_bound(const Vector& v, double h) const;

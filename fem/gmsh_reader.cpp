@@ -1,136 +1,23 @@
-// Gmsh MSH 4.1 ASCII import, in two passes: read the sections into plain records (keeping the line of
-// every node and element for the messages), then build the Mesh, its node sets and face sets.
+// Gmsh MSH 4.1 ASCII import, in two passes: read the sections from the token stream (msh_tokens.h) into
+// plain records (keeping the line of every node and element for the messages), then build the Mesh, its
+// node sets and face sets.
 #include "fem/gmsh_reader.h"
 
+#include "fem/msh_tokens.h"
+
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
 namespace csim {
 namespace {
-
-// ----- tokens with line numbers ---------------------------------------------------------------------
-
-// Whitespace-separated tokens of the file; every failure names the file and the current line.
-class MshTokens {
- public:
-  explicit MshTokens(const std::string& path) : path_(path) {
-    // Before opening: a FIFO would block, a device be read without end, a directory read as empty.
-    std::error_code error;
-    const std::filesystem::file_status status = std::filesystem::status(path, error);
-    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
-      throw FemError(path + ": not a regular file (a directory, a FIFO or a device holds no Gmsh mesh)");
-    std::ifstream file(path);
-    if (!file) throw FemError(path + ": cannot open the Gmsh mesh file");
-    for (std::string line; std::getline(file, line);) lines_.push_back(std::move(line));
-  }
-
-  const std::string& path() const { return path_; }
-  // The line of the current position, 1-based; at the end of the file, its last line.
-  int line() const { return static_cast<int>(std::min(line_ + 1, std::max<std::size_t>(lines_.size(), 1))); }
-
-  // The line of the next token (or the last line at the end of the file).
-  int token_line() {
-    skip_space();
-    return line();
-  }
-
-  bool at_end() {
-    skip_space();
-    return line_ >= lines_.size();
-  }
-
-  // The next token; `what` says what was expected, for the message at the end of the file.
-  std::string word(const std::string& what) {
-    if (at_end()) fail("unexpected end of file while reading " + what + " (truncated file?)");
-    const std::string& text = lines_[line_];
-    const std::size_t begin = pos_;
-    while (pos_ < text.size() && !is_space(text[pos_])) ++pos_;
-    return text.substr(begin, pos_ - begin);
-  }
-
-  long long integer(const std::string& what) {
-    const std::string token = word(what);
-    long long value = 0;
-    const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
-    if (error != std::errc() || end != token.data() + token.size())
-      fail("expected an integer (" + what + "), found '" + token + "'");
-    return value;
-  }
-
-  // A count or an index that must fit an int and not be negative.
-  int count(const std::string& what) {
-    const long long value = integer(what);
-    if (value < 0 || value > std::numeric_limits<int>::max())
-      fail(what + " " + std::to_string(value) + " is out of range");
-    return static_cast<int>(value);
-  }
-
-  double real(const std::string& what) {
-    const std::string token = word(what);
-    double value = 0.0;
-    const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
-    if (error != std::errc() || end != token.data() + token.size() || !std::isfinite(value))
-      fail("expected a finite number (" + what + "), found '" + token + "'");
-    return value;
-  }
-
-  // A double-quoted name as in $PhysicalNames (it may contain spaces).
-  std::string quoted(const std::string& what) {
-    if (at_end() || lines_[line_][pos_] != '"') fail("expected a quoted " + what);
-    const std::string& text = lines_[line_];
-    const std::size_t close = text.find('"', pos_ + 1);
-    if (close == std::string::npos) fail("unterminated quoted " + what);
-    std::string value = text.substr(pos_ + 1, close - pos_ - 1);
-    pos_ = close + 1;
-    return value;
-  }
-
-  void expect(const std::string& marker) {
-    const std::string token = word(marker);
-    if (token != marker) fail("expected " + marker + ", found '" + token + "'");
-  }
-
-  // Skips a section we do not read, up to its end marker.
-  void skip_section(const std::string& name) {
-    const std::string end = "$End" + name.substr(1);
-    for (std::string token = word(end); token != end; token = word(end)) {
-    }
-  }
-
-  [[noreturn]] void fail(const std::string& message) const { fail_at(line(), message); }
-  [[noreturn]] void fail_at(int line, const std::string& message) const {
-    throw FemError(path_ + ":" + std::to_string(line) + ": " + message);
-  }
-
- private:
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-
-  void skip_space() {
-    while (line_ < lines_.size()) {
-      const std::string& text = lines_[line_];
-      while (pos_ < text.size() && is_space(text[pos_])) ++pos_;
-      if (pos_ < text.size()) return;
-      ++line_;
-      pos_ = 0;
-    }
-  }
-
-  std::string path_;
-  std::vector<std::string> lines_;
-  std::size_t line_ = 0;
-  std::size_t pos_ = 0;
-};
 
 // ----- records of the file --------------------------------------------------------------------------
 
@@ -165,11 +52,13 @@ struct RawNode {
   int line;
 };
 
+// An element of the file; its node tags are MshContent::node_tags[first_node, first_node + kind->node_count)
+// (one array for all the elements: a vector per element would cost an allocation each).
 struct RawElement {
   long long tag;
   const ElementKind* kind;
   EntityKey entity;
-  std::vector<long long> node_tags;
+  std::size_t first_node;
   int line;
 };
 
@@ -178,9 +67,14 @@ struct MshContent {
   std::map<EntityKey, std::vector<int>> entity_physicals;  // physical tags of each entity
   std::vector<RawNode> nodes;
   std::vector<RawElement> elements;
+  std::vector<long long> node_tags;  // the elements' node tags, element after element
+
+  std::span<const long long> tags_of(const RawElement& element) const {
+    return {node_tags.data() + element.first_node, static_cast<std::size_t>(element.kind->node_count)};
+  }
 };
 
-std::string node_list(const std::vector<long long>& tags) {
+std::string node_list(std::span<const long long> tags) {
   std::string text;
   for (long long tag : tags) text += (text.empty() ? "" : " ") + std::to_string(tag);
   return text;
@@ -191,18 +85,19 @@ std::string node_list(const std::vector<long long>& tags) {
 void read_mesh_format(MshTokens& in) {
   const std::string version = in.word("the MSH version");
   if (version != "4.1")
-    in.fail("MSH version " + version + ": only MSH 4.1 ASCII is supported (gmsh -format msh41)");
+    in.fail("MSH version " + in.token_excerpt() + ": only MSH 4.1 ASCII is supported (gmsh -format msh41)");
   const std::string file_type = in.word("the MSH file type");
-  if (file_type != "0") in.fail("binary MSH (file type " + file_type + "): only MSH 4.1 ASCII is supported");
-  in.integer("the MSH data size");
+  if (file_type != "0")
+    in.fail("binary MSH (file type " + in.token_excerpt() + "): only MSH 4.1 ASCII is supported");
+  in.integer("the MSH data size", 1, std::numeric_limits<int>::max());
   in.expect("$EndMeshFormat");
 }
 
 void read_physical_names(MshTokens& in, MshContent& content) {
   const int count = in.count("the number of physical names");
   for (int i = 0; i < count; ++i) {
-    const int dimension = in.count("a physical group dimension");
-    const int tag = static_cast<int>(in.integer("a physical tag"));
+    const int dimension = in.dimension("a physical group dimension");
+    const int tag = in.int_value("a physical tag");
     content.physical_names[{dimension, tag}] = in.quoted("physical name");
   }
   in.expect("$EndPhysicalNames");
@@ -213,15 +108,15 @@ void read_entities(MshTokens& in, MshContent& content) {
   for (int& count : counts) count = in.count("the number of entities of one dimension");
   for (int dimension = 0; dimension < 4; ++dimension)
     for (int i = 0; i < counts[dimension]; ++i) {
-      const int tag = static_cast<int>(in.integer("an entity tag"));
+      const int tag = in.int_value("an entity tag");
       const int coordinates = dimension == 0 ? 3 : 6;  // a point, or the bounding box of a curve, ...
       for (int k = 0; k < coordinates; ++k) in.real("entity coordinates");
       std::vector<int>& physicals = content.entity_physicals[{dimension, tag}];
       const int physical_count = in.count("the number of physical tags of an entity");
-      for (int k = 0; k < physical_count; ++k) physicals.push_back(static_cast<int>(in.integer("a physical tag")));
+      for (int k = 0; k < physical_count; ++k) physicals.push_back(in.int_value("a physical tag"));
       if (dimension > 0) {
         const int bounding = in.count("the number of bounding entities");
-        for (int k = 0; k < bounding; ++k) in.integer("a bounding entity tag");
+        for (int k = 0; k < bounding; ++k) in.int_value("a bounding entity tag");
       }
     }
   in.expect("$EndEntities");
@@ -230,17 +125,19 @@ void read_entities(MshTokens& in, MshContent& content) {
 void read_nodes(MshTokens& in, MshContent& content) {
   const int blocks = in.count("the number of node blocks");
   const int total = in.count("the number of nodes");
-  in.integer("the smallest node tag");
-  in.integer("the largest node tag");
+  in.tag_bound("the smallest node tag");
+  in.tag_bound("the largest node tag");
+  // Room for the nodes announced, as many as the file can hold (8 bytes each at least: "1\n0 0 0\n").
+  content.nodes.reserve(content.nodes.size() + std::min<std::size_t>(total, in.file_size() / 8));
   for (int block = 0; block < blocks; ++block) {
-    const int entity_dimension = in.count("the entity dimension of a node block");
-    in.integer("the entity tag of a node block");
-    const long long parametric = in.integer("the parametric flag of a node block");
+    const int entity_dimension = in.dimension("the entity dimension of a node block");
+    in.int_value("the entity tag of a node block");
+    const long long parametric = in.integer("the parametric flag of a node block", 0, 1);
     const int in_block = in.count("the number of nodes in a block");
     const std::size_t first = content.nodes.size();
     for (int i = 0; i < in_block; ++i) {
       const int line = in.token_line();
-      content.nodes.push_back(RawNode{in.integer("a node tag"), Eigen::Vector3d::Zero(), line});
+      content.nodes.push_back(RawNode{in.tag("a node tag"), Eigen::Vector3d::Zero(), line});
     }
     // Parametric nodes carry their parametric coordinates (u, v, w up to the entity dimension).
     const int extra = parametric != 0 ? entity_dimension : 0;
@@ -250,7 +147,7 @@ void read_nodes(MshTokens& in, MshContent& content) {
       for (int k = 0; k < extra; ++k) in.real("parametric node coordinates");
     }
   }
-  if (static_cast<int>(content.nodes.size()) != total)
+  if (content.nodes.size() != static_cast<std::size_t>(total))
     in.fail("$Nodes announces " + std::to_string(total) + " nodes, its blocks hold " +
             std::to_string(content.nodes.size()));
   in.expect("$EndNodes");
@@ -259,13 +156,15 @@ void read_nodes(MshTokens& in, MshContent& content) {
 void read_elements(MshTokens& in, MshContent& content) {
   const int blocks = in.count("the number of element blocks");
   const int total = in.count("the number of elements");
-  in.integer("the smallest element tag");
-  in.integer("the largest element tag");
+  in.tag_bound("the smallest element tag");
+  in.tag_bound("the largest element tag");
   const std::size_t first = content.elements.size();
+  content.elements.reserve(first + std::min<std::size_t>(total, in.file_size() / 4));  // "1 1\n" at least
+  std::vector<long long> sorted;  // an element's node tags, sorted (one buffer for all)
   for (int block = 0; block < blocks; ++block) {
-    const int entity_dimension = in.count("the entity dimension of an element block");
-    const int entity_tag = static_cast<int>(in.integer("the entity tag of an element block"));
-    const int gmsh_type = static_cast<int>(in.integer("the element type of an element block"));
+    const int entity_dimension = in.dimension("the entity dimension of an element block");
+    const int entity_tag = in.int_value("the entity tag of an element block");
+    const int gmsh_type = in.int_value("the element type of an element block");
     const ElementKind* kind = find_kind(gmsh_type);
     if (kind == nullptr)
       in.fail("element type " + std::to_string(gmsh_type) +
@@ -274,22 +173,30 @@ void read_elements(MshTokens& in, MshContent& content) {
       in.fail(std::string("a block of ") + kind->name + " elements on an entity of dimension " +
               std::to_string(entity_dimension));
     const int in_block = in.count("the number of elements in a block");
+    // Gmsh writes a block per entity, the mesh's in one or a few large ones: room for the block at once.
+    // (As many as the file can hold: 2 bytes a node tag at least.)
+    const std::size_t needed =
+        content.node_tags.size() + std::min<std::size_t>(static_cast<std::size_t>(in_block) * kind->node_count,
+                                                         in.file_size() / 2);
+    if (needed > content.node_tags.capacity())
+      content.node_tags.reserve(std::max(needed, 2 * content.node_tags.capacity()));
     for (int i = 0; i < in_block; ++i) {
-      RawElement element{0, kind, {entity_dimension, entity_tag}, {}, in.token_line()};
-      element.tag = in.integer("an element tag");
-      for (int k = 0; k < kind->node_count; ++k) element.node_tags.push_back(in.integer("an element node tag"));
+      RawElement element{0, kind, {entity_dimension, entity_tag}, content.node_tags.size(), in.token_line()};
+      element.tag = in.tag("an element tag");
+      for (int k = 0; k < kind->node_count; ++k) content.node_tags.push_back(in.tag("an element node tag"));
       // A repeated node collapses the element (a quadrangle 1 2 2 3 is a triangle) and its collapsed
       // edge or face matches no neighbour's: a hole in the mesh, which the Jacobians need not show.
-      std::vector<long long> sorted = element.node_tags;
+      const std::span<const long long> tags = content.tags_of(element);
+      sorted.assign(tags.begin(), tags.end());
       std::sort(sorted.begin(), sorted.end());
       if (const auto twice = std::adjacent_find(sorted.begin(), sorted.end()); twice != sorted.end())
         in.fail_at(element.line, "element " + std::to_string(element.tag) + " (" + kind->name + ", nodes " +
-                                     node_list(element.node_tags) + ") lists node " + std::to_string(*twice) +
+                                     node_list(tags) + ") lists node " + std::to_string(*twice) +
                                      " twice: a degenerate element leaves a hole in the mesh");
-      content.elements.push_back(std::move(element));
+      content.elements.push_back(element);
     }
   }
-  if (static_cast<int>(content.elements.size() - first) != total)
+  if (content.elements.size() - first != static_cast<std::size_t>(total))
     in.fail("$Elements announces " + std::to_string(total) + " elements, its blocks hold " +
             std::to_string(content.elements.size() - first));
   in.expect("$EndElements");
@@ -300,7 +207,8 @@ MshContent read_sections(MshTokens& in) {
   std::set<std::string> seen;
   while (!in.at_end()) {
     const std::string section = in.word("a section");
-    if (section.empty() || section[0] != '$') in.fail("expected a section such as $Nodes, found '" + section + "'");
+    if (section.empty() || section[0] != '$' || in.token_length() > section.size())
+      in.fail("expected a section such as $Nodes, found '" + in.token_excerpt() + "'");
     if (seen.empty() && section != "$MeshFormat") in.fail("the file must begin with $MeshFormat");
     if (!seen.insert(section).second) in.fail("section " + section + " appears twice");
     if (section == "$MeshFormat") read_mesh_format(in);
@@ -326,10 +234,15 @@ std::string group_name(const MshContent& content, const EntityKey& group) {
 
 // Node tags of the file -> mesh node indices (file order, nodes of the mesh elements only).
 struct NodeNumbering {
-  std::unordered_map<long long, int> position;  // node tag -> position in $Nodes (lookup only)
-  std::vector<int> index;                       // position -> mesh node, −1 outside the mesh elements
+  std::vector<std::pair<long long, int>> by_tag;  // (node tag, position in $Nodes), sorted: lookup only
+  std::vector<int> index;                         // position -> mesh node, −1 outside the mesh elements
 
-  int mesh_node(long long tag) const { return index[static_cast<std::size_t>(position.at(tag))]; }
+  // The position in $Nodes of a node tag, −1 when no node has it.
+  int position(long long tag) const {
+    const auto found = std::lower_bound(by_tag.begin(), by_tag.end(), std::make_pair(tag, 0));
+    return found != by_tag.end() && found->first == tag ? found->second : -1;
+  }
+  int mesh_node(long long tag) const { return index[static_cast<std::size_t>(position(tag))]; }
 };
 
 // The elements of the highest dimension, of one type, and their nodes.
@@ -340,12 +253,21 @@ Mesh mesh_elements(const MshTokens& in, const MshContent& content, NodeNumbering
     throw FemError(in.path() + ": no quadrangle or hexahedron elements (Gmsh saves only the elements of physical "
                                "groups when there are any: add a physical surface or volume)");
 
-  for (std::size_t i = 0; i < content.nodes.size(); ++i)
-    if (!numbering.position.emplace(content.nodes[i].tag, static_cast<int>(i)).second)
-      in.fail_at(content.nodes[i].line, "node tag " + std::to_string(content.nodes[i].tag) + " appears twice");
+  numbering.by_tag.reserve(content.nodes.size());
+  for (std::size_t i = 0; i < content.nodes.size(); ++i) numbering.by_tag.emplace_back(content.nodes[i].tag, static_cast<int>(i));
+  std::sort(numbering.by_tag.begin(), numbering.by_tag.end());
+  // A tag given twice: named at its second appearance, the first such in file order.
+  int repeated = -1;
+  for (std::size_t k = 1; k < numbering.by_tag.size(); ++k)
+    if (numbering.by_tag[k].first == numbering.by_tag[k - 1].first && (repeated < 0 || numbering.by_tag[k].second < repeated))
+      repeated = numbering.by_tag[k].second;
+  if (repeated >= 0) {
+    const RawNode& node = content.nodes[static_cast<std::size_t>(repeated)];
+    in.fail_at(node.line, "node tag " + std::to_string(node.tag) + " appears twice");
+  }
   for (const RawElement& element : content.elements)
-    for (long long tag : element.node_tags)
-      if (numbering.position.count(tag) == 0)
+    for (long long tag : content.tags_of(element))
+      if (numbering.position(tag) < 0)
         in.fail_at(element.line,
                    "element " + std::to_string(element.tag) + " refers to unknown node tag " + std::to_string(tag));
 
@@ -363,18 +285,22 @@ Mesh mesh_elements(const MshTokens& in, const MshContent& content, NodeNumbering
                                    std::to_string(first->line) + ") is a " + first->kind->name +
                                    ": one element type per mesh");
     }
-    for (long long tag : element.node_tags) used[static_cast<std::size_t>(numbering.position.at(tag))] = true;
+    for (long long tag : content.tags_of(element)) used[static_cast<std::size_t>(numbering.position(tag))] = true;
   }
   numbering.index.assign(content.nodes.size(), -1);
+  mesh.nodes.reserve(static_cast<std::size_t>(std::count(used.begin(), used.end(), true)));
   for (std::size_t i = 0; i < content.nodes.size(); ++i)
     if (used[i]) {
       numbering.index[i] = static_cast<int>(mesh.nodes.size());
       mesh.nodes.push_back(content.nodes[i].x);
     }
+  mesh.elements.reserve(static_cast<std::size_t>(std::count_if(
+      content.elements.begin(), content.elements.end(), [&](const RawElement& e) { return e.kind->dimension == dimension; })));
   for (const RawElement& element : content.elements) {
     if (element.kind->dimension != dimension) continue;
     std::vector<int> nodes;
-    for (long long tag : element.node_tags) nodes.push_back(numbering.mesh_node(tag));
+    nodes.reserve(static_cast<std::size_t>(element.kind->node_count));
+    for (long long tag : content.tags_of(element)) nodes.push_back(numbering.mesh_node(tag));
     mesh.elements.push_back(std::move(nodes));
   }
   return mesh;
@@ -396,10 +322,11 @@ void flatten_plane_mesh(const MshTokens& in, const MshContent& content, const No
 }
 
 // The boundary faces of a face group, in element then local-face order; each group element must be one.
-std::vector<Face> match_boundary_faces(const MshTokens& in, const std::string& name, int group_dimension,
+std::vector<Face> match_boundary_faces(const MshTokens& in, const MshContent& content, const std::string& name,
+                                       int group_dimension,
                                        const std::vector<const RawElement*>& elements,
-                                       const NodeNumbering& numbering, const Mesh& mesh) {
-  const std::vector<Face> boundary = boundary_faces(mesh);
+                                       const NodeNumbering& numbering, const Mesh& mesh,
+                                       const std::vector<Face>& boundary) {
   const std::size_t corners = mesh.dimension() == 3 ? 4 : 2;
   auto corner_key = [&](std::vector<int> nodes) {
     nodes.resize(corners);
@@ -413,12 +340,12 @@ std::vector<Face> match_boundary_faces(const MshTokens& in, const std::string& n
   std::vector<int> matched;
   for (const RawElement* element : elements) {
     std::vector<int> nodes;
-    for (long long tag : element->node_tags) nodes.push_back(numbering.mesh_node(tag));
+    for (long long tag : content.tags_of(*element)) nodes.push_back(numbering.mesh_node(tag));
     const auto face = boundary_by_corners.find(corner_key(nodes));
     if (face == boundary_by_corners.end())
-      in.fail_at(element->line, "physical group '" + name + "' (dimension " + std::to_string(group_dimension) +
+      in.fail_at(element->line, "physical group '" + MshTokens::excerpt(name) + "' (dimension " + std::to_string(group_dimension) +
                                     "): element " + std::to_string(element->tag) + " (nodes " +
-                                    node_list(element->node_tags) + ") is not a face on the boundary of the mesh");
+                                    node_list(content.tags_of(*element)) + ") is not a face on the boundary of the mesh");
     matched.push_back(face->second);
   }
   // boundary is in element then local-face order, so sorting indices sorts the faces that way.
@@ -440,18 +367,19 @@ void add_physical_groups(const MshTokens& in, const MshContent& content, const N
   }
 
   std::map<std::string, int> name_dimension;
+  std::vector<Face> boundary;  // the mesh's boundary faces, found for the first face group
   for (const auto& [group, elements] : groups) {
     const std::string name = group_name(content, group);
     const auto [previous, inserted] = name_dimension.emplace(name, group.first);
     if (!inserted)
-      throw FemError(in.path() + ": physical name '" + name + "' is used by groups of dimensions " +
+      throw FemError(in.path() + ": physical name '" + MshTokens::excerpt(name) + "' is used by groups of dimensions " +
                      std::to_string(previous->second) + " and " + std::to_string(group.first));
     std::vector<int> nodes;
     for (const RawElement* element : elements)
-      for (long long tag : element->node_tags) {
+      for (long long tag : content.tags_of(*element)) {
         const int node = numbering.mesh_node(tag);
         if (node < 0)
-          in.fail_at(element->line, "physical group '" + name + "': node " + std::to_string(tag) + " of element " +
+          in.fail_at(element->line, "physical group '" + MshTokens::excerpt(name) + "': node " + std::to_string(tag) + " of element " +
                                         std::to_string(element->tag) + " belongs to no " +
                                         to_string(mesh.element_type) + " element of the mesh");
         nodes.push_back(node);
@@ -460,7 +388,8 @@ void add_physical_groups(const MshTokens& in, const MshContent& content, const N
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
 
     if (group.first == mesh.dimension() - 1) {
-      std::vector<Face> faces = match_boundary_faces(in, name, group.first, elements, numbering, mesh);
+      if (boundary.empty()) boundary = boundary_faces(mesh);
+      std::vector<Face> faces = match_boundary_faces(in, content, name, group.first, elements, numbering, mesh, boundary);
       nodes = nodes_of(faces);  // the whole face, also the mid-side node a 2-node line leaves out
       mesh.face_sets[name] = std::move(faces);
     }

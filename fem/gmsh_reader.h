@@ -26,9 +26,15 @@
 //
 // Errors throw FemError naming the file and, where there is one, the line (path:line: ...): file that
 // cannot be opened or is not a regular file (refused before opening: a FIFO would block), another version
-// or binary file, missing or truncated sections, unreadable numbers, unsupported element types, an
-// element naming an unknown node tag, mixed mesh element types, a face group element that is not on the
-// boundary, an element that lists a node twice. Jacobian signs are checked by the elements, not here.
+// or binary file (a binary MSH, or any byte that no text holds: NUL, named with its line and column),
+// missing or truncated sections, unreadable numbers, integers out of their field's range (dimensions
+// 0-3, counts and Gmsh ints within int, node and element tags ≥ 1 within 64 bits: never narrowed),
+// unsupported element types, an element naming an unknown node tag, mixed mesh element types, a face
+// group element that is not on the boundary, an element that lists a node twice. A token is quoted to
+// its first 40 characters (msh_tokens.h). Jacobian signs are checked by the elements, not here.
+//
+// The file is read as a stream (msh_tokens.h), never whole: the reader holds the file's records (40 bytes
+// a node, 40 an element and 8 per element node) beside the Mesh it builds.
 #pragma once
 
 #include "fem/mesh.h"

@@ -217,6 +217,7 @@ bool QuasiStatic::release_let_go_rows() {
 // The candidate contacts at q_j, their rows over z (H_z = H T) and offsets c (gap, slip since q_k).
 void QuasiStatic::detect_contacts(const State& state, double t_next) {
   detector_.detect(q_, contact_distance_, candidates_, rows_);
+  q_detected_ = q_;
   const int nc = static_cast<int>(candidates_.size());
   active_ = candidates_;
   const int m = d_ * nc, nz = reduced_.size();
@@ -521,7 +522,8 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next, bool
 }
 
 // state ← the converged increment to t_next. Impulses are the forces × the whole step h, whatever the
-// increment's length, so that contact-force probes read forces (state.h).
+// increment's length, so that contact-force probes read forces (state.h); points and gaps are those of
+// the converged configuration, the last detection's carried by the last iterate's increment.
 void QuasiStatic::accept(State& state, double t_next) {
   last_z_increment_ = z_increment_;
   last_step_length_ = t_next - state.t;
@@ -529,9 +531,13 @@ void QuasiStatic::accept(State& state, double t_next) {
   state.reactions = reactions_;
   state.t = t_next;
   state.contacts.clear();
+  Vector motion;
+  if (!active_.empty()) world_.position_difference(q_, q_detected_, motion);
   for (ActiveContact& contact : active_) {
     contact.impulse *= parameters_.step;
-    if (contact.impulse(0) > 0.0) state.contacts.push_back(contact);  // open candidates are not contacts
+    if (!(contact.impulse(0) > 0.0)) continue;  // open candidates are not contacts
+    detector_.move_contact(q_detected_, motion, contact.point);
+    state.contacts.push_back(contact);
   }
 }
 

@@ -88,8 +88,11 @@
 // settle (a few passes; a contact without a normal force gets no friction). Held sticking rows hold
 // ũ_t, not u_t (their offset takes γ/(μ r_n) r_t at the warm start), so a fixed point stays unbiased.
 //
-// Outputs: state velocities hold Δq / h, impulses r·h (so that contact-force probes read r);
-// state.reactions the generalized force each prescription exerts (N, N·m); Newton's counters.
+// Outputs: state velocities hold Δq / h, impulses r·h (so that contact-force probes read r), the
+// contacts' points and gaps at the end of the step (the converged configuration: detected at the last
+// iterate, then carried by its increment, ContactDetector::move_contact, so that a closed contact's gap
+// is the one its solve made ≈ 0); state.reactions the generalized force each prescription exerts (N, N·m);
+// Newton's counters.
 #pragma once
 
 #include "contact/pgs_solver.h"
@@ -161,6 +164,7 @@ class QuasiStatic final : public Stepper {
   int d_;
 
   Vector z_, q_, f_, f_z_, f_aug_, dz_, r_, reactions_;
+  Vector q_detected_;          // the iterate's q that active_ and rows_ were detected at
   Vector offset_;              // c: the contacts' gaps (normal rows) and slips since q_k (tangential rows)
   Vector compliance_;          // penalty friction: γ/(μ r_n) on tangential rows (m/N), else 0
   Vector start_impulse_;       // the contacts' impulses at the step start (penalty friction's φ_k)

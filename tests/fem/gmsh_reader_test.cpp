@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -45,17 +46,22 @@ class MalformedGmshTest : public ::testing::Test {
   }
 
   std::string error_reading(const std::string& text) {
-    path_ = (std::filesystem::temp_directory_path() /
-             ("csim_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-              std::to_string(::getpid()) + ".msh"))
-                .string();
-    std::ofstream(path_) << text;
+    write(text);
     try {
       read_gmsh(path_);
     } catch (const FemError& error) {
       return error.what();
     }
     return "no FemError";
+  }
+
+  // Writes `text` to the test's temporary file.
+  void write(const std::string& text) {
+    path_ = (std::filesystem::temp_directory_path() /
+             ("csim_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+              std::to_string(::getpid()) + ".msh"))
+                .string();
+    std::ofstream(path_, std::ios::binary) << text;
   }
 
   // Replaces the first occurrence of `from` in the rectangle file.
@@ -246,6 +252,89 @@ TEST_F(MalformedGmshTest, PlaneMeshOutOfItsPlane) {
   const std::string message = error_reading(text);
   EXPECT_CONTAINS(message, path_ + ":");
   EXPECT_CONTAINS(message, "z = 0");
+}
+
+// Every integer is read whole and checked against its field's range: none is narrowed to an int (an
+// element type 2^32 + 3 was read as 3, an entity tag 2^32 + 1 as 1, and the meshes accepted).
+TEST_F(MalformedGmshTest, IntegersOutOfTheirRange) {
+  struct Case {
+    const char *from, *to, *message;
+  };
+  const Case cases[] = {
+      {"2 1 3 2\n", "2 1 4294967299 2\n", "the element type of an element block 4294967299 is out of range"},
+      {"2 1 3 2\n", "2 4294967297 3 2\n", "the entity tag of an element block 4294967297 is out of range"},
+      {"1 0 0 0 2 1 0 1 3 4", "4294967297 0 0 0 2 1 0 1 3 4", "an entity tag 4294967297 is out of range"},
+      {"1 0 0 0 2 1 0 1 3 4", "1 0 0 0 2 1 0 1 4294967299 4", "a physical tag 4294967299 is out of range"},
+      {"2 3 \"body\"", "2 4294967299 \"body\"", "a physical tag 4294967299 is out of range"},
+      {"2 3 \"body\"", "4 3 \"body\"", "a physical group dimension 4 is out of range [0, 3]"},
+      {"\n1 1 0 1\n5\n", "\n5 1 0 1\n5\n", "the entity dimension of a node block 5 is out of range [0, 3]"},
+      {"\n0 1 0 1\n1\n", "\n0 1 2 1\n1\n", "the parametric flag of a node block 2 is out of range [0, 1]"},
+      {"\n0 1 0 1\n1\n", "\n0 4294967297 0 1\n1\n", "the entity tag of a node block 4294967297 is out of range"},
+      {"5 1 5 10 4", "0 1 5 10 4", "an element tag 0 is out of range [1, "},
+      {"5 1 5 10 4", "5 1 5 10 -4", "an element node tag -4 is out of range [1, "},
+      {"5 1 5 10 4", "5 1 5 10 18446744073709551620", "an element node tag 18446744073709551620 is out of range"},
+      {"\n3 6 1 6\n", "\n3 4294967302 1 6\n", "the number of elements 4294967302 is out of range"},
+      {"4.1 0 8", "4.1 0 -8", "the MSH data size -8 is out of range"},
+  };
+  for (const Case& c : cases) {
+    const std::string text = rectangle_with(c.from, c.to);
+    const std::string message = error_reading(text);
+    const std::string changed = std::string(c.to).substr(std::string(c.to).find_first_not_of('\n'));
+    EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, changed)) + ": " + c.message);
+  }
+}
+
+// A count is not believed beyond what the file can hold: announcing two billion nodes or elements in a
+// small file is a mismatch named with its line, not an allocation of 80 GB.
+TEST_F(MalformedGmshTest, HugeAnnouncedCountsAreMismatches) {
+  std::string message = error_reading(rectangle_with("\n7 6 1 10\n", "\n7 2000000000 1 10\n"));
+  EXPECT_CONTAINS(message, "$Nodes announces 2000000000 nodes, its blocks hold 6");
+  message = error_reading(rectangle_with("\n3 6 1 6\n", "\n3 2000000000 1 6\n"));
+  EXPECT_CONTAINS(message, "$Elements announces 2000000000 elements, its blocks hold 6");
+}
+
+// A token is quoted to its first 40 characters in a message, with its length: not a megabyte of it.
+TEST_F(MalformedGmshTest, LongTokenQuotedShort) {
+  const std::string token = "7" + std::string(1 << 20, 'x');
+  const std::string text = rectangle_with("\n2 0 0\n", "\n2 " + token + " 0\n");
+  const std::string message = error_reading(text);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "\n2 7x") + 1) + ": expected a finite number");
+  EXPECT_CONTAINS(message, "'" + token.substr(0, 40) + "… (" + std::to_string(token.size()) + " characters)'");
+  EXPECT_LT(message.size(), 300u);
+}
+
+// A file of zeros, or a NUL byte in a text: binary, named with its line and column, not "empty".
+TEST_F(MalformedGmshTest, NulBytesAreNotText) {
+  std::string message = error_reading(std::string(4096, '\0'));
+  EXPECT_CONTAINS(message, path_ + ":1: byte 0x00 (NUL) at column 1: not a text file");
+
+  const std::string text = rectangle_with("\n2 0 0\n", "\n2 0 0\n");
+  std::string with_nul = text;
+  with_nul.insert(with_nul.find("\n2 0 0\n") + 4, 1, '\0');  // "2 0" NUL " 0": column 4
+  message = error_reading(with_nul);
+  EXPECT_CONTAINS(message, path_ + ":" + std::to_string(line_of(text, "\n2 0 0\n") + 1) +
+                               ": byte 0x00 (NUL) at column 4: not a text file");
+}
+
+// The file is read as a stream: a section the reader skips (32 MB in 512 Ki lines here) does not stay in
+// memory. The process' peak resident size may grow by far less than the section (it held every line of
+// the file, 57 MB for this one, before).
+TEST_F(MalformedGmshTest, FileIsNotHeldInMemory) {
+  write(file_text(kRectangle));
+  {  // written line by line: the test itself must not hold the file either
+    std::ofstream file(path_, std::ios::app);
+    file << "$Comments\n";
+    const std::string line(63, 'c');
+    for (int i = 0; i < (1 << 19); ++i) file << line << '\n';
+    file << "$EndComments\n";
+  }
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  const long before = usage.ru_maxrss;  // KiB
+  const Mesh mesh = read_gmsh(path_);
+  ::getrusage(RUSAGE_SELF, &usage);
+  EXPECT_EQ(mesh.elements.size(), 2u);
+  EXPECT_LT(usage.ru_maxrss - before, 8 * 1024) << "KiB of peak resident size gained while reading";
 }
 
 }  // namespace

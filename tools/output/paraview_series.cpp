@@ -74,8 +74,10 @@ std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std
   return std::nullopt;
 }
 
-ParaviewSeries::ParaviewSeries(const World& world, const std::string& output_directory, VtkEncoding encoding)
-    : world_(world), directory_((std::filesystem::path(output_directory) / "paraview").string()), encoding_(encoding) {
+ParaviewSeries::ParaviewSeries(const World& world, const std::string& output_directory, VtkEncoding encoding,
+                               const ContactAction& contact_action)
+    : world_(world), directory_((std::filesystem::path(output_directory) / "paraview").string()), encoding_(encoding),
+      contact_action_(contact_action) {
   // The caller has checked the names (check_outputs); this is what a series cannot be written without.
   if (const auto problem = paraview_name_problem(world, 0))
     throw std::runtime_error(directory_ + ": body '" + problem->body + "': " + problem->message);
@@ -144,7 +146,7 @@ void ParaviewSeries::write_files(const Frame& frame) {
     const std::string file = frame_name(s.stem, frame.index);
     const std::string path = (std::filesystem::path(directory_) / file).string();
     if (s.body < 0) {
-      write_file_atomically(path, contacts_vtu(frame.contacts, frame.t, encoding_));
+      write_file_atomically(path, contacts_vtu(frame.contacts, frame.t, encoding_, contact_action_));
     } else {
       // Streamed: a large body's file is not assembled in memory beside its arrays.
       const Eigen::VectorXd& u = frame.displacement[next_body];

@@ -49,7 +49,9 @@ void remove_paraview_outputs(const std::string& output_directory);
 // FemError from the element fields) is thrown by the next write_frame, wait() or finish().
 class ParaviewSeries {
  public:
-  ParaviewSeries(const World& world, const std::string& output_directory, VtkEncoding encoding);
+  // contact_action: what the contacts' files give of the contacts' action (vtk_writer.h).
+  ParaviewSeries(const World& world, const std::string& output_directory, VtkEncoding encoding,
+                 const ContactAction& contact_action = {});
   ~ParaviewSeries();
   ParaviewSeries(const ParaviewSeries&) = delete;
   ParaviewSeries& operator=(const ParaviewSeries&) = delete;
@@ -85,6 +87,7 @@ class ParaviewSeries {
   const World& world_;
   std::string directory_;    // DIR/paraview
   VtkEncoding encoding_;
+  ContactAction contact_action_;
   std::vector<Series> series_;  // the elastic bodies, then the contacts
   std::vector<double> times_;   // s, one per frame
   bool finished_ = false;

@@ -158,13 +158,15 @@ std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, c
   return file.finish();
 }
 
-std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, VtkEncoding encoding) {
+std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, VtkEncoding encoding,
+                         const ContactAction& action) {
   std::vector<double> points, impulse, normal, gap;
+  const double scale = action.force ? 1.0 / action.step : 1.0;  // impulse → force
   std::vector<std::int64_t> status, connectivity, offsets;
   for (const ActiveContact& c : contacts) {
     const Eigen::Vector3d x = 0.5 * (c.point.point_a + c.point.point_b);
     points.insert(points.end(), {x(0), x(1), x(2)});
-    impulse.insert(impulse.end(), {c.impulse(0), c.impulse(1), c.impulse(2)});
+    impulse.insert(impulse.end(), {scale * c.impulse(0), scale * c.impulse(1), scale * c.impulse(2)});
     normal.insert(normal.end(), {c.point.normal(0), c.point.normal(1), c.point.normal(2)});
     gap.push_back(c.point.gap);
     status.push_back(static_cast<std::int64_t>(c.status));  // open 0, stick 1, slip 2: ContactStatus's order
@@ -175,7 +177,7 @@ std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, V
   open_grid(file, t, contacts.size(), contacts.size());
   file.xml() += "      <PointData Scalars=\"status\" Vectors=\"normal\">\n";
   file.array(encode_array(encoding, "Int32", "status", 1, status));
-  file.array(encode_array(encoding, "Float64", "impulse", 3, impulse, {"normal", "t1", "t2"}));
+  file.array(encode_array(encoding, "Float64", action.force ? "force" : "impulse", 3, impulse, {"normal", "t1", "t2"}));
   file.array(encode_array(encoding, "Float64", "normal", 3, normal));
   file.array(encode_array(encoding, "Float64", "gap", 1, gap));
   file.xml() += "      </PointData>\n";

@@ -11,8 +11,10 @@
 //                                     for a finite-strain body green_lagrange_strain (dimensionless);
 //                                     comments before the root element say which stress the file holds;
 //   DIR/paraview/contacts_NNNNNN.vtu  one per frame: the active contacts as vertices, with status
-//                                     (0 open, 1 stick, 2 slip), impulse (N·s in the contact frame:
-//                                     normal, t1, t2), normal and gap (m);
+//                                     (0 open, 1 stick, 2 slip), impulse over the last step (N·s, on
+//                                     the point's body B, in the contact frame: normal, t1, t2) or,
+//                                     under the quasi-static stepper, force (N, the same components),
+//                                     normal and gap (m) (ContactAction);
 //   DIR/paraview/BODY.pvd, contacts.pvd  the collections, written when the run ends.
 //
 // The text builders take plain data and return the file's text; ParaviewSeries (paraview_series.h)
@@ -63,9 +65,18 @@ void fe_body_file(VtkFileText& file, const EncodedMesh& mesh, const Eigen::Vecto
 std::string fe_body_vtu(const Mesh& mesh, const Eigen::VectorXd& displacement, const Eigen::VectorXd& velocity,
                         const ElementFields& fields, double t, VtkEncoding encoding);
 
+// What the contacts' files give of each contact's action on the point's body B: the dynamic steppers'
+// impulse over the last step (N·s), or the quasi-static stepper's force (N), which its impulses hold
+// times the step h (quasi_static.h).
+struct ContactAction {
+  bool force = false;  // write "force" = impulse / step (N) instead of "impulse" (N·s)
+  double step = 0.0;   // s, the h the impulses are taken over (force only)
+};
+
 // The contact points at one frame, each at the midpoint of its two surface points (m). Zero contacts give
 // a valid empty grid, so that every frame of the series exists.
-std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, VtkEncoding encoding);
+std::string contacts_vtu(const std::vector<ActiveContact>& contacts, double t, VtkEncoding encoding,
+                         const ContactAction& action = {});
 
 // A VTK Collection: one DataSet per frame, file relative to the .pvd's folder, timestep = time (s).
 struct CollectionEntry {

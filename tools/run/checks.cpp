@@ -1,7 +1,9 @@
 #include "tools/run/checks.h"
 
 #include "tools/scene/scene.h"
+#include "engine/state.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -30,6 +32,7 @@ Extremum parabola_vertex(double t0, double y0, double t1, double y1, double t2, 
   return e;
 }
 
+// The interpolant through the last `count` (1 to 3) of the three samples t, y.
 double quadratic_at(const double t[3], const double y[3], int count, double at) {
   if (count == 1) return y[2];
   if (count == 2) return y[1] + (y[2] - y[1]) * (at - t[1]) / (t[2] - t[1]);
@@ -45,9 +48,9 @@ double quadratic_at(const double t[3], const double y[3], int count, double at) 
 
 }  // namespace
 
-void ExtremumTracker::add(double t, double value, bool exact) {
+void ExtremumTracker::add(double t, double value, bool exact, bool after_jump) {
   scale_ = std::max(scale_, std::abs(value));
-  const Sample s{t, value, exact};
+  const Sample s{t, value, exact, after_jump};
   if (!last_) {
     last_ = pivot_ = s;
     return;
@@ -73,7 +76,9 @@ void ExtremumTracker::add(double t, double value, bool exact) {
 }
 
 void ExtremumTracker::record(bool maximum) {
-  if (before_pivot_ && after_pivot_ && !pivot_->exact)
+  // The parabola spans (before, pivot] and (pivot, after]: a jump in either is no turning point of a
+  // smooth signal, and the vertex would overshoot the values on both sides of it.
+  if (before_pivot_ && after_pivot_ && !pivot_->exact && !pivot_->after_jump && !after_pivot_->after_jump)
     extrema_.push_back(parabola_vertex(before_pivot_->t, before_pivot_->value, pivot_->t, pivot_->value,
                                        after_pivot_->t, after_pivot_->value, maximum));
   else
@@ -114,16 +119,21 @@ CheckEvaluator::CheckEvaluator(const RunSettings& run, const ExpressionScope& sc
   }
 }
 
-void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact) {
+void CheckEvaluator::add_sample(double t, const std::vector<double>& values, bool exact, bool after_jump) {
   // A probe that is undefined (NaN) is not tracked: its checks are not evaluated. One that only final
   // checks read is not either: last_values_ serves them. A probe's extrema are found only if a check
   // reads them, and its last three samples kept only if a check reads its value at a time.
-  for (const int p : extremum_probes_) trackers_[p].add(t, values[p], exact);
+  for (const int p : extremum_probes_) trackers_[p].add(t, values[p], exact, after_jump);
   for (const int p : window_probes_) {
     Window& w = windows_[p];
-    for (int i = 0; i < 2; ++i) { w.t[i] = w.t[i + 1]; w.value[i] = w.value[i + 1]; }
+    for (int i = 0; i < 2; ++i) {
+      w.t[i] = w.t[i + 1];
+      w.value[i] = w.value[i + 1];
+      w.after_jump[i] = w.after_jump[i + 1];
+    }
     w.t[2] = t;
     w.value[2] = values[p];
+    w.after_jump[2] = after_jump;
     w.count = std::min(w.count + 1, 3);
   }
   for (const std::size_t c : at_checks_) {
@@ -131,8 +141,10 @@ void CheckEvaluator::add_sample(double t, const std::vector<double>& values, boo
     if (at_values_[c]) continue;
     // The sample at or just past the requested time (within rounding of the step count).
     if (t < check.time - 1e-9 * run_.step) continue;
+    // The samples since the last jump: no interpolant spans one (checks.h).
     const Window& w = windows_[check.probe];
-    at_values_[c] = quadratic_at(w.t + (3 - w.count), w.value + (3 - w.count), w.count, check.time);
+    const int count = w.after_jump[2] ? 1 : w.after_jump[1] ? std::min(w.count, 2) : w.count;
+    at_values_[c] = quadratic_at(w.t, w.value, count, check.time);
   }
   for (const std::size_t c : mean_checks_) {
     const CheckDefinition& check = run_.checks[c];
@@ -240,6 +252,17 @@ std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
     results.push_back(r);
   }
   return results;
+}
+
+bool ContactClosings::closed(const std::vector<ActiveContact>& contacts) {
+  current_.clear();
+  for (const ActiveContact& c : contacts)
+    if (c.impulse(0) > 0.0) current_.push_back(c.point.key);
+  std::sort(current_.begin(), current_.end());
+  // Every pressed key of this step among the last step's (both sorted)?
+  const bool closed = !std::includes(pressed_.begin(), pressed_.end(), current_.begin(), current_.end());
+  pressed_.swap(current_);
+  return closed;
 }
 
 CheckCounts count_checks(const std::vector<CheckResult>& checks) {

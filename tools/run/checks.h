@@ -1,12 +1,20 @@
 // Streaming evaluation of a scene's checks: every step's probe values go through an ExtremumTracker
-// (turning points, refined by the parabola through the three samples around them) and the values at
-// requested times (quadratic interpolation through the three samples around the time), so checks use
-// the full time resolution whatever the output rate.
+// (turning points, refined by the parabola through the three samples around them where the signal is
+// smooth there) and the values at requested times (quadratic interpolation through the three samples
+// around the time), so checks use the full time resolution whatever the output rate.
+// An extremum is a value the run produced unless the signal is smooth around it: a turning point next
+// to a step that closed a contact (an impact: a velocity jumps inside the step, a position turns at a
+// kink) or at an event sample is the sample itself, never a parabola through the jump, which
+// overshoots by a fraction of the jump (a bouncing ball's −5.26 m/s for an impact at −4.43 m/s). A value
+// at a time interpolates the samples since the last jump only (the sample past the time when the jump
+// lies in its own interval).
 // A mean over a window [t1, t2] is weighted by the Hann window w = sin²(π (t − t1)/(t2 − t1)) (times
 // each sample's interval), so that a periodic ripple (a wheel's elements passing the contact) that
 // does not fit a whole number of times in the window leaves an error of order (period/window)³
 // instead of period/window.
 #pragma once
+
+#include "contact/contact_point.h"
 
 #include <optional>
 #include <string>
@@ -14,6 +22,7 @@
 
 namespace csim {
 
+struct ActiveContact;    // engine/state.h
 struct ExpressionScope;  // expression.h
 struct RunSettings;      // scene.h
 
@@ -25,15 +34,18 @@ struct Extremum {
 
 // Turning points of a sampled signal. A plateau (a stick phase) between a rise and a fall is one
 // extremum; a plateau that lasts to the end after a motion is a final extremum (the body came to rest).
+// A turning point is refined by the parabola through it and its two neighbours only when none of them is
+// exact and no jump lies between them; otherwise it is the sample, a value the signal took.
 class ExtremumTracker {
  public:
   // exact: the sample sits exactly on a turning point (an event), so no parabola is fitted through it.
-  void add(double t, double value, bool exact = false);
+  // after_jump: the signal may have jumped since the last sample (a step that closed a contact).
+  void add(double t, double value, bool exact = false, bool after_jump = false);
   void finish();
   const std::vector<Extremum>& extrema() const { return extrema_; }
 
  private:
-  struct Sample { double t, value; bool exact; };
+  struct Sample { double t, value; bool exact, after_jump; };
   void record(bool maximum);
 
   std::vector<Extremum> extrema_;
@@ -72,7 +84,10 @@ CheckCounts count_checks(const std::vector<CheckResult>& checks);
 class CheckEvaluator {
  public:
   CheckEvaluator(const RunSettings& run, const ExpressionScope& scope);
-  void add_sample(double t, const std::vector<double>& probe_values, bool exact = false);
+  // after_jump: a contact closed since the last sample (ContactClosings), so no parabola spans the two.
+  void add_sample(double t, const std::vector<double>& probe_values, bool exact = false, bool after_jump = false);
+  // Whether a check reads extrema or values at a time: only then does add_sample need after_jump.
+  bool reads_jumps() const { return !extremum_probes_.empty() || !window_probes_.empty(); }
   // The probes whose every sample a check reads (an extremum, a value at a time, a mean): the others
   // are read by final checks alone, at the last sample, so that a run may leave their values stale
   // between its output rows (their entries are not read). The first and the last samples must hold
@@ -81,7 +96,7 @@ class CheckEvaluator {
   std::vector<CheckResult> finish(double end_time);
 
  private:
-  struct Window { double t[3]; double value[3]; int count = 0; };
+  struct Window { double t[3]; double value[3]; bool after_jump[3] = {false, false, false}; int count = 0; };
   const RunSettings& run_;
   const ExpressionScope& scope_;
   std::vector<ExtremumTracker> trackers_;               // one per probe (extremum_probes_ fed)
@@ -96,6 +111,18 @@ class CheckEvaluator {
   double last_time_ = 0.0;
   std::vector<double> last_values_;
   std::vector<double> initial_values_;                 // at t = 0: a reference may be `initial`
+};
+
+// The steps that close a contact: a contact that carries a normal impulse and carried none at the step
+// before (matched by its key). In a nonsmooth run that is where an impact makes the velocities jump
+// inside the step; a contact that was already pressed (a resting body struck again) is not seen.
+class ContactClosings {
+ public:
+  // Whether `contacts` (a step's, engine/state.h) close one; remembers them for the next step.
+  bool closed(const std::vector<ActiveContact>& contacts);
+
+ private:
+  std::vector<ContactKey> pressed_, current_;  // keys with r_n > 0 at the last step, sorted; scratch
 };
 
 }  // namespace csim

@@ -147,6 +147,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   Stepper& stepper = *stepper_owner;
   ProbeEvaluator probes(scene.world, run);
   CheckEvaluator checks(run, scene.document.scope);
+  ContactClosings closings;
   RunReport report;
   State& state = report.state;
   state = initial_state(scene.world);
@@ -163,7 +164,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   // ParaView frames of the elastic bodies, at the rows of probes.csv (docs/contract.md).
   std::unique_ptr<ParaviewSeries> paraview;
   if (!options.output_directory.empty() && run.paraview && has_elastic_bodies(scene.world))
-    paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory, *run.paraview);
+    paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory, *run.paraview,
+                                                // The quasi-static stepper's impulses are forces × h.
+                                                ContactAction{run.integrator == Integrator::quasi_static, run.step});
   const auto output_row = [&](const std::vector<double>& row) {
     append_row(csv, state.t, row, report);
     if (paraview) paraview->write_frame(scene.world, state, state.t);
@@ -193,6 +196,9 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
       honour_stop_request();
       stepper.step(state);
       if (energy_probes) stepper.measure_energy(state);
+      // A step that closed a contact may hold an impact's jump: no extremum's parabola, no interpolation
+      // at a time spans it (checks.h).
+      const bool closed = checks.reads_jumps() && closings.closed(state.contacts);
       // Events inside the step (stick/slip switches of ida-events) are exact samples.
       for (const EventSample& event : state.events) {
         State at_event = state;
@@ -200,14 +206,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
         at_event.q = event.q;
         at_event.v = event.v;
         probes.evaluate(at_event, values);
-        checks.add_sample(event.t, values, true);
+        checks.add_sample(event.t, values, true, closed);
       }
       // Between output rows, only the probes whose every sample a check reads (CheckEvaluator::
       // sampled_probes); an output row, and so the last step, has every probe's value.
       const bool row = state.t >= next_output - 0.5 * h || k + 1 == steps;
       if (row || every_probe_sampled) probes.evaluate(state, values);
       else probes.evaluate(state, values, sampled);
-      checks.add_sample(state.t, values);
+      checks.add_sample(state.t, values, false, closed);
       if (row) {
         output_row(values);
         while (next_output <= state.t + 0.5 * h) next_output += rate;

@@ -384,6 +384,48 @@ TEST(VtkWriter, TiedPendulumFramesShowTheSwingNotTheRotation) {
   EXPECT_LT(largest, 1e-5 * 1e10);
 }
 
+// SSNV503 in 2D, quasi-static: the shoe, 2 mm above the plate (rotated by 30°), is pressed on it by
+// 300 N/mm² over 40 mm. Its contacts' files give the contact force (N), not force × pseudo-time step
+// under the name impulse, and the points and gaps of the converged configuration, not of the step's
+// start: at every frame a closed contact sits on the plate (gap ≈ 0, its point on the plate's surface
+// n·x = 5 mm), and at the end the normal forces add up to the load, 12 000 N less the two top
+// springs' 0.005 N/mm × (2 mm + the shoe's compression).
+TEST(VtkWriter, QuasiStaticContactsGiveTheForcesOfTheConvergedStep) {
+  const fs::path dir = fresh_directory("csim_vtk_ssnv503");
+  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/ssnv503-2d/scene.yaml", {});
+  const RunReport report = run_scene(*scene, {dir.string()});
+  const double angle = M_PI / 6.0;
+  const Eigen::Vector3d plate_normal(-std::sin(angle), std::cos(angle), 0.0);
+  const std::size_t frames = report.sample_times.size();
+  ASSERT_EQ(frames, 21u);
+  int closed_frames = 0;
+  for (std::size_t k = 1; k < frames; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "contacts_%06zu.vtu", k);
+    const XmlElement piece = piece_of(read_vtu(dir / "paraview" / name));
+    const XmlElement& data = piece.child("PointData");
+    EXPECT_THROW(data.array("impulse"), std::runtime_error);
+    const std::vector<double> force = data.array("force").numbers(), gap = data.array("gap").numbers(),
+                              points = piece.child("Points").child("DataArray").numbers();
+    ASSERT_EQ(force.size(), 3 * gap.size());
+    double normal_sum = 0.0;
+    for (std::size_t i = 0; i < gap.size(); ++i) {
+      normal_sum += force[3 * i];
+      EXPECT_GT(force[3 * i], 0.0);
+      EXPECT_NEAR(gap[i], 0.0, 1e-6) << "mm, frame " << k << ", contact " << i;
+      const Eigen::Vector3d x(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+      EXPECT_NEAR(plate_normal.dot(x), 5.0, 1e-6) << "mm, frame " << k << ", contact " << i;
+    }
+    EXPECT_NEAR(normal_sum, report.samples[k][0], 1e-9 * std::abs(report.samples[k][0]));  // the fn probe
+    if (!gap.empty()) ++closed_frames;
+    if (k + 1 == frames) {
+      const double compression = 300.0 / 2.1e5 * 20.0;  // mm: σ/E over the shoe's height, ν = 0
+      EXPECT_NEAR(normal_sum, 300.0 * 40.0 - 2.0 * 0.005 * (2.0 + compression), 0.01);
+    }
+  }
+  EXPECT_EQ(closed_frames, 20);
+}
+
 TEST(VtkWriter, LumpedSceneWritesNoParaviewFiles) {
   const fs::path dir = fresh_directory("csim_vtk_incline");
   const auto scene = load_scene(kIncline, {"time.end=0.01", "checks.slide_at_half_time.at=0.005"});

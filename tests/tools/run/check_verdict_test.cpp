@@ -167,5 +167,82 @@ TEST_F(CheckVerdict, TheLastStepLandsOnTheEndTime) {
   }
 }
 
+// A bouncing ball (Newton's law, e = 0.55, h0 = 1 m), every step a row of probes.csv. The velocity jumps
+// at each impact and the height turns at a kink there: their extrema are values the run produced, the
+// recorded ones, never a parabola through the jump (which read −5.26 m/s for an impact at −4.43 m/s, and
+// a height below the floor). The apex, a smooth turning point, keeps its parabola: it lies above the
+// highest sample (e = 0.55 puts it between two samples), near e² h0 (within the step's error on the
+// impact, 1 % at this coarse step).
+TEST_F(CheckVerdict, AnExtremumAcrossAnImpactIsARecordedValue) {
+  const std::string scene_text = R"(dimension: 2
+gravity: [0, -9.81]
+bodies:
+  ball:
+    type: point
+    mass: 1
+    position: [0, 1.1]
+    shapes:
+      disk: {type: sphere, radius: 0.1}
+  floor:
+    type: fixed
+    shapes:
+      surface: {type: halfspace, normal: [0, 1], offset: 0}
+contacts:
+  ball_on_floor: {between: [ball, floor], restitution: 0.55}
+time: {end: 0.84, step: 7e-4}
+integrator: {type: moreau-jean, theta: 0.5}
+output: {rate: 7e-4}
+probes:
+  height: {position: {body: ball, point: [0, -0.1], component: y}}
+  vy: {velocity: {body: ball, component: y}}
+checks:
+  v_impact: {probe: vy, minimum: 1, reference: -4.4294469, tolerance: {relative: 1e-2}, kind: analytical, source: test}
+  v_rebound: {probe: vy, maximum: 1, reference: 2.4361958, tolerance: {relative: 1e-2}, kind: analytical, source: test}
+  lowest: {probe: height, minimum: 1, reference: 0, tolerance: {absolute: 1e-2}, kind: analytical, source: test}
+  apex: {probe: height, maximum: 1, reference: 0.3025, tolerance: {relative: 2e-2}, kind: analytical, source: test}
+)";
+  const RunReport report = run_scene(*load_scene(write(scene_text), {}), {});
+  ASSERT_EQ(report.sample_times.size(), 1201u);
+  double v_min = INFINITY, v_max = -INFINITY, lowest = INFINITY, highest_after_bounce = -INFINITY;
+  for (std::size_t k = 0; k < report.samples.size(); ++k) {
+    const double height = report.samples[k][0], vy = report.samples[k][1];
+    v_min = std::min(v_min, vy);
+    lowest = std::min(lowest, height);
+    if (report.sample_times[k] > 0.55) highest_after_bounce = std::max(highest_after_bounce, height);
+    if (report.sample_times[k] < 0.6) v_max = std::max(v_max, vy);  // up to the apex
+  }
+  ASSERT_EQ(report.checks.size(), 4u);
+  for (const CheckResult& c : report.checks) {
+    EXPECT_TRUE(c.passed) << c.name << ": " << c.value;
+    if (c.name == "v_impact") EXPECT_EQ(c.value, v_min);
+    if (c.name == "v_rebound") EXPECT_EQ(c.value, v_max);
+    if (c.name == "lowest") EXPECT_EQ(c.value, lowest);
+    if (c.name == "apex") {
+      EXPECT_GT(c.value, highest_after_bounce);
+      EXPECT_NEAR(c.value, 0.3025, 0.3025 * 2e-2);
+    }
+  }
+
+  // Values at a time interpolate the samples since the jump only: between the first two samples after
+  // the impact, their line (the velocity is linear there); inside the step of the impact, the sample
+  // past the time, the value after the jump.
+  std::size_t k = 1;
+  while (report.samples[k][1] <= 0.0) ++k;  // the first sample after the impact
+  const double h = 7e-4, t_k = report.sample_times[k];
+  const double after = 0.5 * (report.samples[k][1] + report.samples[k + 1][1]), jump_step = report.samples[k][1];
+  char checks[512];
+  std::snprintf(checks, sizeof checks,
+                "  v_after: {probe: vy, at: %.17g, reference: %.17g, tolerance: {absolute: 1e-12}, kind: analytical, "
+                "source: test}\n"
+                "  v_jump: {probe: vy, at: %.17g, reference: %.17g, tolerance: {absolute: 1e-12}, kind: analytical, "
+                "source: test}\n",
+                t_k + 0.5 * h, after, t_k - 0.5 * h, jump_step);
+  std::string with_at = scene_text;
+  with_at.replace(with_at.find("  v_impact:"), 0, checks);
+  const RunReport at_report = run_scene(*load_scene(write(with_at), {}), {});
+  for (const CheckResult& c : at_report.checks)
+    if (c.name == "v_after" || c.name == "v_jump") EXPECT_TRUE(c.passed) << c.name << ": " << c.value << " vs " << c.reference;
+}
+
 }  // namespace
 }  // namespace csim
