@@ -144,7 +144,8 @@ class Body {
 
   // Adds the weight in the uniform field g (m/s²) as a generalized force (N, N·m): m g at the centre of
   // mass of a rigid body (its Jacobian there is its translations, whatever its turn), M·(g per node) for
-  // an elastic body (its exact consistent body force). The same at every q: Dynamics forms it once.
+  // an elastic body (its exact consistent body force ∫ Nᵀ ρ g dV, with the whole M: a free node's
+  // includes its coupling to fixed nodes, fe_body.h). The same at every q: Dynamics forms it once.
   virtual void add_weight(const ConstVectorRef& q, const Eigen::Vector3d& g, VectorRef f) const {
     const PointJacobian J = point_jacobian(q, Eigen::Vector3d::Zero());
     for (int k = 0; k < J.count; ++k) f(J.index[k]) += J.column.col(k).dot(mass() * g);

@@ -22,6 +22,20 @@ SparseMatrix restrict_matrix(const SparseMatrix& full, const std::vector<int>& f
   return restricted;
 }
 
+// The coupling of the free dofs to the fixed ones, summed over each fixed dof's component (the header's
+// fixed_coupling_): free_count × d.
+SparseMatrix fixed_coupling(const SparseMatrix& full, const std::vector<int>& free_of_dof, int free_count, int d) {
+  Triplets kept;
+  for (int column = 0; column < full.outerSize(); ++column)
+    for (SparseMatrix::InnerIterator it(full, column); it; ++it) {
+      const int i = free_of_dof[it.row()];
+      if (i >= 0 && free_of_dof[it.col()] < 0) kept.emplace_back(i, static_cast<int>(it.col()) % d, it.value());
+    }
+  SparseMatrix coupling(free_count, d);
+  coupling.setFromTriplets(kept.begin(), kept.end());
+  return coupling;
+}
+
 void append_shifted(const SparseMatrix& matrix, int offset, Triplets& out) {
   for (int column = 0; column < matrix.outerSize(); ++column)
     for (SparseMatrix::InnerIterator it(matrix, column); it; ++it)
@@ -71,6 +85,7 @@ void FeBody::build(bool lumped_mass, const std::vector<std::pair<int, int>>& fix
   const FeModel model{mesh_, material_, thickness_};
   const SparseMatrix full_mass = assemble_mass(model, lumped_mass);
   mass_ = restrict_matrix(full_mass, free_of_dof_, free_count_);
+  fixed_coupling_ = fixed_coupling(full_mass, free_of_dof_, free_count_, d);
   stiffness_ = restrict_matrix(assemble_stiffness(model), free_of_dof_, free_count_);
   // ρV from the mass of one direction: the sum of the x-x block.
   for (int column = 0; column < full_mass.outerSize(); ++column)
@@ -226,6 +241,8 @@ void FeBody::add_weight(const ConstVectorRef&, const Eigen::Vector3d& g, VectorR
     for (int c = 0; c < dofs_per_node(); ++c)
       if (free_index(node, c) >= 0) uniform(free_index(node, c)) = g(c);
   f += mass_ * uniform;
+  // The part of ∫ Nᵀ ρ g dV over the elements a free dof shares with fixed ones (the header).
+  if (fixed_coupling_.nonZeros() > 0) f += fixed_coupling_ * g.head(dofs_per_node());
 }
 
 void FeBody::integrate_position(const ConstVectorRef& q, const ConstVectorRef& v_theta, double h,

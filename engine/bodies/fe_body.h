@@ -5,6 +5,12 @@
 //   M is constant, assembled once by fem/ and restricted to the free dofs; so is K for linear
 //   elasticity. A finite-strain body's internal force and tangent are assembled at each q; its
 //   add_stiffness (Rayleigh damping, linear steppers) gives the tangent at u = 0.
+//   What the restriction drops: the coupling blocks M_fc, K_fc, C_fc times the fixed dofs' motion,
+//   which is zero (a fixed dof never moves: u_c = v_c = a_c = 0), so M_ff, K_ff, C_ff are exact for the
+//   inertia, the internal force and the damping. Not so for a load formed through M: the weight
+//   ∫ Nᵀ ρ g dV on a free dof is the row of the whole M times the uniform field, (M G)_f = M_ff G_f +
+//   M_fc G_c, and a consistent M couples a free node to the fixed nodes of the elements they share
+//   (add_weight adds M_fc G_c).
 // The mesh is in world coordinates (its pose is the identity). A material point is a node, named by
 // its reference coordinates (springs and loads attach to nodes; contacts use the boundary nodes).
 #pragma once
@@ -107,6 +113,10 @@ class FeBody final : public Body {
   int free_count_ = 0;
   std::vector<int> free_of_dof_;   // mesh dof → free index or −1
   SparseMatrix mass_, stiffness_;  // restricted to the free dofs
+  // M_fc summed over each fixed dof's component: entry (free dof i, component c) = Σ M(i, j) over the
+  // fixed dofs j along c (kg), so that M_fc G_c = fixed_coupling_ g. Empty for a lumped M (diagonal)
+  // or a body with nothing fixed; a few rows (the free dofs of elements with a fixed node) otherwise.
+  SparseMatrix fixed_coupling_;
   double total_mass_ = 0.0;
   double alpha_ = 0.0, beta_ = 0.0;  // Rayleigh coefficients, 1/s and s
   double size_ = 1.0;              // m, the mesh's bounding-box diagonal
