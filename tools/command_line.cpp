@@ -133,7 +133,7 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   sweep->footer("Writes DIR/sweep.csv and, per case, what csim run writes into DIR/case-NNNN/ (NNNN: the case's row).\n"
                 "Under mpirun or srun the cases are spread over the ranks (docs/scaling-out.md).\n"
                 "Exit status: 0 every case passed its checks, 1 some case did not (recorded in its row),\n"
-                "2 bad input (lists, sweeps file, --set); " + std::string(kStopped));
+                "2 bad input (lists, sweeps file, --set, a key no case could set); " + std::string(kStopped));
 
   CLI::App* help = app.add_subcommand("help", "print the help of csim or of one command");
   help->add_option("COMMAND", help_topic, "the command to explain");

@@ -12,6 +12,7 @@
 #include "tools/scene/scene_node.h"
 #include "engine/steppers/stepper.h"
 #include "tools/run/stop_request.h"
+#include "tools/studies/case_keys.h"
 #include "tools/studies/case_record.h"
 
 #include <algorithm>
@@ -183,20 +184,6 @@ std::vector<StabilitySweep> selected_sweeps(const StabilityPlan& plan, const std
   return out;
 }
 
-// Whether a dotted key names a single value of the effective configuration (defaults included).
-bool names_a_value(const YAML::Node& root, const std::string& key) {
-  YAML::Node node = root;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t dot = key.find('.', start);
-    const std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-    if (!node.IsMap() || !node[part].IsDefined()) return false;
-    if (dot == std::string::npos) return node[part].IsScalar();
-    node.reset(node[part]);
-    start = dot + 1;
-  }
-}
-
 // The whole study's inputs are checked before its first run: a baseline or a sweep key the scene
 // rejects would otherwise fail every case alike.
 std::unique_ptr<Scene> load_with_baseline(const StabilityOptions& options, const StabilityPlan& plan,
@@ -208,25 +195,12 @@ std::unique_ptr<Scene> load_with_baseline(const StabilityOptions& options, const
   }
 }
 
-// An integrator's own key is in the effective configuration only under that integrator
-// (integrator_keys.h): it is a sweep key when every integrator of the sweep reads it.
-bool read_by_every_integrator(const StabilitySweep& sweep) {
-  const std::string prefix = "integrator.";
-  if (sweep.key.rfind(prefix, 0) != 0) return false;
-  const std::string key = sweep.key.substr(prefix.size());
-  return is_integrator_key(key) &&
-         std::all_of(sweep.integrators.begin(), sweep.integrators.end(), [&](const std::string& name) {
-           const std::optional<Integrator> integrator = integrator_from_name(name);
-           return integrator && integrator_reads(*integrator, key);
-         });
-}
-
+// Every sweep key with every integrator of its sweep (case_keys.h).
 void check_sweep_keys(const StabilityPlan& plan, const std::vector<StabilitySweep>& sweeps, const Scene& scene) {
   for (const StabilitySweep& sweep : sweeps)
-    if (!names_a_value(scene.document.root, sweep.key) && !read_by_every_integrator(sweep))
-      throw SceneError(plan.file, sweep.line, "sweeps." + sweep.name + ".key",
-                       "'" + sweep.key + "' is not a single value of the scene " + scene.document.file +
-                           " (see csim dump-config)");
+    for (const std::string& name : sweep.integrators)
+      if (const auto problem = case_key_problem(scene, sweep.key, *integrator_from_name(name)))
+        throw SceneError(plan.file, sweep.line, "sweeps." + sweep.name + ".key", *problem);
 }
 
 // A run's row as the study runner carries it (case_record.h).
