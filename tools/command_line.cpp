@@ -74,7 +74,7 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   run->footer("Writes DIR/summary.json, DIR/probes.csv and, for elastic bodies, DIR/paraview/.\n"
               "Exit status: 0 checks passed (at least one evaluated, none failed, the others excluded by\n"
               "their only_if), 1 not a pass (a check failed or could not be evaluated, or none applies),\n"
-              "2 bad input or a numerical failure;\n" +
+              "2 bad input, a numerical failure or an environment failure (a full disk: the system's reason);\n" +
               std::string(kStopped));
 
   CLI::App* validate = app.add_subcommand("validate", "check a scene (and what run would refuse) without running it");

@@ -12,8 +12,8 @@
 // run, compare and stress write into a temporary folder beside DIR and swap it in whole when they end
 // (tools/output/output_folder.h); SIGINT or SIGTERM stops them at the next step boundary or between
 // runs, removes that folder and leaves DIR as it was: exit status 130 or 143 (128 + the signal).
-// Exit status of run: 0 checks passed (checks.h: CheckCounts::pass), 1 not a pass, 2 bad input or a
-// numerical failure.
+// Exit status of run: 0 checks passed (checks.h: CheckCounts::pass), 1 not a pass, 2 bad input, a
+// numerical failure or an environment failure (a file that cannot be written, out of memory).
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
 // Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
 // 1 some run did, 2 bad input (sweeps file, --only, --set).
@@ -22,6 +22,7 @@
 // or spread over the ranks when started by mpirun or srun, rank 0 alone printing and writing; the other
 // ranks leave quietly, with status 0 once the study is done or 2 when it could not start.
 #include "tools/studies/compare.h"
+#include "tools/output/atomic_file.h"
 #include "tools/output/output_folder.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
@@ -42,8 +43,10 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace {
@@ -83,6 +86,17 @@ std::string output_destination(const Arguments& arguments, const std::string& fi
   return "out/" + csim::load_scene(file, arguments.overrides)->name + suffix;
 }
 
+// Runs `write`, which writes into the temporary folder of `folder`: a file it cannot write is named in
+// `destination`, the folder the user asked for, since the temporary one is gone when the command fails.
+template <typename Write>
+void writing_into(const csim::OutputFolder& folder, const std::string& destination, Write&& write) {
+  try {
+    write();
+  } catch (const csim::FileWriteError& e) {
+    throw e.in_folder(folder.path(), destination);
+  }
+}
+
 // Runs the scene into a temporary folder that replaces options.output_directory when the run ends: passed,
 // failed its checks, or stopped by a numerical failure. The last leaves no outputs (run.h), and the
 // folder is swapped in all the same: an earlier run's results must not pass for this one's. A stop request
@@ -93,7 +107,8 @@ csim::RunReport run_into_folder(const csim::Scene& scene, const csim::RunOptions
   csim::RunOptions into_temporary = options;
   into_temporary.output_directory = folder.path();
   try {
-    csim::RunReport report = csim::run_scene(scene, into_temporary);
+    csim::RunReport report;
+    writing_into(folder, options.output_directory, [&] { report = csim::run_scene(scene, into_temporary); });
     csim::honour_stop_request();
     folder.commit();
     return report;
@@ -222,8 +237,10 @@ int run_compare(const Arguments& arguments, const std::string& file, csim::Study
   }, runner);
   if (!runner.is_root()) return kPassed;
   const std::string& directory = options.output_directory;
-  csim::write_work_precision_csv(comparison, folder->path());
-  csim::write_gnuplot_script(comparison, folder->path());
+  writing_into(*folder, directory, [&] {
+    csim::write_work_precision_csv(comparison, folder->path());
+    csim::write_gnuplot_script(comparison, folder->path());
+  });
   const csim::PlotOutcome plot = csim::plot_work_precision(comparison, folder->path());
   if (!plot.produced) std::cerr << "csim: warning: no work_precision.png: " << plot.message << "\n";
   csim::honour_stop_request();
@@ -265,8 +282,10 @@ int run_stability_command(const Arguments& arguments, const std::string& file, c
     print_stress_row(row);
   }, runner);
   if (!runner.is_root()) return kPassed;
-  csim::write_stability_markdown(study, folder->path());
-  csim::write_stability_csv(study, folder->path());
+  writing_into(*folder, directory, [&] {
+    csim::write_stability_markdown(study, folder->path());
+    csim::write_stability_csv(study, folder->path());
+  });
   csim::honour_stop_request();
   folder->commit();
   const auto violations = std::count_if(study.rows.begin(), study.rows.end(),
@@ -299,6 +318,7 @@ int run_sweep_command(const Arguments& arguments, const std::string& file, csim:
   std::optional<csim::OutputFolder> folder;
   const std::string path = open_study_folder(runner, directory, folder);
   if (!arguments.no_case_outputs) options.case_directory = path;
+  options.shown_directory = directory;
   std::size_t printed = 0;  // the header not before the cases are known to be good
   const csim::SweepStudy study = csim::run_sweep(options, [&](const csim::SweepRow& row) {
     if (printed == 0)
@@ -306,7 +326,7 @@ int run_sweep_command(const Arguments& arguments, const std::string& file, csim:
     print_sweep_row(printed++, row);
   }, runner);
   if (!runner.is_root()) return kPassed;
-  csim::write_sweep_csv(study, folder->path());
+  writing_into(*folder, directory, [&] { csim::write_sweep_csv(study, folder->path()); });
   csim::honour_stop_request();
   folder->commit();
   const auto not_passed = std::count_if(study.rows.begin(), study.rows.end(),
@@ -376,6 +396,10 @@ int main(int argc, char** argv) {
     if (speaks) std::cerr << "csim: " << e.what() << "\n";
   } catch (const csim::RunError& e) {
     if (speaks) std::cerr << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what() << "\n";
+  } catch (const std::bad_alloc&) {  // an environment failure (docs/contract.md): exit 2, the message says which
+    if (speaks) std::cerr << "csim: " << file << ": out of memory (the system refused an allocation)\n";
+  } catch (const std::system_error& e) {  // a file that cannot be written (atomic_file.h), named in --out
+    if (speaks) std::cerr << "csim: " << e.what() << "\n";
   } catch (const std::exception& e) {
     if (speaks) std::cerr << "csim: " << file << ": " << e.what() << "\n";
   }

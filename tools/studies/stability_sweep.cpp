@@ -12,6 +12,7 @@
 #include "tools/scene/scene_node.h"
 #include "engine/steppers/stepper.h"
 #include "tools/run/stop_request.h"
+#include "tools/studies/case_failure.h"
 #include "tools/studies/case_keys.h"
 #include "tools/studies/case_record.h"
 
@@ -149,22 +150,18 @@ void run_case(const std::vector<std::string>& overrides, const std::string& scen
     measure_checks(report.checks, row);
     judge_energy(report.state, row);
     check_finite(*scene, report, row);
-  } catch (const RunError& e) {
-    row.outcome = StabilityOutcome::stopped;
-    row.wall_time = elapsed();
-    row.stopped_at = e.time;
-    std::ostringstream message;
-    message << "numerical failure at t = " << e.time << " s: " << e.what();
-    row.message = message.str();
   } catch (const SceneError& e) {
     row.outcome = StabilityOutcome::bad_input;
     row.wall_time = elapsed();
     row.message = e.what();
-  } catch (const std::exception& e) {  // not a numerical failure of the integrator: a stop all the same
-    row.outcome = StabilityOutcome::stopped;
+  } catch (const std::exception&) {  // case_failure.h
+    const CaseFailure failure = current_case_failure();
     row.wall_time = elapsed();
-    row.stopped_at = kNaN;
-    row.message = e.what();
+    row.message = failure.message;
+    // What the integrator refuses other than in the scene's terms is a stop all the same.
+    row.outcome = failure.kind == CaseFailureKind::environment_failure ? StabilityOutcome::environment_failure
+                                                                      : StabilityOutcome::stopped;
+    row.stopped_at = failure.kind == CaseFailureKind::numerical_failure ? failure.time : kNaN;
   }
 }
 
@@ -249,6 +246,7 @@ const char* outcome_name(StabilityOutcome outcome) {
     case StabilityOutcome::check_failed: return "check failed";
     case StabilityOutcome::stopped: return "stopped";
     case StabilityOutcome::bad_input: return "bad input";
+    case StabilityOutcome::environment_failure: return "environment failure";
   }
   return "?";
 }
@@ -256,7 +254,9 @@ const char* outcome_name(StabilityOutcome outcome) {
 // A Moreau–Jean or generalized-α run must reach the end: its stops are non-finite values or a contact
 // solve far from converged, and its energy invariants cannot be verified on a run that did not finish.
 bool StabilityRow::violates_invariant() const {
-  if (outcome == StabilityOutcome::bad_input || !non_finite.empty()) return true;
+  if (outcome == StabilityOutcome::bad_input || outcome == StabilityOutcome::environment_failure ||
+      !non_finite.empty())
+    return true;
   if (!is_time_stepping(*integrator_from_name(integrator))) return false;
   if (outcome == StabilityOutcome::stopped) return true;
   return creates_energy || balance_open;

@@ -2,11 +2,13 @@
 // settings, in that order, so that it sees exactly what `csim run --set ...` would and its own settings win.
 #include "tools/studies/sweep.h"
 
+#include "tools/output/atomic_file.h"
 #include "tools/run/run.h"
 #include "tools/run/stop_request.h"
 #include "tools/scene/scene.h"
 #include "tools/scene/scene_error.h"
 #include "tools/scene/scene_node.h"
+#include "tools/studies/case_failure.h"
 #include "tools/studies/case_keys.h"
 #include "tools/studies/case_record.h"
 #include "tools/studies/stability_sweep.h"
@@ -151,8 +153,10 @@ void fill_checks(const std::vector<CheckResult>& results, SweepRow& row) {
   }
 }
 
+// One case, its outputs in `directory` (none when empty); a file it cannot write is named in `shown`,
+// the folder the user asked for, rather than in the temporary folder `written` that holds `directory`.
 SweepRow run_one(const std::string& scene_file, const std::vector<std::string>& overrides,
-                 const std::string& directory) {
+                 const std::string& directory, const std::string& written, const std::string& shown) {
   SweepRow row;
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -160,7 +164,12 @@ SweepRow run_one(const std::string& scene_file, const std::vector<std::string>& 
     const auto scene = load_scene(scene_file, overrides);
     RunOptions options;
     options.output_directory = directory;
-    const RunReport report = run_scene(*scene, options);
+    RunReport report;
+    try {
+      report = run_scene(*scene, options);
+    } catch (const FileWriteError& e) {
+      throw e.in_folder(written, shown);
+    }
     const State& state = report.state;
     row.exit_status = report.passed() ? 0 : 1;
     row.status = report.passed() ? "passed" : "not a pass";
@@ -174,16 +183,11 @@ SweepRow run_one(const std::string& scene_file, const std::vector<std::string>& 
     row.newton_max = state.counters.max_newton_iterations;
     fill_checks(report.checks, row);
     row.wall_time = report.wall_time;
-  } catch (const RunError& e) {
-    row.status = "numerical failure";
-    row.end_time = e.time;
-    std::ostringstream message;
-    message << "numerical failure at t = " << e.time << " s: " << e.what();
-    row.message = message.str();
-    row.wall_time = elapsed();
-  } catch (const std::exception& e) {  // SceneError included: a value the scene rejects
-    row.status = "bad input";
-    row.message = e.what();
+  } catch (const std::exception&) {  // a value the scene rejects, a numerical failure, a full disk (case_failure.h)
+    const CaseFailure failure = current_case_failure();
+    row.status = case_failure_status(failure.kind);
+    if (failure.kind == CaseFailureKind::numerical_failure) row.end_time = failure.time;
+    row.message = failure.message;
     row.wall_time = elapsed();
   }
   return row;
@@ -281,7 +285,8 @@ SweepStudy run_sweep(const SweepOptions& options, const std::function<void(const
     const std::string directory = options.case_directory.empty()
                                       ? std::string()
                                       : (std::filesystem::path(options.case_directory) / case_folder_name(index)).string();
-    SweepRow row = run_one(options.scene_file, overrides, directory);
+    SweepRow row = run_one(options.scene_file, overrides, directory, options.case_directory,
+                           options.shown_directory.empty() ? options.case_directory : options.shown_directory);
     row.settings = cases[index].settings;
     return row_record(row);
   };

@@ -26,6 +26,9 @@ struct SweepOptions {
   std::string sweeps_file;              // a stress.yaml-like file; exclusive with set_lists and grids
   // Where each case writes what `csim run --out` would (case-0001/, case-0002/, ...); empty: nothing.
   std::string case_directory;
+  // The folder that messages name for case_directory: the one the user asked for, where case_directory is
+  // the temporary folder that replaces it at the end (output_folder.h). Empty: case_directory itself.
+  std::string shown_directory;
 };
 
 // Where a case's setting was given, for the message that refuses its key: the file (the scene file for
