@@ -20,7 +20,8 @@
 // Exit status of sweep: 0 every case passed its checks, 1 some case did not (recorded in its row), 2 bad input.
 // compare, stress and sweep run their cases through a study runner (tools/studies/study_runner.h): serially,
 // or spread over the ranks when started by mpirun or srun, rank 0 alone printing and writing; the other
-// ranks leave quietly, with status 0 once the study is done or 2 when it could not start.
+// ranks leave quietly, with status 0 once the study is done or 2 when it could not start. A stopped study
+// ends every rank at once with 128 + the signal (StudyRunner::leave_at_once).
 #include "tools/studies/compare.h"
 #include "tools/output/atomic_file.h"
 #include "tools/output/output_folder.h"
@@ -338,25 +339,11 @@ int run_sweep_command(const Arguments& arguments, const std::string& file, csim:
   return not_passed == 0 ? kPassed : kSomeRunFailed;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  Arguments arguments;
-  if (const std::optional<int> status = csim::cli::parse_command_line(argc, argv, arguments)) return *status;
+// The command, once its arguments are read and its runner is chosen; returns its exit status, and sets
+// `stopped` when a stop request ended it (stop_request.h).
+int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& stopped) {
   std::string file = arguments.scene;
-  const bool study = arguments.command == "compare" || arguments.command == "stress" || arguments.command == "sweep";
-  if (arguments.command == "run" || study) csim::cli::install_stop_handlers();
-  // Lives as long as the command: MPI is finalized when main returns (mpi_study_runner.h).
-  std::unique_ptr<csim::StudyRunner> mpi_runner;
-  bool speaks = true;  // rank 0, or the only process: the one that prints errors
-  try {
-    if (study) mpi_runner = csim::make_mpi_runner(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "csim: " << e.what() << "\n";
-    return kBadInput;
-  }
-  csim::StudyRunner& runner = mpi_runner ? *mpi_runner : csim::serial_runner();
-  speaks = runner.is_root();
+  const bool speaks = runner.is_root();  // rank 0, or the only process: the one that prints errors
   try {
     file = csim::cli::scene_file(arguments.scene);
     if (arguments.command == "compare") return run_compare(arguments, file, runner);
@@ -386,6 +373,7 @@ int main(int argc, char** argv) {
     return report.passed() ? kPassed : kCheckFailed;
   } catch (const RankLeaves&) {
   } catch (const csim::StopRequested& stop) {
+    stopped = true;
     if (speaks)
       std::cerr << "csim: stopped by " << csim::cli::signal_name(stop.signal)
                 << " before the end; the output folder is left as it was\n";
@@ -404,4 +392,29 @@ int main(int argc, char** argv) {
     if (speaks) std::cerr << "csim: " << file << ": " << e.what() << "\n";
   }
   return kBadInput;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments arguments;
+  if (const std::optional<int> status = csim::cli::parse_command_line(argc, argv, arguments)) return *status;
+  const bool study = arguments.command == "compare" || arguments.command == "stress" || arguments.command == "sweep";
+  if (arguments.command == "run" || study) csim::cli::install_stop_handlers();
+  // Lives as long as the command: MPI is finalized when main returns (mpi_study_runner.h).
+  std::unique_ptr<csim::StudyRunner> mpi_runner;
+  try {
+    if (study) mpi_runner = csim::make_mpi_runner(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "csim: " << e.what() << "\n";
+    return kBadInput;
+  }
+  csim::StudyRunner& runner = mpi_runner ? *mpi_runner : csim::serial_runner();
+  bool stopped = false;
+  const int status = run_command(arguments, runner, stopped);
+  // A stopped study (every rank learns it from rank 0), or a rank that a signal reached, leaves at once,
+  // its outputs cleaned up: MPI_Finalize waits for the launcher, which is taking the job down (OpenMPI's
+  // mpirun kept such a rank 1-2 s, then killed it or let it go; a launcher that does not answer, for ever).
+  if (mpi_runner && (stopped || csim::stop_request() != 0)) mpi_runner->leave_at_once(status);
+  return status;
 }
