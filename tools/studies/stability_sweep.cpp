@@ -6,7 +6,7 @@
 #include "tools/studies/compare.h"
 #include "tools/run/probes.h"
 #include "tools/run/run.h"
-#include "tools/scene/integrator_keys.h"
+#include "engine/steppers/integrator.h"
 #include "tools/scene/scene.h"
 #include "tools/scene/scene_error.h"
 #include "tools/scene/scene_node.h"
@@ -22,7 +22,6 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <sstream>
 
 namespace csim {
 

@@ -20,7 +20,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 
 namespace csim {
 
