@@ -59,7 +59,8 @@ const CLI::Validator kPositive(
     },
     "POSITIVE");
 
-const char* const kStopped = "130 or 143: stopped by SIGINT or SIGTERM (the output folder is left as it was).";
+const char* const kStopped =
+    "130, 143 or 129: stopped by SIGINT, SIGTERM or SIGHUP (the output folder is left as it was).";
 
 void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   app.description("csim: nonsmooth contact dynamics. `csim help COMMAND` or `csim COMMAND --help` for one command.");
@@ -74,7 +75,9 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   run->footer("Writes DIR/summary.json, DIR/probes.csv and, for elastic bodies, DIR/paraview/.\n"
               "Exit status: 0 checks passed (at least one evaluated, none failed, the others excluded by\n"
               "their only_if), 1 not a pass (a check failed or could not be evaluated, or none applies),\n"
-              "2 bad input, a numerical failure or an environment failure (a full disk: the system's reason);\n" +
+              "2 bad input, a numerical failure (DIR then holds the outputs up to the failure, its\n"
+              "summary.json saying \"status\": \"failed\") or an environment failure (a full disk: the\n"
+              "system's reason);\n" +
               std::string(kStopped));
 
   CLI::App* validate = app.add_subcommand("validate", "check a scene (and what run would refuse) without running it");

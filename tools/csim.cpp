@@ -9,9 +9,11 @@
 //              [--out DIR] [--no-case-outputs]
 //   csim help [COMMAND], csim [COMMAND] --help: help on stdout, exit 0; a bad argument: one line, exit 2.
 // SCENE is a scene folder (holding scene.yaml) or a YAML file.
-// run, compare and stress write into a temporary folder beside DIR and swap it in whole when they end
-// (tools/output/output_folder.h); SIGINT or SIGTERM stops them at the next step boundary or between
-// runs, removes that folder and leaves DIR as it was: exit status 130 or 143 (128 + the signal).
+// run, compare, stress and sweep write into a temporary folder beside DIR and swap it in whole when they
+// end (tools/output/output_folder.h); SIGINT, SIGTERM or SIGHUP stops them at the next step boundary or
+// between runs, removes that folder and leaves DIR as it was: exit status 130, 143 or 129 (128 + the
+// signal). A run stopped by a numerical failure (exit 2) leaves in DIR what it computed up to the failure,
+// its summary.json saying "failed" (tools/run/run.h).
 // Exit status of run: 0 checks passed (checks.h: CheckCounts::pass), 1 not a pass, 2 bad input, a
 // numerical failure or an environment failure (a file that cannot be written, out of memory).
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
@@ -99,9 +101,9 @@ void writing_into(const csim::OutputFolder& folder, const std::string& destinati
 }
 
 // Runs the scene into a temporary folder that replaces options.output_directory when the run ends: passed,
-// failed its checks, or stopped by a numerical failure. The last leaves no outputs (run.h), and the
-// folder is swapped in all the same: an earlier run's results must not pass for this one's. A stop request
-// leaves the folder as it was.
+// failed its checks, or stopped by a numerical failure. The last leaves what it computed up to the failure
+// with a summary.json saying "failed" (run.h), and the folder is swapped in all the same: an earlier run's
+// results must not pass for this one's. A stop request leaves the folder as it was.
 csim::RunReport run_into_folder(const csim::Scene& scene, const csim::RunOptions& options) {
   csim::check_outputs(scene);  // the scene's mistakes before any file is touched
   csim::OutputFolder folder(options.output_directory);
@@ -365,7 +367,16 @@ int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& sto
     options.output_directory =
         arguments.output_directory.empty() ? "out/" + scene->name : arguments.output_directory;
     options.progress = !arguments.quiet && isatty(fileno(stderr));
-    const csim::RunReport report = run_into_folder(*scene, options);
+    std::optional<csim::RunReport> finished;
+    try {
+      finished = run_into_folder(*scene, options);
+    } catch (const csim::RunError& e) {
+      std::cerr << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what()
+                << "\ncsim: the outputs up to the failure are in " << options.output_directory
+                << " (summary.json: \"status\": \"failed\")\n";
+      return kBadInput;
+    }
+    const csim::RunReport& report = *finished;
     if (!arguments.quiet) print_summary(*scene, report);
     print_checks(report.checks);
     std::printf("%s: %s (outputs in %s)\n", scene->name.c_str(), verdict(report.counts()).c_str(),

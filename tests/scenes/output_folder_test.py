@@ -1,12 +1,18 @@
 #!/usr/bin/env python3
 """The output folder is never left mixed (issue 29), through the real command line.
 
-  sigterm, sigint  a run into a folder that holds a complete earlier run is stopped by the signal once its
-                   frames are being written: exit 143 / 130, the earlier files all there and unchanged, no
-                   temporary folder, lock or orphan frame left beside or inside it;
+  sigterm, sigint, sighup
+                   a run into a folder that holds a complete earlier run is stopped by the signal once its
+                   frames are being written: exit 143 / 130 / 129, the earlier files all there and unchanged,
+                   no temporary folder, lock or orphan frame left beside or inside it;
   replace          a finished run replaces the folder whole (a stale file of an earlier command goes), a
                    folder holding a file csim did not write is refused untouched, and a numerical failure
-                   leaves the folder empty rather than showing an earlier run's results;
+                   leaves no earlier run's results;
+  failure          a run stopped by a numerical failure (the contact solver's failure threshold, when the box
+                   of box-on-block lands) exits 2 and leaves what it computed: the rows of probes.csv and
+                   the frames up to the failure, and a summary.json that says "failed", where and why;
+  stale            the .OUT.tmp-PID and .OUT.old-PID folders of a killed process (SIGKILL leaves them) are
+                   removed by the next run into OUT, those of a live process and every other name kept;
   concurrent       two runs into one folder: it ends up holding one of them, whole;
   compare-sigterm  a compare study stopped by SIGTERM during its second run: exit 143, the earlier study's
                    files unchanged.
@@ -14,6 +20,7 @@
 usage: output_folder_test.py CSIM SCENES_DIR WORK_DIR CASE
 """
 import hashlib
+import json
 import os
 import re
 import shutil
@@ -133,13 +140,98 @@ def replace(csim, scenes, work):
         fail("the refused folder was touched")
     os.remove(os.path.join(out, "notes.txt"))
 
-    # A numerical failure (run.h: no outputs): the folder is swapped in empty, the earlier results gone.
+    # A numerical failure at the first step: the folder is swapped in with that run's outputs alone (its
+    # t = 0 row, a summary saying it failed), the earlier results gone.
     code, text = run([csim, "run", os.path.join(scenes, "incline"), "--quiet", "--out", out,
                       "--set", "parameters.gravity=1e308", "--set", "parameters.mass=1e300"])
     if code != 2 or "numerical failure" not in text:
         fail(f"the failing run: exit {code}, {text}")
-    if not os.path.isdir(out) or os.listdir(out) or leftovers(out):
+    if not os.path.isdir(out) or sorted(os.listdir(out)) != ["probes.csv", "summary.json"] or leftovers(out):
         fail(f"after a numerical failure {out} holds {os.listdir(out) if os.path.isdir(out) else 'nothing'}")
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    if summary.get("status") != "failed" or summary.get("passed") is not False:
+        fail(f"the failed run's summary says status {summary.get('status')}, passed {summary.get('passed')}")
+
+
+def failure(csim, scenes, work):
+    out = os.path.join(work, "out")
+    scene = os.path.join(scenes, "box-on-block")
+    rate = 2e-3  # s: a row every 2 steps of 1e-3 s
+    code, text = run([csim, "run", scene, "--quiet", "--out", out, "--set", "time.end=0.1"])
+    if code not in (0, 1):  # its checks read the end of a 1 s run: judged on 0.1 s, some fail
+        fail(f"the preparatory run exits {code}: {text}")
+    with open(os.path.join(out, "summary.json")) as f:
+        if json.load(f).get("status") != "completed":
+            fail("a finished run's summary.json does not say \"status\": \"completed\"")
+    # One PGS sweep and a threshold no sweep meets: the first solve with contacts fails, at the landing
+    # (the box falls 1 mm: t = sqrt(2e-3 / 9.81) = 0.0143 s).
+    code, text = run([csim, "run", scene, "--quiet", "--out", out, "--set", "time.end=0.1",
+                      "--set", f"output.rate={rate}", "--set", "contact_solver.max_iterations=1",
+                      "--set", "contact_solver.tolerance=1e-300", "--set", "contact_solver.failure_residual=1e-300"])
+    if code != 2 or "numerical failure" not in text or "contact solver failed" not in text:
+        fail(f"the failing run: exit {code}, {text}")
+    if "outputs up to the failure are in " + out not in text:
+        fail(f"the message does not say where the outputs up to the failure are: {text}")
+    if leftovers(out):
+        fail(f"left beside {out}: {leftovers(out)}")
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    where = summary.get("failure", {})
+    if summary.get("status") != "failed" or summary.get("passed") is not False:
+        fail(f"summary.json: status {summary.get('status')}, passed {summary.get('passed')}, expected failed, false")
+    if "contact solver failed" not in where.get("reason", ""):
+        fail(f"summary.json: failure reason {where.get('reason')!r}")
+    t_fail, step = where.get("time", -1.0), where.get("step", -1)
+    if not (0.0143 <= t_fail <= 0.0143 + 2e-3) or abs(step * 1e-3 - t_fail) > 1e-9:
+        fail(f"summary.json: failure at t = {t_fail} s, step {step}; expected the landing, t = 0.0143 s, t = step x 1e-3")
+    counts = summary.get("check_counts", {})
+    if counts.get("passed") != 0 or counts.get("failed") != 0 or not all(
+            c["evaluated"] is False and (c["skipped"] or "numerical failure" in c["note"]) for c in summary["checks"]):
+        fail(f"summary.json: a check of the failed run was judged: {counts}")
+    with open(os.path.join(out, "probes.csv")) as f:
+        times = [float(line.split(",")[0]) for line in f.readlines()[1:]]
+    expected = [k * rate for k in range(int((t_fail - 1e-3) / rate + 1e-9) + 1)]  # every row before the failing step
+    if len(times) != len(expected) or any(abs(a - b) > 1e-12 for a, b in zip(times, expected)):
+        fail(f"probes.csv rows at {times}, expected {expected} (up to the step before the failure at {t_fail} s)")
+    if abs(where.get("last_row_time", -1.0) - times[-1]) > 1e-12:
+        fail(f"summary.json: last_row_time {where.get('last_row_time')}, probes.csv's last row at {times[-1]}")
+    if frames_are_listed(out) != 2 * len(times):  # block and contacts, at the rows of probes.csv
+        fail(f"{out}/paraview: not a frame of each series per row of probes.csv")
+
+
+def stale(csim, scenes, work):
+    out = os.path.join(work, "out")
+    complete_run(csim, scenes, out)
+    dead = subprocess.Popen(["true"])
+    dead.wait()
+    try:
+        os.kill(dead.pid, 0)
+        fail(f"process {dead.pid} exists again: cannot make a dead process id")
+    except ProcessLookupError:
+        pass
+    live = os.getpid()
+    removed = [f".out.tmp-{dead.pid}", f".out.old-{dead.pid}"]
+    kept = [f".out.tmp-{live}", f".out.old-{live}", f".out.tmp-{dead.pid}x", f".out.tmp-0{dead.pid}",
+            f".other.tmp-{dead.pid}", f".out.tmp{dead.pid}", f".out.new-{dead.pid}"]
+    for name in removed + kept:  # as a killed run leaves them: frames and a summary inside
+        os.makedirs(os.path.join(work, name, "paraview"))
+        open(os.path.join(work, name, "paraview", "bar_000000.vtu"), "w").write("frame\n")
+        open(os.path.join(work, name, "summary.json"), "w").write("{}\n")
+    complete_run(csim, scenes, out)
+    present = set(os.listdir(work))
+    if present & set(removed):
+        fail(f"the folders of dead process {dead.pid} are still there: {sorted(present & set(removed))}")
+    if set(kept) - present:
+        fail(f"removed what is not a dead process's folder: {sorted(set(kept) - present)}")
+    # No destination: an old folder is the only copy of the earlier outputs (a swap cut short), kept.
+    lost = os.path.join(work, "lost")
+    os.makedirs(os.path.join(work, f".lost.old-{dead.pid}"))
+    os.makedirs(os.path.join(work, f".lost.tmp-{dead.pid}"))
+    complete_run(csim, scenes, lost)
+    present = set(os.listdir(work))
+    if f".lost.old-{dead.pid}" not in present or f".lost.tmp-{dead.pid}" in present:
+        fail(f"beside a new destination: {sorted(n for n in present if n.startswith('.lost.'))}")
 
 
 def concurrent(csim, scenes, work):
@@ -189,6 +281,12 @@ def main():
         stopped_run(csim, scenes, work, signal.SIGTERM)
     elif case == "sigint":
         stopped_run(csim, scenes, work, signal.SIGINT)
+    elif case == "sighup":
+        stopped_run(csim, scenes, work, signal.SIGHUP)
+    elif case == "failure":
+        failure(csim, scenes, work)
+    elif case == "stale":
+        stale(csim, scenes, work)
     elif case == "replace":
         replace(csim, scenes, work)
     elif case == "concurrent":

@@ -1,6 +1,7 @@
 #include "tools/output/output_folder.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -132,6 +133,44 @@ fs::path beside(const fs::path& target, const std::string& suffix) {
 
 std::string with_pid(const std::string& what) { return what + "-" + std::to_string(::getpid()); }
 
+// The process id in `name` when it is exactly `.NAME.tmp-PID` or `.NAME.old-PID` of `target` (PID in
+// decimal, no sign, no leading zero), else 0.
+pid_t folder_owner(const std::string& name, const fs::path& target) {
+  const std::string stem = "." + target.filename().string() + ".";
+  if (name.size() <= stem.size() + 4 || name.compare(0, stem.size(), stem) != 0) return 0;
+  const std::string kind = name.substr(stem.size(), 4);
+  if (kind != "tmp-" && kind != "old-") return 0;
+  const std::string digits = name.substr(stem.size() + 4);
+  if (digits.size() > 9 || digits[0] == '0' ||
+      !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return 0;  // 9 digits: every pid_t there is (Linux: at most 2^22)
+  return static_cast<pid_t>(std::stoi(digits));
+}
+
+// Removes the temporary and old folders beside `target` that a process killed without a chance to clean
+// up left there (SIGKILL, a crash, a power cut): those whose process no longer exists. A live process's
+// folder (or one of a process of another user: kill() then says EPERM) is never touched; nor is anything
+// not named exactly as OutputFolder names its folders for this destination. An old folder goes only when
+// the destination exists: without it, the process was killed inside its swap and the old folder holds
+// the only copy of the earlier outputs. kill() sees the processes of this machine only: a destination
+// on a filesystem shared with other machines must not be written by commands on two of them at once
+// (one would take the other's folder for a dead process's).
+void remove_stale_folders(const fs::path& target) {
+  std::error_code unknown, error;
+  const bool has_destination = fs::exists(fs::symlink_status(target, unknown));
+  fs::directory_iterator entries(target.parent_path(), error);
+  for (; !error && entries != fs::directory_iterator(); entries.increment(error)) {
+    const std::string name = entries->path().filename().string();
+    const pid_t owner = folder_owner(name, target);
+    std::error_code ignored;  // litter that cannot be removed is left, as before
+    if (owner == 0 || owner == ::getpid() || entries->is_symlink(ignored) || !entries->is_directory(ignored))
+      continue;
+    const bool old_folder = name.compare(1 + target.filename().string().size(), 5, ".old-") == 0;
+    if (old_folder && !has_destination) continue;
+    if (::kill(owner, 0) == -1 && errno == ESRCH) fs::remove_all(entries->path(), ignored);
+  }
+}
+
 }  // namespace
 
 OutputFolder::OutputFolder(const std::string& destination) : destination_(destination) {
@@ -149,6 +188,7 @@ OutputFolder::OutputFolder(const std::string& destination) : destination_(destin
   if (error)
     throw OutputFolderError(destination + ": cannot create the folder " + target.parent_path().string() + " (" +
                             error.message() + ")");
+  remove_stale_folders(target);
   const fs::path temporary = beside(target, with_pid("tmp"));
   fs::remove_all(temporary, error);  // of a killed process that had our process id: no one's now
   if (!fs::create_directory(temporary, error) || error)

@@ -4,7 +4,9 @@
 // flock on `.NAME.lock` beside it: the old folder is renamed to `.NAME.old-PID`, the temporary one to
 // NAME, and the old one removed. Two commands writing to one destination each have their own temporary
 // folder; the last to commit wins and the folder never holds a mix of the two. Destroyed without commit()
-// (an error, a stop request), it removes its temporary folder: the destination stays as it was.
+// (an error, a stop request), it removes its temporary folder: the destination stays as it was. A
+// process killed outright (SIGKILL, a crash) cannot: the next OutputFolder for the same destination
+// removes the `.NAME.tmp-PID` and `.NAME.old-PID` folders beside it whose process no longer exists.
 //
 // Since the destination is replaced whole, it may hold only what csim commands write (their file names
 // are listed in output_folder.cpp): a folder with anything else in it is refused, before any work, so
@@ -23,7 +25,8 @@ struct OutputFolderError : std::runtime_error {
 
 class OutputFolder {
  public:
-  // Creates the temporary folder, and the destination's parent when missing. Throws OutputFolderError
+  // Creates the temporary folder, and the destination's parent when missing, after removing the folders
+  // of dead processes beside the destination (see above). Throws OutputFolderError
   // when it cannot (the folder is not writable), when the destination is not a folder, holds the current
   // folder or holds files csim did not write.
   explicit OutputFolder(const std::string& destination);

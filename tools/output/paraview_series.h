@@ -44,8 +44,8 @@ std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std
 void remove_paraview_outputs(const std::string& output_directory);
 
 // The ParaView files of one run. Frames are written as they come; finish() writes the collections.
-// A series destroyed before finish() (the run stopped) deletes the frames it wrote: a failed run leaves
-// no outputs behind. An error of the writer (std::runtime_error naming the file on an I/O error,
+// A series destroyed before finish() (a stop request, an error of the writer) deletes the frames it
+// wrote; a run stopped by a numerical failure calls finish() to keep the frames up to it (run.h). An error of the writer (std::runtime_error naming the file on an I/O error,
 // FemError from the element fields) is thrown by the next write_frame, wait() or finish().
 class ParaviewSeries {
  public:

@@ -18,6 +18,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -64,6 +66,32 @@ std::size_t output_rows(const RunSettings& run) {
   return static_cast<std::size_t>(std::min<double>(run.steps, intervals + 1.0)) + 1;
 }
 
+// The checks of a run stopped by a numerical failure at time t (s): not judged, whatever the samples
+// before the failure say (a check of a later time, an extremum or a final value reads what the run did not
+// reach), those excluded by their only_if left excluded. Formed from the definitions alone: nothing is
+// evaluated on a run cut short.
+std::vector<CheckResult> unjudged_checks(const RunSettings& run, double t) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::ostringstream why;
+  why << "not evaluated: the run stopped by a numerical failure at t = " << t << " s";
+  std::vector<CheckResult> results;
+  for (const CheckDefinition& check : run.checks) {
+    CheckResult r;
+    r.name = check.name;
+    r.probe = run.probes[check.probe].name;
+    r.kind = check.kind;
+    r.source = check.source;
+    r.absolute_tolerance = check.absolute_tolerance;
+    r.relative_tolerance = check.relative_tolerance;
+    r.reference = r.value = r.error = r.time = nan;
+    r.evaluated = false;
+    r.skipped = !check.enabled;
+    r.note = check.enabled ? why.str() : "excluded: " + check.exclusion;
+    results.push_back(r);
+  }
+  return results;
+}
+
 }  // namespace
 
 void check_outputs(const Scene& scene) {
@@ -107,7 +135,8 @@ std::unique_ptr<Stepper> make_stepper(const World& world, const RunSettings& run
 RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const RunSettings& run = scene.run;
   if (!options.output_directory.empty()) check_outputs(scene);
-  // A run that fails leaves no outputs behind, not even those of an earlier run in the same folder.
+  // An earlier run's outputs in the same folder must not mix with this run's, nor pass for them when it
+  // fails before its first step (it then writes nothing).
   if (!options.output_directory.empty()) {
     const std::filesystem::path dir(options.output_directory);
     std::filesystem::remove(dir / "probes.csv");
@@ -150,30 +179,52 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const bool every_probe_sampled = sampled.size() == run.probes.size();
   Progress progress(options.progress);
   const auto start = std::chrono::steady_clock::now();
-  for (long k = 0; k < steps; ++k) {
-    honour_stop_request();
-    stepper.step(state);
-    if (energy_probes) stepper.measure_energy(state);
-    // Events inside the step (stick/slip switches of ida-events) are exact samples.
-    for (const EventSample& event : state.events) {
-      State at_event = state;
-      at_event.t = event.t;
-      at_event.q = event.q;
-      at_event.v = event.v;
-      probes.evaluate(at_event, values);
-      checks.add_sample(event.t, values, true);
+  long k = 0;  // the steps done; the one under way when a RunError is thrown is k + 1
+  const auto write_outputs = [&] {
+    if (options.output_directory.empty()) return;
+    std::filesystem::create_directories(options.output_directory);
+    const std::filesystem::path dir(options.output_directory);
+    write_file_atomically((dir / "probes.csv").string(), csv.str());
+    write_file_atomically((dir / "summary.json").string(), summary_json(scene, report));
+    if (paraview) paraview->finish();
+  };
+  try {
+    for (; k < steps; ++k) {
+      honour_stop_request();
+      stepper.step(state);
+      if (energy_probes) stepper.measure_energy(state);
+      // Events inside the step (stick/slip switches of ida-events) are exact samples.
+      for (const EventSample& event : state.events) {
+        State at_event = state;
+        at_event.t = event.t;
+        at_event.q = event.q;
+        at_event.v = event.v;
+        probes.evaluate(at_event, values);
+        checks.add_sample(event.t, values, true);
+      }
+      // Between output rows, only the probes whose every sample a check reads (CheckEvaluator::
+      // sampled_probes); an output row, and so the last step, has every probe's value.
+      const bool row = state.t >= next_output - 0.5 * h || k + 1 == steps;
+      if (row || every_probe_sampled) probes.evaluate(state, values);
+      else probes.evaluate(state, values, sampled);
+      checks.add_sample(state.t, values);
+      if (row) {
+        output_row(values);
+        while (next_output <= state.t + 0.5 * h) next_output += rate;
+      }
+      progress.update(state.t, run.end_time);
     }
-    // Between output rows, only the probes whose every sample a check reads (CheckEvaluator::
-    // sampled_probes); an output row, and so the last step, has every probe's value.
-    const bool row = state.t >= next_output - 0.5 * h || k + 1 == steps;
-    if (row || every_probe_sampled) probes.evaluate(state, values);
-    else probes.evaluate(state, values, sampled);
-    checks.add_sample(state.t, values);
-    if (row) {
-      output_row(values);
-      while (next_output <= state.t + 0.5 * h) next_output += rate;
-    }
-    progress.update(state.t, run.end_time);
+  } catch (const RunError& e) {
+    // What was computed up to the failure stays: the rows and frames written, and a summary that says
+    // where and why the run stopped and whose checks are not judged (the run did not reach its end).
+    report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report.failure = RunFailure{e.time, k + 1, report.sample_times.back(), e.what()};
+    report.checks = unjudged_checks(run, e.time);
+    stepper.summarize_settings(report.stepper_settings);
+    stepper.summarize_statistics(state, report.stepper_statistics);
+    report.energy_balance_tracked = stepper.tracks_energy_balance();
+    write_outputs();
+    throw;
   }
   stepper.measure_energy(state);  // for the summary
   report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -181,14 +232,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   stepper.summarize_settings(report.stepper_settings);
   stepper.summarize_statistics(state, report.stepper_statistics);
   report.energy_balance_tracked = stepper.tracks_energy_balance();
-
-  if (!options.output_directory.empty()) {
-    std::filesystem::create_directories(options.output_directory);
-    const std::filesystem::path dir(options.output_directory);
-    write_file_atomically((dir / "probes.csv").string(), csv.str());
-    write_file_atomically((dir / "summary.json").string(), summary_json(scene, report));
-    if (paraview) paraview->finish();
-  }
+  write_outputs();
   return report;
 }
 
@@ -199,6 +243,12 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
   JsonWriter json;
   json.begin_object();
   json.value("scene", scene.name).value("file", scene.document.file);
+  json.value("status", report.failure ? "failed" : "completed");
+  if (const std::optional<RunFailure>& f = report.failure)
+    json.begin_object("failure")
+        .value("time", f->time).value("step", f->step).value("last_row_time", f->last_row_time)
+        .value("reason", f->reason)
+        .end_object();
   json.value("integrator", integrator_name(run.integrator));
   json.entries(report.stepper_settings);
   json.value("dimension", scene.world.dimension);
@@ -266,7 +316,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
       .value("passed", counts.passed).value("failed", counts.failed)
       .value("not_evaluated", counts.not_evaluated).value("excluded", counts.excluded)
       .end_object();
-  json.value("passed", counts.pass());
+  json.value("passed", report.passed());
   json.end_object();
   return json.str();
 }

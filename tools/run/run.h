@@ -8,6 +8,7 @@
 #include "engine/steppers/stepper.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,14 @@ namespace csim {
 struct RunOptions {
   std::string output_directory;  // empty: write nothing
   bool progress = false;         // progress line on stderr for runs longer than ~2 s
+};
+
+// Where and why a run stopped before its end (a RunError of the stepper).
+struct RunFailure {
+  double time = 0.0;   // s, the RunError's time: the end of the step that failed
+  long step = 0;       // that step of time.step, counted from 1
+  double last_row_time = 0.0;  // s, the last row of probes.csv (and ParaView frame) written before it
+  std::string reason;  // the RunError's message
 };
 
 struct RunReport {
@@ -27,8 +36,9 @@ struct RunReport {
   // The stepper's part of the summary (summary_entries.h), taken at the end of the run.
   SummaryEntries stepper_settings, stepper_statistics;
   bool energy_balance_tracked = true;  // Stepper::tracks_energy_balance
+  std::optional<RunFailure> failure;   // set when the run stopped on a RunError
   CheckCounts counts() const { return count_checks(checks); }
-  bool passed() const { return counts().pass(); }  // checks.h: CheckCounts::pass
+  bool passed() const { return !failure && counts().pass(); }  // checks.h: CheckCounts::pass
 };
 
 // The state at t = 0: every body at its initial position and velocity.
@@ -43,11 +53,15 @@ std::unique_ptr<Stepper> make_stepper(const World& world, const RunSettings& run
 // SceneError naming the scene file, the body's line and its key path.
 void check_outputs(const Scene& scene);
 
-// Throws RunError on a numerical failure (no output file is left half-written), StopRequested at the
-// first step boundary after a stop request (stop_request.h).
+// Throws RunError on a numerical failure, after writing what was computed up to it (no file is left
+// half-written): the rows of probes.csv and the ParaView frames before the failing step, and a
+// summary.json whose `status` is "failed", with the `failure`'s time, step and reason and every check not
+// evaluated (docs/contract.md). Throws StopRequested at the first step boundary after a stop request
+// (stop_request.h), writing nothing.
 RunReport run_scene(const Scene& scene, const RunOptions& options);
 
-// The summary.json text of a finished run.
+// The summary.json text of a run: finished (`status` "completed") or stopped by a numerical failure
+// (`status` "failed").
 std::string summary_json(const Scene& scene, const RunReport& report);
 
 }  // namespace csim

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -108,6 +112,47 @@ TEST(OutputFolder, FilesOfTheUsersAddedDuringTheRunStopTheSwap) {
   write(out / "notes.txt", "mine");
   EXPECT_THROW(folder.commit(), OutputFolderError);
   EXPECT_TRUE(fs::exists(out / "notes.txt"));
+}
+
+// The id of a process that has ended and been reaped: no process has it (until the system reuses it).
+pid_t dead_process_id() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  return child;
+}
+
+TEST(OutputFolder, TheFoldersOfDeadProcessesBesideTheDestinationAreRemoved) {
+  const fs::path parent = fresh_directory("csim_output_folder_stale"), out = parent / "out";
+  fs::create_directories(out);
+  const std::string dead = std::to_string(dead_process_id()), live = std::to_string(::getppid());
+  ASSERT_EQ(::kill(std::stoi(dead), 0), -1);  // the premise: no such process
+  const std::set<std::string> removed = {".out.tmp-" + dead, ".out.old-" + dead};
+  const std::set<std::string> kept = {".out.tmp-" + live,  ".out.old-" + live,  ".out.tmp-0" + dead,
+                                      ".out.tmp-" + dead + "x", ".out.tmp--" + dead, ".other.tmp-" + dead,
+                                      ".out.lock-" + dead, "out.tmp-" + dead};
+  for (const std::set<std::string>* names : {&removed, &kept})
+    for (const std::string& name : *names) {
+      fs::create_directories(parent / name / "paraview");  // as a killed run leaves it
+      write(parent / name / "paraview" / "bar_000000.vtu", "frame");
+    }
+  write(parent / (".out.tmp-" + dead + ".txt"), "a file, not a folder");
+  OutputFolder folder(out.string());
+  folder.commit();
+  std::set<std::string> expected = kept;
+  expected.insert({"out", ".out.tmp-" + dead + ".txt"});
+  EXPECT_EQ(entries(parent), expected);
+}
+
+TEST(OutputFolder, AnOldFolderBesideAMissingDestinationIsKept) {
+  // A process killed inside its swap, between moving the earlier outputs aside and moving its own in:
+  // the old folder holds the only copy of the earlier outputs.
+  const fs::path parent = fresh_directory("csim_output_folder_swap_cut"), out = parent / "out";
+  const std::string dead = std::to_string(dead_process_id());
+  fs::create_directories(parent / (".out.old-" + dead));
+  fs::create_directories(parent / (".out.tmp-" + dead));
+  OutputFolder folder(out.string());
+  EXPECT_EQ(entries(parent), (std::set<std::string>{".out.old-" + dead, fs::path(folder.path()).filename().string()}));
 }
 
 }  // namespace
