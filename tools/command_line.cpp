@@ -75,8 +75,9 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   run->footer("Writes DIR/summary.json, DIR/probes.csv and, for elastic bodies, DIR/paraview/.\n"
               "Exit status: 0 checks passed (at least one evaluated, none failed, the others excluded by\n"
               "their only_if), 1 not a pass (a check failed or could not be evaluated, or none applies),\n"
-              "2 bad input or a numerical failure (DIR then holds the outputs up to the failure, its\n"
-              "summary.json saying \"status\": \"failed\");\n" +
+              "2 bad input, a numerical failure (DIR then holds the outputs up to the failure, its\n"
+              "summary.json saying \"status\": \"failed\") or an environment failure (a full disk: the\n"
+              "system's reason);\n" +
               std::string(kStopped));
 
   CLI::App* validate = app.add_subcommand("validate", "check a scene (and what run would refuse) without running it");
@@ -135,7 +136,7 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   sweep->footer("Writes DIR/sweep.csv and, per case, what csim run writes into DIR/case-NNNN/ (NNNN: the case's row).\n"
                 "Under mpirun or srun the cases are spread over the ranks (docs/scaling-out.md).\n"
                 "Exit status: 0 every case passed its checks, 1 some case did not (recorded in its row),\n"
-                "2 bad input (lists, sweeps file, --set); " + std::string(kStopped));
+                "2 bad input (lists, sweeps file, --set, a key no case could set); " + std::string(kStopped));
 
   CLI::App* help = app.add_subcommand("help", "print the help of csim or of one command");
   help->add_option("COMMAND", help_topic, "the command to explain");

@@ -14,16 +14,18 @@
 // between runs, removes that folder and leaves DIR as it was: exit status 130, 143 or 129 (128 + the
 // signal). A run stopped by a numerical failure (exit 2) leaves in DIR what it computed up to the failure,
 // its summary.json saying "failed" (tools/run/run.h).
-// Exit status of run: 0 checks passed (checks.h: CheckCounts::pass), 1 not a pass, 2 bad input or a
-// numerical failure.
+// Exit status of run: 0 checks passed (checks.h: CheckCounts::pass), 1 not a pass, 2 bad input, a
+// numerical failure or an environment failure (a file that cannot be written, out of memory).
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
 // Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
 // 1 some run did, 2 bad input (sweeps file, --only, --set).
 // Exit status of sweep: 0 every case passed its checks, 1 some case did not (recorded in its row), 2 bad input.
 // compare, stress and sweep run their cases through a study runner (tools/studies/study_runner.h): serially,
 // or spread over the ranks when started by mpirun or srun, rank 0 alone printing and writing; the other
-// ranks leave quietly, with status 0 once the study is done or 2 when it could not start.
+// ranks leave quietly, with status 0 once the study is done or 2 when it could not start. A stopped study
+// ends every rank at once with 128 + the signal (StudyRunner::leave_at_once).
 #include "tools/studies/compare.h"
+#include "tools/output/atomic_file.h"
 #include "tools/output/output_folder.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
@@ -44,8 +46,10 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace {
@@ -85,6 +89,17 @@ std::string output_destination(const Arguments& arguments, const std::string& fi
   return "out/" + csim::load_scene(file, arguments.overrides)->name + suffix;
 }
 
+// Runs `write`, which writes into the temporary folder of `folder`: a file it cannot write is named in
+// `destination`, the folder the user asked for, since the temporary one is gone when the command fails.
+template <typename Write>
+void writing_into(const csim::OutputFolder& folder, const std::string& destination, Write&& write) {
+  try {
+    write();
+  } catch (const csim::FileWriteError& e) {
+    throw e.in_folder(folder.path(), destination);
+  }
+}
+
 // Runs the scene into a temporary folder that replaces options.output_directory when the run ends: passed,
 // failed its checks, or stopped by a numerical failure. The last leaves what it computed up to the failure
 // with a summary.json saying "failed" (run.h), and the folder is swapped in all the same: an earlier run's
@@ -95,7 +110,8 @@ csim::RunReport run_into_folder(const csim::Scene& scene, const csim::RunOptions
   csim::RunOptions into_temporary = options;
   into_temporary.output_directory = folder.path();
   try {
-    csim::RunReport report = csim::run_scene(scene, into_temporary);
+    csim::RunReport report;
+    writing_into(folder, options.output_directory, [&] { report = csim::run_scene(scene, into_temporary); });
     csim::honour_stop_request();
     folder.commit();
     return report;
@@ -224,8 +240,10 @@ int run_compare(const Arguments& arguments, const std::string& file, csim::Study
   }, runner);
   if (!runner.is_root()) return kPassed;
   const std::string& directory = options.output_directory;
-  csim::write_work_precision_csv(comparison, folder->path());
-  csim::write_gnuplot_script(comparison, folder->path());
+  writing_into(*folder, directory, [&] {
+    csim::write_work_precision_csv(comparison, folder->path());
+    csim::write_gnuplot_script(comparison, folder->path());
+  });
   const csim::PlotOutcome plot = csim::plot_work_precision(comparison, folder->path());
   if (!plot.produced) std::cerr << "csim: warning: no work_precision.png: " << plot.message << "\n";
   csim::honour_stop_request();
@@ -267,8 +285,10 @@ int run_stability_command(const Arguments& arguments, const std::string& file, c
     print_stress_row(row);
   }, runner);
   if (!runner.is_root()) return kPassed;
-  csim::write_stability_markdown(study, folder->path());
-  csim::write_stability_csv(study, folder->path());
+  writing_into(*folder, directory, [&] {
+    csim::write_stability_markdown(study, folder->path());
+    csim::write_stability_csv(study, folder->path());
+  });
   csim::honour_stop_request();
   folder->commit();
   const auto violations = std::count_if(study.rows.begin(), study.rows.end(),
@@ -301,6 +321,7 @@ int run_sweep_command(const Arguments& arguments, const std::string& file, csim:
   std::optional<csim::OutputFolder> folder;
   const std::string path = open_study_folder(runner, directory, folder);
   if (!arguments.no_case_outputs) options.case_directory = path;
+  options.shown_directory = directory;
   std::size_t printed = 0;  // the header not before the cases are known to be good
   const csim::SweepStudy study = csim::run_sweep(options, [&](const csim::SweepRow& row) {
     if (printed == 0)
@@ -308,7 +329,7 @@ int run_sweep_command(const Arguments& arguments, const std::string& file, csim:
     print_sweep_row(printed++, row);
   }, runner);
   if (!runner.is_root()) return kPassed;
-  csim::write_sweep_csv(study, folder->path());
+  writing_into(*folder, directory, [&] { csim::write_sweep_csv(study, folder->path()); });
   csim::honour_stop_request();
   folder->commit();
   const auto not_passed = std::count_if(study.rows.begin(), study.rows.end(),
@@ -320,25 +341,11 @@ int run_sweep_command(const Arguments& arguments, const std::string& file, csim:
   return not_passed == 0 ? kPassed : kSomeRunFailed;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  Arguments arguments;
-  if (const std::optional<int> status = csim::cli::parse_command_line(argc, argv, arguments)) return *status;
+// The command, once its arguments are read and its runner is chosen; returns its exit status, and sets
+// `stopped` when a stop request ended it (stop_request.h).
+int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& stopped) {
   std::string file = arguments.scene;
-  const bool study = arguments.command == "compare" || arguments.command == "stress" || arguments.command == "sweep";
-  if (arguments.command == "run" || study) csim::cli::install_stop_handlers();
-  // Lives as long as the command: MPI is finalized when main returns (mpi_study_runner.h).
-  std::unique_ptr<csim::StudyRunner> mpi_runner;
-  bool speaks = true;  // rank 0, or the only process: the one that prints errors
-  try {
-    if (study) mpi_runner = csim::make_mpi_runner(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "csim: " << e.what() << "\n";
-    return kBadInput;
-  }
-  csim::StudyRunner& runner = mpi_runner ? *mpi_runner : csim::serial_runner();
-  speaks = runner.is_root();
+  const bool speaks = runner.is_root();  // rank 0, or the only process: the one that prints errors
   try {
     file = csim::cli::scene_file(arguments.scene);
     if (arguments.command == "compare") return run_compare(arguments, file, runner);
@@ -377,6 +384,7 @@ int main(int argc, char** argv) {
     return report.passed() ? kPassed : kCheckFailed;
   } catch (const RankLeaves&) {
   } catch (const csim::StopRequested& stop) {
+    stopped = true;
     if (speaks)
       std::cerr << "csim: stopped by " << csim::cli::signal_name(stop.signal)
                 << " before the end; the output folder is left as it was\n";
@@ -387,8 +395,37 @@ int main(int argc, char** argv) {
     if (speaks) std::cerr << "csim: " << e.what() << "\n";
   } catch (const csim::RunError& e) {
     if (speaks) std::cerr << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what() << "\n";
+  } catch (const std::bad_alloc&) {  // an environment failure (docs/contract.md): exit 2, the message says which
+    if (speaks) std::cerr << "csim: " << file << ": out of memory (the system refused an allocation)\n";
+  } catch (const std::system_error& e) {  // a file that cannot be written (atomic_file.h), named in --out
+    if (speaks) std::cerr << "csim: " << e.what() << "\n";
   } catch (const std::exception& e) {
     if (speaks) std::cerr << "csim: " << file << ": " << e.what() << "\n";
   }
   return kBadInput;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments arguments;
+  if (const std::optional<int> status = csim::cli::parse_command_line(argc, argv, arguments)) return *status;
+  const bool study = arguments.command == "compare" || arguments.command == "stress" || arguments.command == "sweep";
+  if (arguments.command == "run" || study) csim::cli::install_stop_handlers();
+  // Lives as long as the command: MPI is finalized when main returns (mpi_study_runner.h).
+  std::unique_ptr<csim::StudyRunner> mpi_runner;
+  try {
+    if (study) mpi_runner = csim::make_mpi_runner(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "csim: " << e.what() << "\n";
+    return kBadInput;
+  }
+  csim::StudyRunner& runner = mpi_runner ? *mpi_runner : csim::serial_runner();
+  bool stopped = false;
+  const int status = run_command(arguments, runner, stopped);
+  // A stopped study (every rank learns it from rank 0), or a rank that a signal reached, leaves at once,
+  // its outputs cleaned up: MPI_Finalize waits for the launcher, which is taking the job down (OpenMPI's
+  // mpirun kept such a rank 1-2 s, then killed it or let it go; a launcher that does not answer, for ever).
+  if (mpi_runner && (stopped || csim::stop_request() != 0)) mpi_runner->leave_at_once(status);
+  return status;
 }

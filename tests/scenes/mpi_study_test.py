@@ -8,15 +8,29 @@ name the placement (so that a run that fell back to serial cannot pass for a dis
   sweep    csim sweep on the same CI sweeps file, and a grid of mu by integrator (sweep.csv, and every
            case-NNNN/summary.json the same but for its wall time)
 
+  signal-mpirun, signal-ranks
+           issue 53: a sweep under `mpirun -np 2` stopped by SIGINT, sent to mpirun (as Ctrl-C or a kill of
+           mpirun does) or to the ranks themselves (as srun, scancel or a kill of the ranks does): every rank
+           stops at a step boundary and leaves at once, the output folder as it was and nothing left beside
+           it. Signalled, OpenMPI's mpirun (4.1) sends its ranks SIGTERM and exits 1 whatever they do (its
+           own status, docs/contract.md); when the ranks are signalled, they exit 130 and mpirun reports it.
+           A stopped rank must not wait for the launcher, which is taking the job down: MPI_Finalize did,
+           until mpirun killed the rank or let it go 1-2 s later. signal-ranks shows it without a clock:
+           mpirun is held by SIGSTOP while its ranks are signalled, and they must end all the same (30 s
+           allowed; a rank in MPI_Finalize waits for mpirun for ever), before mpirun gets SIGCONT.
+
 usage: mpi_study_test.py CSIM MPIEXEC SCENES_DIR WORK_DIR CASE
 """
 import csv
+import glob
 import io
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import time
 
 WALL_COLUMNS = {"wall_time", "wall_time_median", "wall_times"}
 
@@ -62,10 +76,94 @@ def summaries(folder):
     return out
 
 
+def children(pid):
+    """The process ids whose parent is pid."""
+    out = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                fields = open(f"/proc/{entry}/stat").read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                out.append(int(entry))
+    return out
+
+
+def signal_test(csim, mpiexec, scenes, work, target):
+    """A sweep of long cases stopped by SIGINT to mpirun or to its ranks (see the file's header)."""
+    block = os.path.join(scenes, "stress-block")
+    out = os.path.join(work, "sweep")
+    earlier = subprocess.run([csim, "sweep", block, "--set", "time.end=0.01", "--grid", "parameters.mu=0.3",
+                              "--out", out], capture_output=True, text=True, timeout=120)
+    if earlier.returncode not in (0, 1):  # it wrote its folder; its checks are not the point
+        fail(f"the earlier serial sweep: exit {earlier.returncode}\n{earlier.stderr}")
+    before = open(os.path.join(out, "sweep.csv")).read()
+    _, launcher, _, env = launchers(mpiexec)[2]  # mpiexec -np 2, one rank per core
+    command = (launcher + [csim, "sweep", block,
+               "--set", "time.end=1e4", "--grid", "parameters.mu=0.1,0.2,0.3,0.4", "--out", out])
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    temporary = os.path.join(work, ".sweep.tmp-*")
+    for _ in range(600):  # the study has opened its folder: MPI is up on rank 0
+        if glob.glob(temporary) or process.poll() is not None:
+            break
+        time.sleep(0.1)
+    time.sleep(1.0)  # the cases under way on both ranks (a stop before them is handled alike)
+    if process.poll() is not None:
+        fail(f"the sweep ended before the signal: exit {process.returncode}\n{process.communicate()}")
+    ranks = children(process.pid)
+    if len(ranks) != 2:
+        fail(f"mpirun {process.pid} has {len(ranks)} children, expected 2 ranks")
+    if target == "ranks":
+        process.send_signal(signal.SIGSTOP)  # the launcher answers nothing until SIGCONT
+        for pid in ranks:
+            os.kill(pid, signal.SIGINT)
+    else:
+        process.send_signal(signal.SIGINT)
+
+    def running(pid):  # neither gone nor a zombie
+        try:
+            return open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"
+        except OSError:
+            return False
+    for _ in range(300):
+        if not any(running(pid) for pid in ranks):
+            break
+        time.sleep(0.1)
+    hung = [pid for pid in ranks if running(pid)]
+    if target == "ranks":
+        process.send_signal(signal.SIGCONT)
+    try:
+        stdout, stderr = process.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        stdout, stderr = process.communicate()
+        fail(f"mpirun did not return within 60 s of SIGINT to the {target}\n{stderr}")
+    if hung:
+        fail(f"ranks {hung} still ran 30 s after SIGINT to the {target} (waiting for mpirun in MPI's shutdown)"
+             f"\n{stderr}")
+    print(f"SIGINT to the {target}: exit {process.returncode}\n{stderr.strip()}")
+    expected = 1 if target == "mpirun" else 128 + signal.SIGINT
+    if process.returncode != expected:
+        fail(f"exit {process.returncode}, expected {expected}\n{stdout}\n{stderr}")
+    said = "csim: stopped by " + ("SIGTERM" if target == "mpirun" else "SIGINT")  # mpirun sends SIGTERM
+    if said not in stderr:
+        fail(f"rank 0 did not say '{said}':\n{stderr}")
+    left = [name for name in os.listdir(work) if name.startswith(".")]
+    if left:
+        fail(f"left beside the output folder: {left}")
+    if open(os.path.join(out, "sweep.csv")).read() != before:
+        fail("the earlier sweep.csv was changed")
+    print(f"PASS: SIGINT to the {target}: exit {process.returncode}, the output folder as it was")
+
+
 def main():
     csim, mpiexec, scenes, work, case = sys.argv[1:6]
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
+    if case.startswith("signal-"):
+        signal_test(csim, mpiexec, scenes, work, case[len("signal-"):])
+        return
     block, rigid = os.path.join(scenes, "stress-block"), os.path.join(scenes, "sdnv104-rigid")
     ci = os.path.join(block, "stress-ci.yaml")
     if case == "stress":

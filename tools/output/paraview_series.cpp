@@ -88,7 +88,7 @@ ParaviewSeries::ParaviewSeries(const World& world, const std::string& output_dir
   series_.push_back({-1, "contacts", {}, {}, {}});
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
-  if (error) throw std::runtime_error(directory_ + ": cannot create the folder (" + error.message() + ")");
+  if (error) throw FileWriteError(directory_, "cannot create the folder", error);
   writer_ = std::thread([this] { writer_loop(); });
 }
 

@@ -8,8 +8,11 @@
 
 namespace csim {
 
-enum class StabilityOutcome { passed, check_failed, stopped, bad_input };
-const char* outcome_name(StabilityOutcome outcome);  // "passed", "check failed", "stopped", "bad input"
+// environment_failure: out of memory or the like (tools/studies/case_failure.h), the machine's failure
+// and not the scene's; the invariants are then unverified, which counts as a violation.
+enum class StabilityOutcome { passed, check_failed, stopped, bad_input, environment_failure };
+// "passed", "check failed", "stopped", "bad input", "environment failure"
+const char* outcome_name(StabilityOutcome outcome);
 
 // Moreau–Jean's energy invariants, thresholds relative to the run's energy scale
 // max(|W_loads|, E_kinetic + E_elastic, their initial sum, 1e-300).

@@ -17,8 +17,10 @@ struct SweepCheck {
 
 struct SweepRow {
   std::vector<std::string> settings;    // the case's own KEY=VALUE
-  int exit_status = 2;                  // as `csim run`: 0 pass, 1 not a pass, 2 bad input or numerical failure
-  std::string status;                   // passed | not a pass | bad input | numerical failure
+  int exit_status = 2;                  // as `csim run`: 0 pass, 1 not a pass, 2 any failure below
+  // passed | not a pass | bad input | numerical failure | environment failure (out of memory, a file that
+  // cannot be written: tools/studies/case_failure.h)
+  std::string status;
   std::string message;                  // the error of a bad-input or failed case; the verdict otherwise
   double end_time = 0.0;                // s, the time reached
   long steps = -1;                      // time steps (IDA: internal steps); −1 when the case did not run

@@ -8,6 +8,7 @@
 #include "tools/scene/scene_error.h"
 #include "engine/steppers/stepper.h"
 #include "tools/run/stop_request.h"
+#include "tools/studies/case_failure.h"
 #include "tools/studies/case_record.h"
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <new>
 #include <sstream>
 
 namespace csim {
@@ -150,6 +152,8 @@ RunReport run_configuration(const CompareOptions& options, std::vector<ComparedC
     row.failure = message.str();
   } catch (const std::runtime_error& e) {  // SceneError included: an integrator not built yet, a bad step
     row.failure = e.what();
+  } catch (const std::bad_alloc&) {  // an environment failure of this run (case_failure.h): the study goes on
+    row.failure = current_case_failure().message;
   }
   row.wall_time_median = median(row.wall_times);
   if (!row.ok) {

@@ -9,6 +9,7 @@
 
 #include "tools/run/stop_request.h"
 
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -114,6 +115,24 @@ class MpiStudyRunner : public StudyRunner {
     gather_placement();
   }
   ~MpiStudyRunner() override { MPI_Finalize(); }
+
+  // Signalled, OpenMPI's mpirun (4.1) sends every rank SIGTERM, whatever its own signal, then SIGKILL, each
+  // after odls_base_sigkill_timeout (1 s), and exits 1 whatever its ranks do; when the signal reached the
+  // ranks themselves (srun, scancel, a kill of the ranks), it reports their status. Either way MPI_Finalize
+  // waits on the launcher's teardown (1-2 s, or for ever if it does not answer). The ranks meet once more
+  // by themselves (no launcher involved), rank 0 having removed its temporary folder by then, so
+  // that a launcher that takes the job down when a rank exits does not kill rank 0 in its cleanup; the
+  // wait is bounded, for a rank that will never come (killed, or not stopped), and each leaves with _Exit.
+  void leave_at_once(int status) override {
+    MPI_Request request;
+    MPI_Ibarrier(MPI_COMM_WORLD, &request);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    int done = 0;
+    while (MPI_Test(&request, &done, MPI_STATUS_IGNORE), !done && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(kPoll);
+    std::fflush(nullptr);
+    std::_Exit(status);
+  }
 
   bool is_root() const override { return rank_ == 0; }
   Placement placement() const override { return placement_; }

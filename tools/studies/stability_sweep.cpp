@@ -6,12 +6,14 @@
 #include "tools/studies/compare.h"
 #include "tools/run/probes.h"
 #include "tools/run/run.h"
-#include "tools/scene/integrator_keys.h"
+#include "engine/steppers/integrator.h"
 #include "tools/scene/scene.h"
 #include "tools/scene/scene_error.h"
 #include "tools/scene/scene_node.h"
 #include "engine/steppers/stepper.h"
 #include "tools/run/stop_request.h"
+#include "tools/studies/case_failure.h"
+#include "tools/studies/case_keys.h"
 #include "tools/studies/case_record.h"
 
 #include <algorithm>
@@ -20,7 +22,6 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <sstream>
 
 namespace csim {
 
@@ -148,22 +149,18 @@ void run_case(const std::vector<std::string>& overrides, const std::string& scen
     measure_checks(report.checks, row);
     judge_energy(report.state, row);
     check_finite(*scene, report, row);
-  } catch (const RunError& e) {
-    row.outcome = StabilityOutcome::stopped;
-    row.wall_time = elapsed();
-    row.stopped_at = e.time;
-    std::ostringstream message;
-    message << "numerical failure at t = " << e.time << " s: " << e.what();
-    row.message = message.str();
   } catch (const SceneError& e) {
     row.outcome = StabilityOutcome::bad_input;
     row.wall_time = elapsed();
     row.message = e.what();
-  } catch (const std::exception& e) {  // not a numerical failure of the integrator: a stop all the same
-    row.outcome = StabilityOutcome::stopped;
+  } catch (const std::exception&) {  // case_failure.h
+    const CaseFailure failure = current_case_failure();
     row.wall_time = elapsed();
-    row.stopped_at = kNaN;
-    row.message = e.what();
+    row.message = failure.message;
+    // What the integrator refuses other than in the scene's terms is a stop all the same.
+    row.outcome = failure.kind == CaseFailureKind::environment_failure ? StabilityOutcome::environment_failure
+                                                                      : StabilityOutcome::stopped;
+    row.stopped_at = failure.kind == CaseFailureKind::numerical_failure ? failure.time : kNaN;
   }
 }
 
@@ -183,20 +180,6 @@ std::vector<StabilitySweep> selected_sweeps(const StabilityPlan& plan, const std
   return out;
 }
 
-// Whether a dotted key names a single value of the effective configuration (defaults included).
-bool names_a_value(const YAML::Node& root, const std::string& key) {
-  YAML::Node node = root;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t dot = key.find('.', start);
-    const std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-    if (!node.IsMap() || !node[part].IsDefined()) return false;
-    if (dot == std::string::npos) return node[part].IsScalar();
-    node.reset(node[part]);
-    start = dot + 1;
-  }
-}
-
 // The whole study's inputs are checked before its first run: a baseline or a sweep key the scene
 // rejects would otherwise fail every case alike.
 std::unique_ptr<Scene> load_with_baseline(const StabilityOptions& options, const StabilityPlan& plan,
@@ -208,25 +191,12 @@ std::unique_ptr<Scene> load_with_baseline(const StabilityOptions& options, const
   }
 }
 
-// An integrator's own key is in the effective configuration only under that integrator
-// (integrator_keys.h): it is a sweep key when every integrator of the sweep reads it.
-bool read_by_every_integrator(const StabilitySweep& sweep) {
-  const std::string prefix = "integrator.";
-  if (sweep.key.rfind(prefix, 0) != 0) return false;
-  const std::string key = sweep.key.substr(prefix.size());
-  return is_integrator_key(key) &&
-         std::all_of(sweep.integrators.begin(), sweep.integrators.end(), [&](const std::string& name) {
-           const std::optional<Integrator> integrator = integrator_from_name(name);
-           return integrator && integrator_reads(*integrator, key);
-         });
-}
-
+// Every sweep key with every integrator of its sweep (case_keys.h).
 void check_sweep_keys(const StabilityPlan& plan, const std::vector<StabilitySweep>& sweeps, const Scene& scene) {
   for (const StabilitySweep& sweep : sweeps)
-    if (!names_a_value(scene.document.root, sweep.key) && !read_by_every_integrator(sweep))
-      throw SceneError(plan.file, sweep.line, "sweeps." + sweep.name + ".key",
-                       "'" + sweep.key + "' is not a single value of the scene " + scene.document.file +
-                           " (see csim dump-config)");
+    for (const std::string& name : sweep.integrators)
+      if (const auto problem = case_key_problem(scene, sweep.key, *integrator_from_name(name)))
+        throw SceneError(plan.file, sweep.line, "sweeps." + sweep.name + ".key", *problem);
 }
 
 // A run's row as the study runner carries it (case_record.h).
@@ -275,6 +245,7 @@ const char* outcome_name(StabilityOutcome outcome) {
     case StabilityOutcome::check_failed: return "check failed";
     case StabilityOutcome::stopped: return "stopped";
     case StabilityOutcome::bad_input: return "bad input";
+    case StabilityOutcome::environment_failure: return "environment failure";
   }
   return "?";
 }
@@ -282,7 +253,9 @@ const char* outcome_name(StabilityOutcome outcome) {
 // A Moreau–Jean or generalized-α run must reach the end: its stops are non-finite values or a contact
 // solve far from converged, and its energy invariants cannot be verified on a run that did not finish.
 bool StabilityRow::violates_invariant() const {
-  if (outcome == StabilityOutcome::bad_input || !non_finite.empty()) return true;
+  if (outcome == StabilityOutcome::bad_input || outcome == StabilityOutcome::environment_failure ||
+      !non_finite.empty())
+    return true;
   if (!is_time_stepping(*integrator_from_name(integrator))) return false;
   if (outcome == StabilityOutcome::stopped) return true;
   return creates_energy || balance_open;

@@ -44,6 +44,11 @@ class StudyRunner {
   // starts, and run throws StopRequested on every rank once the cases under way are done.
   virtual void run(std::size_t count, const std::function<std::string(std::size_t)>& run_case,
                    const std::function<void(std::size_t, const std::string&)>& on_record);
+
+  // Ends this process at once with `status`, skipping the runner's orderly shutdown, for a command that a
+  // stop request ended (stop_request.h) once it has cleaned up: under MPI, MPI_Finalize would wait for a
+  // launcher that is taking the job down. Serially there is nothing to skip: returns.
+  virtual void leave_at_once(int status) { (void)status; }
 };
 
 // The serial runner, for library callers and tests.

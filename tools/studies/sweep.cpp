@@ -2,11 +2,14 @@
 // settings, in that order, so that it sees exactly what `csim run --set ...` would and its own settings win.
 #include "tools/studies/sweep.h"
 
+#include "tools/output/atomic_file.h"
 #include "tools/run/run.h"
 #include "tools/run/stop_request.h"
 #include "tools/scene/scene.h"
 #include "tools/scene/scene_error.h"
 #include "tools/scene/scene_node.h"
+#include "tools/studies/case_failure.h"
+#include "tools/studies/case_keys.h"
 #include "tools/studies/case_record.h"
 #include "tools/studies/stability_sweep.h"
 #include "engine/steppers/stepper.h"
@@ -17,7 +20,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 
 namespace csim {
 
@@ -71,7 +73,10 @@ std::vector<SweepCase> cases_from_lists(const SweepOptions& options) {
                              ", " + list.key + ": " + std::to_string(list.values.size()) + ")");
     outer.assign(length, {});
     for (std::size_t i = 0; i < length; ++i)
-      for (const ValueList& list : lists) outer[i].settings.push_back(list.key + "=" + list.values[i]);
+      for (const ValueList& list : lists) {
+        outer[i].settings.push_back(list.key + "=" + list.values[i]);
+        outer[i].origins.push_back({options.scene_file, 0, "--set-list"});
+      }
   }
   std::vector<SweepCase> cases = outer;
   for (const ValueList& grid : grids) {  // each grid key varies faster than the ones before it
@@ -80,19 +85,21 @@ std::vector<SweepCase> cases_from_lists(const SweepOptions& options) {
       for (const std::string& value : grid.values) {
         next.push_back(c);
         next.back().settings.push_back(grid.key + "=" + value);
+        next.back().origins.push_back({options.scene_file, 0, "--grid"});
       }
     cases = std::move(next);
   }
   return cases;
 }
 
-// KEY=VALUE items of a list in a sweeps file.
-std::vector<std::string> settings_of(const SceneNode& list) {
+// KEY=VALUE items of a list in a sweeps file; each item's origin in `origins` when given.
+std::vector<std::string> settings_of(const SceneNode& list, std::vector<SettingOrigin>* origins = nullptr) {
   std::vector<std::string> out;
   for (const SceneNode& item : list.items()) {
     const std::string text = item.as_string();
     if (text.find('=') == std::string::npos || text.front() == '=') item.fail("expected KEY=VALUE (got '" + text + "')");
     out.push_back(text);
+    if (origins) origins->push_back({item.document().file, item.line(), "cases"});
   }
   return out;
 }
@@ -106,9 +113,31 @@ std::vector<SweepCase> cases_from_file(const std::string& file, std::vector<std:
     if (baseline) *baseline = settings_of(*list);
   std::vector<SweepCase> cases;
   const SceneNode list = root.child("cases");
-  for (const SceneNode& item : list.items()) cases.push_back({settings_of(item)});
+  for (const SceneNode& item : list.items()) {
+    SweepCase c;
+    c.settings = settings_of(item, &c.origins);
+    cases.push_back(std::move(c));
+  }
   if (cases.empty()) list.fail("needs at least one case");
   return cases;
+}
+
+// Every key every case sets, under the integrator the case runs, before the first case (case_keys.h).
+void check_case_keys(const Scene& scene, const std::vector<SweepCase>& cases) {
+  const std::string type = "integrator.type=";
+  for (const SweepCase& c : cases) {
+    Integrator integrator = scene.run.integrator;
+    for (const std::string& setting : c.settings)
+      if (setting.rfind(type, 0) == 0)  // an unknown name: the case's own bad value, in its row
+        integrator = integrator_from_name(setting.substr(type.size())).value_or(integrator);
+    for (std::size_t k = 0; k < c.settings.size(); ++k) {
+      const std::string key = c.settings[k].substr(0, c.settings[k].find('='));
+      if (const auto problem = case_key_problem(scene, key, integrator)) {
+        const SettingOrigin& origin = c.origins[k];
+        throw SceneError(origin.file, origin.line, origin.path, *problem);
+      }
+    }
+  }
 }
 
 void fill_checks(const std::vector<CheckResult>& results, SweepRow& row) {
@@ -123,8 +152,10 @@ void fill_checks(const std::vector<CheckResult>& results, SweepRow& row) {
   }
 }
 
+// One case, its outputs in `directory` (none when empty); a file it cannot write is named in `shown`,
+// the folder the user asked for, rather than in the temporary folder `written` that holds `directory`.
 SweepRow run_one(const std::string& scene_file, const std::vector<std::string>& overrides,
-                 const std::string& directory) {
+                 const std::string& directory, const std::string& written, const std::string& shown) {
   SweepRow row;
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -132,7 +163,12 @@ SweepRow run_one(const std::string& scene_file, const std::vector<std::string>& 
     const auto scene = load_scene(scene_file, overrides);
     RunOptions options;
     options.output_directory = directory;
-    const RunReport report = run_scene(*scene, options);
+    RunReport report;
+    try {
+      report = run_scene(*scene, options);
+    } catch (const FileWriteError& e) {
+      throw e.in_folder(written, shown);
+    }
     const State& state = report.state;
     row.exit_status = report.passed() ? 0 : 1;
     row.status = report.passed() ? "passed" : "not a pass";
@@ -146,16 +182,11 @@ SweepRow run_one(const std::string& scene_file, const std::vector<std::string>& 
     row.newton_max = state.counters.max_newton_iterations;
     fill_checks(report.checks, row);
     row.wall_time = report.wall_time;
-  } catch (const RunError& e) {
-    row.status = "numerical failure";
-    row.end_time = e.time;
-    std::ostringstream message;
-    message << "numerical failure at t = " << e.time << " s: " << e.what();
-    row.message = message.str();
-    row.wall_time = elapsed();
-  } catch (const std::exception& e) {  // SceneError included: a value the scene rejects
-    row.status = "bad input";
-    row.message = e.what();
+  } catch (const std::exception&) {  // a value the scene rejects, a numerical failure, a full disk (case_failure.h)
+    const CaseFailure failure = current_case_failure();
+    row.status = case_failure_status(failure.kind);
+    if (failure.kind == CaseFailureKind::numerical_failure) row.end_time = failure.time;
+    row.message = failure.message;
     row.wall_time = elapsed();
   }
   return row;
@@ -213,7 +244,9 @@ std::vector<SweepCase> sweep_cases(const SweepOptions& options, std::vector<std:
   for (const StabilitySweep& sweep : plan.sweeps)
     for (const std::string& value : sweep.values)
       for (const std::string& integrator : sweep.integrators)
-        cases.push_back({{sweep.key + "=" + value, "integrator.type=" + integrator}});
+        cases.push_back({{sweep.key + "=" + value, "integrator.type=" + integrator},
+                         {{plan.file, sweep.line, "sweeps." + sweep.name + ".key"},
+                          {plan.file, sweep.line, "sweeps." + sweep.name + ".integrators"}}});
   return cases;
 }
 
@@ -237,6 +270,7 @@ SweepStudy run_sweep(const SweepOptions& options, const std::function<void(const
   } catch (const SceneError& e) {
     throw SceneError(options.sweeps_file, 0, "baseline", std::string("the scene rejects it: ") + e.what());
   }
+  check_case_keys(*scene, cases);
   study.scene_name = scene->name;
   study.scene_file = options.scene_file;
   study.sweeps_file = options.sweeps_file;
@@ -250,7 +284,8 @@ SweepStudy run_sweep(const SweepOptions& options, const std::function<void(const
     const std::string directory = options.case_directory.empty()
                                       ? std::string()
                                       : (std::filesystem::path(options.case_directory) / case_folder_name(index)).string();
-    SweepRow row = run_one(options.scene_file, overrides, directory);
+    SweepRow row = run_one(options.scene_file, overrides, directory, options.case_directory,
+                           options.shown_directory.empty() ? options.case_directory : options.shown_directory);
     row.settings = cases[index].settings;
     return row_record(row);
   };

@@ -26,20 +26,34 @@ struct SweepOptions {
   std::string sweeps_file;              // a stress.yaml-like file; exclusive with set_lists and grids
   // Where each case writes what `csim run --out` would (case-0001/, case-0002/, ...); empty: nothing.
   std::string case_directory;
+  // The folder that messages name for case_directory: the one the user asked for, where case_directory is
+  // the temporary folder that replaces it at the end (output_folder.h). Empty: case_directory itself.
+  std::string shown_directory;
+};
+
+// Where a case's setting was given, for the message that refuses its key: the file (the scene file for
+// --set-list and --grid), its line (0: none) and the key path or option there.
+struct SettingOrigin {
+  std::string file;
+  int line = 0;
+  std::string path;                     // --set-list, --grid, cases, sweeps.NAME.key, ...
 };
 
 // The cases, in study order. Throws SceneError for a malformed or empty list, lists of different
 // lengths, a key given twice, or a sweeps file together with lists.
 struct SweepCase {
   std::vector<std::string> settings;    // KEY=VALUE, the case's own
+  std::vector<SettingOrigin> origins;   // one per setting
 };
 std::vector<SweepCase> sweep_cases(const SweepOptions& options, std::vector<std::string>* baseline = nullptr);
 
 // The folder name of case `index` (0-based): case-0001 for the first.
 std::string case_folder_name(std::size_t index);
 
-// Runs the study. Throws SceneError for bad options, or when the scene does not load with the user's
-// overrides and the baseline; every failure of one case becomes its row. on_row is called on the root
+// Runs the study. Throws SceneError for bad options, when the scene does not load with the user's
+// overrides and the baseline, or when a case sets a key that --set could not replace (case_keys.h),
+// all before the first case; every other failure of one case (a value the scene rejects included)
+// becomes its row. on_row is called on the root
 // after each case, in case order.
 SweepStudy run_sweep(const SweepOptions& options, const std::function<void(const SweepRow&)>& on_row = {},
                      StudyRunner& runner = serial_runner());

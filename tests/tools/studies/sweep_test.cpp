@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 
 namespace csim {
 namespace {
@@ -87,6 +88,64 @@ TEST(SweepStudy, OneRowPerCaseWithItsChecksFailuresIncluded) {
   EXPECT_NE(csv.find("\n3,-1,moreau-jean,2,bad input,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("# placement: serial (1 process)"), std::string::npos);
   std::filesystem::remove_all(directory);
+}
+
+// Issue 53: a key that --set could not replace fails every case alike, so the study is refused before its
+// first case (exit 2 from csim sweep), naming where the key was given; a value the scene rejects stays
+// the row of its own case (above).
+TEST(SweepStudy, AKeyNoCaseCouldSetIsRefusedBeforeTheFirstCase) {
+  const std::filesystem::path directory =
+      std::filesystem::temp_directory_path() / ("csim-sweep-keys-test-" + std::to_string(getpid()));
+  auto refused = [&](SweepOptions options, const std::string& expected) {
+    options.scene_file = kScene;
+    options.overrides = {"time.end=0.01"};
+    options.case_directory = directory.string();
+    std::size_t rows = 0;
+    try {
+      run_sweep(options, [&](const SweepRow&) { ++rows; });
+      ADD_FAILURE() << "accepted; expected " << expected;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(rows, 0u) << expected;
+    EXPECT_FALSE(std::filesystem::exists(directory / "case-0001")) << expected;
+  };
+  SweepOptions options;
+  options.set_lists = {"parameters.mu=0.1,0.2", "parameters.nosuch=1,2"};
+  refused(options, "scene.yaml: --set-list: 'parameters.nosuch' is not a single value of the scene");
+  options = {};
+  options.grids = {"parameters.mu=0.1", "nosuch.key=1,2"};
+  refused(options, "--grid: 'nosuch.key' is not a single value");
+  options.grids = {"gravity=1,2"};  // a list: --set replaces single values only
+  refused(options, "--grid: 'gravity' is not a single value");
+  options.grids = {"parameters=1"};  // a section
+  refused(options, "--grid: 'parameters' is not a single value");
+  // An integrator's own key, under an integrator that does not read it (moreau-jean has no rtol).
+  options.grids = {"integrator.type=ida,moreau-jean", "integrator.rtol=1e-6"};
+  refused(options, "--grid: 'integrator.rtol' is not a setting of the integrator moreau-jean");
+  // A file of explicit cases: the file and the line of the setting.
+  const std::string file = (std::filesystem::temp_directory_path() /
+                            ("csim-sweep-keys-" + std::to_string(getpid()) + ".yaml")).string();
+  {
+    std::ofstream out(file);
+    out << "cases:\n  - [parameters.mu=0.1]\n  - [parameters.mu=0.2, bodies.block.masss=2]\n";
+  }
+  options = {};
+  options.sweeps_file = file;
+  refused(options, ".yaml:3: cases: 'bodies.block.masss' is not a single value");
+  std::filesystem::remove(file);
+  std::filesystem::remove_all(directory);
+}
+
+TEST(SweepStudy, AKeyTheCaseIntegratorReadsIsAccepted) {
+  SweepOptions options;
+  options.scene_file = kScene;
+  options.overrides = {"time.end=0.01"};
+  options.set_lists = {"integrator.type=ida,ida", "integrator.rtol=1e-6,1e-8"};
+  options.grids = {"contact_solver.tolerance=1e-10"};  // a key the file leaves to its default
+  const SweepStudy study = run_sweep(options);
+  ASSERT_EQ(study.rows.size(), 2u);
+  for (const SweepRow& row : study.rows) EXPECT_NE(row.status, "bad input") << row.message;
 }
 
 }  // namespace
