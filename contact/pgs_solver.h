@@ -23,7 +23,7 @@
 //   converged when the full residual ≤ tolerance. Non-finite local results are rejected (the previous
 //   impulse is kept) and counted.
 // Polish: after 20 sweeps without convergence, then every 200, and at the end (unless the last polish
-// came after the last sweep: polishing the same iterate twice finds nothing new), the iterate is
+// came after the last sweep: never two polishes without a sweep between), the iterate is
 // finished by direct methods, each result kept only when its full residual is smaller:
 //   1. an active-set iteration: the statuses of the iterate (open, stick, slip with its current
 //      direction) turn the law into a square linear system solved directly (full-pivot LU, one step of
