@@ -21,7 +21,9 @@ enum class ContactStatus { open, stick, slip };
 
 const char* to_string(ContactStatus status);
 
-// W must be symmetric with W(0,0) > 0. On return r holds the solution; the status says which case.
+// W(0,0) > 0; W need not be symmetric (the law is read row by row, u = W r + q: a projected Gauss–Seidel
+// on an unsymmetric W passes its diagonal block as stored). On return r holds the solution; the status
+// says which case.
 // Edge cases (clarifications of the contract above):
 //   - W_nn ≤ 0, or negligible (≤ 1e-14 × the largest diagonal entry): open, r = 0 (the normal row
 //     cannot move, so no impulse can separate it);

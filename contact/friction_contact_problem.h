@@ -36,7 +36,8 @@ struct FrictionContactProblem {
   int dimension = 3;        // 2 (plane problems) or 3
   int contacts = 0;         // number of contacts
   int equalities = 0;       // number of bilateral rows after the contact rows
-  Eigen::MatrixXd W;        // Delassus, (dimension·contacts + equalities)², symmetric positive semi-definite
+  Eigen::MatrixXd W;        // Delassus, (dimension·contacts + equalities)²; the steppers' is symmetric positive
+                            // semi-definite, a problem from elsewhere may be unsymmetric (pgs_solver.h reads rows)
   Eigen::VectorXd b;        // free term: local free velocity (m/s) or free gap and slip (m), same size
   std::vector<Eigen::Vector2d> mu;  // per contact (μ1, μ2), dimensionless, ≥ 0; dimension 2 uses μ1 only
 

@@ -9,8 +9,10 @@
 #include <string>
 
 // Implementation notes.
-// - W is symmetric (friction_contact_problem.h), so the coupling of contact c with the others is read
-//   from W's columns, which are contiguous in Eigen's column-major storage, rather than from its rows.
+// - The coupling of contact c with the others is W's rows c (u = W r + b), read as the contiguous
+//   columns of a matrix `W_rows` whose column i is W's row i (Eigen stores by column): W itself when W
+//   is symmetric to the bit (every Delassus the steppers form), else Wᵀ, copied once per solve
+//   (rows_of). A row read down a column-major W strides by its size, several times slower.
 // - Per-contact work is templated on the contact dimension and uses fixed-size Eigen objects: a solve
 //   without equality rows does not allocate at all; with equalities the condensed problem's arrays are
 //   the solver's (PgsCondensation), reused from solve to solve.
@@ -54,19 +56,19 @@ ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::V
 // Free velocity of the contact whose rows start at `first`, with every other impulse frozen at r
 // (m/s): b_c + Σ_{d≠c} W_cd r_d. The own block is skipped rather than subtracted, so that with a
 // single contact this is b_c exactly and the local solve is the global one to the last bit.
-// The contact's D columns are summed side by side (W is symmetric, its columns contiguous), four rows
+// The contact's D rows of W (W_rows' columns, contiguous) are summed side by side, four entries
 // a pass in two packets of two, whose four partial sums are added at the end: Eigen's general product
 // costs more in set-up than a dozen rows' arithmetic, and with a single packet a column each addition
 // waits on the last, which made 2D sweeps slower than Eigen's (docs/solver-measurements.md, twelfth
 // round; bench/bench_pgs).
 template <int D>
-Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
-                               Eigen::Index first) {
+Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows,
+                               const Eigen::VectorXd& r, Eigen::Index first) {
   Vector<D> b_c = problem.b.template segment<D>(first);
   const Eigen::Index n = r.size();
   if (n == D) return b_c;
   const double* column[D];
-  for (int k = 0; k < D; ++k) column[k] = problem.W.col(first + k).data();
+  for (int k = 0; k < D; ++k) column[k] = W_rows.col(first + k).data();
   const double* x = r.data();
   using Pair = Eigen::Map<const Eigen::Vector2d>;
   Eigen::Vector2d pairs[2][D];
@@ -141,6 +143,23 @@ void keep_in_cone(Vector<D>& r, const Eigen::Vector2d& mu) {
   if (ratio > 1.0) r.template tail<D - 1>() *= r(0) > 0 ? 1.0 / ratio : 0.0;
 }
 
+// True if W equals its transpose to the bit.
+bool is_symmetric(const Eigen::MatrixXd& W) {
+  const Eigen::Index m = W.rows();
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (Eigen::Index i = j + 1; i < m; ++i)
+      if (W(i, j) != W(j, i)) return false;
+  return true;
+}
+
+// A matrix whose column i is W's row i: W itself when it is symmetric to the bit, else Wᵀ, written
+// into `transpose` (a solver's work array, its storage reused from solve to solve).
+const Eigen::MatrixXd& rows_of(const Eigen::MatrixXd& W, Eigen::MatrixXd& transpose) {
+  if (is_symmetric(W)) return W;
+  transpose.noalias() = W.transpose();
+  return transpose;
+}
+
 // Denominator of the relative residuals: the velocity scale of the problem.
 double velocity_scale(double norm_b, double norm_Wr) {
   return std::max({norm_b, norm_Wr, 1e-300});
@@ -158,12 +177,12 @@ struct SweepResult {
 };
 
 template <int D>
-SweepResult sweep(const FrictionContactProblem& problem, const PgsParameters& parameters, Eigen::VectorXd& r,
-                  int& rejected) {
+SweepResult sweep(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows,
+                  const PgsParameters& parameters, Eigen::VectorXd& r, int& rejected) {
   SweepResult result;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
-    const Vector<D> b_c = frozen_free_velocity<D>(problem, r, first);
+    const Vector<D> b_c = frozen_free_velocity<D>(problem, W_rows, r, first);
     const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
     const Eigen::Vector2d& mu = problem.mu[c];
     Vector<D> r_local;
@@ -195,11 +214,12 @@ struct ResidualSums {
   double product = 0.0;  // ‖W r‖², the scale's
 };
 
-// The equality rows' terms: u_e = (W r)_e + b_e, by symmetry (W r)_j = W.col(j)·r.
-void add_equality_sums(const FrictionContactProblem& problem, const Eigen::VectorXd& r, ResidualSums& sums) {
+// The equality rows' terms: u_e = (W r)_e + b_e, (W r)_j = W_rows.col(j)·r.
+void add_equality_sums(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r,
+                       ResidualSums& sums) {
   const Eigen::Index first = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   for (Eigen::Index j = first; j < problem.size(); ++j) {
-    const double Wr_j = problem.W.col(j).dot(r);
+    const double Wr_j = W_rows.col(j).dot(r);
     const double u_j = Wr_j + problem.b(j);
     sums.law += u_j * u_j;
     sums.product += Wr_j * Wr_j;
@@ -213,11 +233,11 @@ void add_equality_sums(const FrictionContactProblem& problem, const Eigen::Vecto
 // bit too: the subtraction's round-off, a fraction 1e-16 of ‖b‖, is below what a scale of
 // max(‖b‖, ‖W r‖) can see.
 template <int D>
-void add_contact_sums(const FrictionContactProblem& problem, const Eigen::VectorXd& r, int settled_from,
-                      ResidualSums& sums) {
+void add_contact_sums(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r,
+                      int settled_from, ResidualSums& sums) {
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
-    const Vector<D> b_c = frozen_free_velocity<D>(problem, r, first);
+    const Vector<D> b_c = frozen_free_velocity<D>(problem, W_rows, r, first);
     const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
     const Vector<D> r_c = r.template segment<D>(first);
     sums.product += product_squared<D>(problem, first, b_c, W_cc, r_c);
@@ -234,17 +254,18 @@ void add_contact_sums(const FrictionContactProblem& problem, const Eigen::Vector
 
 // The full residual, relative; the contacts from settled_from on may be known to contribute zero
 // (right after a sweep, SweepResult::settled_from).
-double relative_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r, int settled_from) {
+double relative_residual(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r,
+                         int settled_from) {
   ResidualSums sums;
-  add_equality_sums(problem, r, sums);
-  if (problem.dimension == 2) add_contact_sums<2>(problem, r, settled_from, sums);
-  else add_contact_sums<3>(problem, r, settled_from, sums);
+  add_equality_sums(problem, W_rows, r, sums);
+  if (problem.dimension == 2) add_contact_sums<2>(problem, W_rows, r, settled_from, sums);
+  else add_contact_sums<3>(problem, W_rows, r, settled_from, sums);
   const double residual = std::sqrt(sums.law) / velocity_scale(problem.b.norm(), std::sqrt(sums.product));
   return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
 }
 
-double relative_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
-  return relative_residual(problem, r, problem.contacts);
+double relative_residual(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r) {
+  return relative_residual(problem, W_rows, r, problem.contacts);
 }
 
 // Active-set polish: with the statuses of the contacts taken as known, the law reduces to a square
@@ -261,6 +282,20 @@ double relative_residual(const FrictionContactProblem& problem, const Eigen::Vec
 // maximal dissipation, made the iteration wander on SSNV503 in 3D, where all 45 nodes slip at nearly
 // the same tiny velocity). The best solution is kept, and only if its full residual is smaller than
 // the iterate's.
+// Closed rows may be dependent with free terms that disagree, so that no impulses make them all hold:
+// in 2D, two vertices of a rigid body on one vertical have the same normal row (0, 1, p_x), and their
+// free normal velocities differ by their gap term. A 1 mg shoe under 70 kN (sdnv104-rigid, mass 1e-6)
+// has a free velocity of 7e7 m/s, so the step activates its top corners too, 1 m above the ground,
+// where u_n(top) = u_n(bottom) + 2000 m/s whatever the impulses. The system of such statuses is then
+// solved in the least-squares sense of least norm (not by the LU's arbitrary basic solution, which
+// opened a bottom corner and left it penetrating at 2000 m/s, a residual of 1.4e-5 that the
+// iteration cycled around), and a closed contact that this solution leaves separating opens: its row
+// is redundant and it need not press. The next pass has consistent rows (there: the exact solution,
+// residual 7e-17, at the first polish).
+// Relative mismatch A z − b of a status system above which its closed rows are taken as inconsistent
+// (a consistent one, even singular, is solved to about 1e-16 of b after the refinement step).
+constexpr double kInconsistentStatuses = 1e-8;
+
 template <int D>
 struct PolishStatus {
   ContactStatus status = ContactStatus::open;
@@ -269,7 +304,8 @@ struct PolishStatus {
 
 template <int D>
 bool solve_statuses(const FrictionContactProblem& problem, const std::vector<PolishStatus<D>>& statuses,
-                    Eigen::VectorXd& candidate) {
+                    Eigen::VectorXd& candidate, bool& consistent) {
+  consistent = true;
   const Eigen::Index m = problem.size();
   // An unknown is a column of S: its entries start at row `first` and span at most D rows (a slip
   // contact's normal with its tangential ratio), the others are a single 1.
@@ -319,6 +355,13 @@ bool solve_statuses(const FrictionContactProblem& problem, const std::vector<Pol
     const Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
     z = lu.solve(b);
     z += lu.solve(b - A * z);
+    // Still not solved: the closed rows are dependent and their free terms disagree (the statuses
+    // cannot all hold). The least-squares solution of least norm instead of the LU's arbitrary one:
+    // it leaves the redundant contact that need not press separating, which the correction opens.
+    if (!z.allFinite() || (A * z - b).norm() > kInconsistentStatuses * b.norm()) {
+      consistent = false;
+      z = A.completeOrthogonalDecomposition().solve(b);
+    }
   }
   if (!z.allFinite()) return false;
   candidate.setZero(m);
@@ -333,8 +376,12 @@ bool solve_statuses(const FrictionContactProblem& problem, const std::vector<Pol
 // Statuses corrected from a solution r of the previous statuses (see above); false if none changed.
 template <int D>
 bool correct_statuses(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
-                      std::vector<PolishStatus<D>>& statuses) {
+                      std::vector<PolishStatus<D>>& statuses, bool consistent) {
   const Eigen::VectorXd u = problem.W * r + problem.b;
+  // A closed contact separates only where the solve could not hold every closed row (an inconsistent
+  // system): there u_n > 0 beyond round-off says that its row is redundant and it need not press.
+  const double separating = consistent ? std::numeric_limits<double>::infinity()
+                                       : kInconsistentStatuses * problem.b.norm();
   bool changed = false;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index row = static_cast<Eigen::Index>(D) * c;
@@ -343,7 +390,7 @@ bool correct_statuses(const FrictionContactProblem& problem, const Eigen::Vector
     const PolishStatus<D> before = s;
     if (s.status == ContactStatus::open) {
       if (uc(0) < 0.0) s.status = ContactStatus::stick;
-    } else if (!(rc(0) > 0.0)) {
+    } else if (!(rc(0) > 0.0) || uc(0) > separating) {
       s.status = ContactStatus::open;
     } else if (s.status == ContactStatus::stick) {
       if (cone_ratio<D>(rc, problem.mu[c]) > 1.0) {
@@ -363,8 +410,8 @@ bool correct_statuses(const FrictionContactProblem& problem, const Eigen::Vector
 constexpr int kActiveSetPasses = 8;
 
 template <int D>
-bool active_set_polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual,
-                       bool closed_stick) {
+bool active_set_polish(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, Eigen::VectorXd& r,
+                       double& residual, bool closed_stick) {
   std::vector<PolishStatus<D>> statuses(problem.contacts);
   for (int c = 0; c < problem.contacts; ++c) {
     const Vector<D> rc = r.template segment<D>(static_cast<Eigen::Index>(D) * c);
@@ -376,14 +423,15 @@ bool active_set_polish(const FrictionContactProblem& problem, Eigen::VectorXd& r
   bool improved = false;
   Eigen::VectorXd candidate;
   for (int pass = 0; pass < kActiveSetPasses; ++pass) {
-    if (!solve_statuses<D>(problem, statuses, candidate)) break;
-    const double candidate_residual = relative_residual(problem, candidate);
+    bool consistent = true;
+    if (!solve_statuses<D>(problem, statuses, candidate, consistent)) break;
+    const double candidate_residual = relative_residual(problem, W_rows, candidate);
     if (candidate_residual < residual) {
       r = candidate;
       residual = candidate_residual;
       improved = true;
     }
-    if (!correct_statuses<D>(problem, candidate, statuses)) break;
+    if (!correct_statuses<D>(problem, candidate, statuses, consistent)) break;
   }
   return improved;
 }
@@ -393,14 +441,14 @@ constexpr int kNewtonIterations = 30;
 
 // Alart–Curnier Newton from `start` at each ρ scale in turn, until the residual reaches the tolerance;
 // a result replaces r only if its full residual is smaller. True if r was replaced.
-bool newton_polish(const FrictionContactProblem& problem, const Eigen::VectorXd& start, Eigen::VectorXd& r,
-                   double& residual, double tolerance) {
+bool newton_polish(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& start,
+                   Eigen::VectorXd& r, double& residual, double tolerance) {
   bool improved = false;
   for (const double rho_scale : {1.0, 1e3}) {
     if (residual <= tolerance) break;
     Eigen::VectorXd candidate = start;
     if (!alart_curnier_newton(problem, candidate, kNewtonIterations, 1e-3 * tolerance, nullptr, rho_scale)) break;
-    const double candidate_residual = relative_residual(problem, candidate);
+    const double candidate_residual = relative_residual(problem, W_rows, candidate);
     if (candidate_residual < residual) {
       r = candidate;
       residual = candidate_residual;
@@ -424,37 +472,50 @@ bool newton_polish(const FrictionContactProblem& problem, const Eigen::VectorXd&
 // have put that contact in slip, Newton converged in 2 to 10 steps on every such problem met
 // (rolling-ring-3d on 34 × 5), where the former order left relative residuals of 3e-7 to 2e-6.
 template <int D>
-bool polish(const FrictionContactProblem& problem, Eigen::VectorXd& r, double& residual, double tolerance) {
+bool polish(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, Eigen::VectorXd& r, double& residual,
+            double tolerance) {
   const Eigen::VectorXd iterate = r;
-  bool moved_by_active_set = active_set_polish<D>(problem, r, residual, false);
+  bool moved_by_active_set = active_set_polish<D>(problem, W_rows, r, residual, false);
   if (residual > tolerance)
-    moved_by_active_set = active_set_polish<D>(problem, r, residual, true) || moved_by_active_set;
+    moved_by_active_set = active_set_polish<D>(problem, W_rows, r, residual, true) || moved_by_active_set;
   // Newton from the iterate, then from the active set's result if it differs (the former start, kept
   // second so that no problem the former order solved is lost).
   const Eigen::VectorXd active_set_result = r;
-  bool improved = newton_polish(problem, iterate, r, residual, tolerance) || moved_by_active_set;
+  bool improved = newton_polish(problem, W_rows, iterate, r, residual, tolerance) || moved_by_active_set;
   if (moved_by_active_set)
-    improved = newton_polish(problem, active_set_result, r, residual, tolerance) || improved;
+    improved = newton_polish(problem, W_rows, active_set_result, r, residual, tolerance) || improved;
   return improved;
 }
 
 template <int D>
-PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsParameters& parameters,
-                              Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+PgsStatistics solve_dimension(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows,
+                              const PgsParameters& parameters, Eigen::VectorXd& r,
+                              std::vector<ContactStatus>* status) {
   PgsStatistics statistics;
+  // The sweep count at the last polish: the final polish is skipped when no sweep has run since the
+  // last one. With max_iterations 20 or a multiple of 200 an unconverged solve used to polish twice in
+  // a row, the second from the first one's result: twice the cost (23.9 s became 47.9 s on a
+  // 296-contact problem) for at most a small gain (rolling-ring-3d-cornering, whose 7 unconverged
+  // solves end at a relative residual of 3e-3 either way).
+  int polished_after = -1;
+  const auto polish_now = [&] {
+    ++statistics.polishes;
+    polished_after = statistics.iterations;
+    if (polish<D>(problem, W_rows, r, statistics.residual, parameters.tolerance)) statistics.polished = true;
+  };
 
   const double norm_b = problem.b.norm();
   bool residual_is_current = false;
   for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
     const SweepResult swept =
-        sweep<D>(problem, parameters, r, statistics.rejected_local_solutions);
+        sweep<D>(problem, W_rows, parameters, r, statistics.rejected_local_solutions);
     statistics.iterations = iteration;
     residual_is_current = false;
     // A stalled iteration: try the active-set polish every kPolishInterval sweeps.
     if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish)) {
-      statistics.residual = relative_residual(problem, r, swept.settled_from);
+      statistics.residual = relative_residual(problem, W_rows, r, swept.settled_from);
       residual_is_current = true;
-      if (polish<D>(problem, r, statistics.residual, parameters.tolerance)) statistics.polished = true;
+      polish_now();
       if (statistics.residual <= parameters.tolerance) {
         statistics.converged = true;
         break;
@@ -467,7 +528,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     // work) worth computing; it decides.
     const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
     if (swept.settled_from == 0 || std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
-      statistics.residual = relative_residual(problem, r, swept.settled_from);
+      statistics.residual = relative_residual(problem, W_rows, r, swept.settled_from);
       residual_is_current = true;
       if (statistics.residual <= parameters.tolerance) {
         statistics.converged = true;
@@ -476,11 +537,11 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
     }
   }
   if (!residual_is_current) {
-    statistics.residual = relative_residual(problem, r);
+    statistics.residual = relative_residual(problem, W_rows, r);
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
-  if (parameters.polish && !statistics.converged) {
-    if (polish<D>(problem, r, statistics.residual, parameters.tolerance)) statistics.polished = true;
+  if (parameters.polish && !statistics.converged && polished_after != statistics.iterations) {
+    polish_now();
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
 
@@ -493,15 +554,16 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const PgsPa
 }
 
 PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const PgsParameters& parameters,
-                                 Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+                                 Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose) {
   if (problem.contacts == 0) {
     if (status != nullptr) status->clear();
     PgsStatistics statistics;
     statistics.converged = true;
     return statistics;
   }
-  return problem.dimension == 2 ? solve_dimension<2>(problem, parameters, r, status)
-                                : solve_dimension<3>(problem, parameters, r, status);
+  const Eigen::MatrixXd& W_rows = rows_of(problem.W, transpose);
+  return problem.dimension == 2 ? solve_dimension<2>(problem, W_rows, parameters, r, status)
+                                : solve_dimension<3>(problem, W_rows, parameters, r, status);
 }
 
 // Relative size, against the full problem's entries, below which a condensed entry is round-off: the
@@ -512,14 +574,26 @@ constexpr double kCondensationRoundOff = 1e-11;
 void condense_operator(const FrictionContactProblem& problem, PgsCondensation& condensed) {
   const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   const Eigen::Index m_e = problem.equalities;
-  condensed.W_ee.compute(problem.W.bottomRightCorner(m_e, m_e));
-  condensed.X = condensed.W_ee.solve(problem.W.bottomLeftCorner(m_e, m_c));
+  condensed.symmetric = is_symmetric(problem.W);
+  if (condensed.symmetric) {
+    condensed.W_ee.compute(problem.W.bottomRightCorner(m_e, m_e));
+    condensed.X = condensed.W_ee.solve(problem.W.bottomLeftCorner(m_e, m_c));
+    condensed.W_transpose.resize(0, 0);
+  } else {
+    // An unsymmetric W (a library user's): W_ee by a complete orthogonal decomposition, whose solve is
+    // the minimum-norm least-squares one, so that redundant consistent rows stay allowed.
+    condensed.W_ee_general.compute(problem.W.bottomRightCorner(m_e, m_e));
+    condensed.X = condensed.W_ee_general.solve(problem.W.bottomLeftCorner(m_e, m_c));
+    condensed.W_transpose = problem.W.transpose();
+  }
   FrictionContactProblem& contacts = condensed.contacts;
   contacts.W = problem.W.topLeftCorner(m_c, m_c);
   contacts.W.noalias() -= problem.W.topRightCorner(m_c, m_e) * condensed.X;
-  // Symmetric up to round-off; made exactly so, since the sweeps read the coupling from W's columns.
-  for (Eigen::Index j = 0; j < m_c; ++j)
-    for (Eigen::Index i = 0; i < j; ++i) contacts.W(i, j) = contacts.W(j, i) = 0.5 * (contacts.W(i, j) + contacts.W(j, i));
+  // Of a symmetric W, symmetric up to round-off; made exactly so, so that the sweeps read its rows from
+  // its columns (rows_of) and give the same impulses as before. An unsymmetric W's is left as it is.
+  if (condensed.symmetric)
+    for (Eigen::Index j = 0; j < m_c; ++j)
+      for (Eigen::Index i = 0; i < j; ++i) contacts.W(i, j) = contacts.W(j, i) = 0.5 * (contacts.W(i, j) + contacts.W(j, i));
   // The difference cancels the entries the ties make rigid: a node held across the ground by the
   // body's constraints has a zero column once condensed, which comes out as round-off of the full
   // entries (3e-16 of them on the tied 3D ring). Such a column must be exactly zero: on round-off the
@@ -566,7 +640,7 @@ void condense(const FrictionContactProblem& problem, PgsCondensation& condensed)
 // decided on the full problem's residual.
 PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const PgsParameters& parameters,
                                     Eigen::VectorXd& r, std::vector<ContactStatus>* status,
-                                    PgsCondensation& condensed) {
+                                    PgsCondensation& condensed, Eigen::MatrixXd& transpose) {
   const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   const Eigen::Index m_e = problem.equalities;
   condense(problem, condensed);
@@ -574,7 +648,7 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
   Eigen::VectorXd& r_e = condensed.r_e;
   Eigen::VectorXd& u_e = condensed.u_e;
   r_c = r.head(m_c);
-  PgsStatistics statistics = solve_contact_rows(condensed.contacts, parameters, r_c, status);
+  PgsStatistics statistics = solve_contact_rows(condensed.contacts, parameters, r_c, status, transpose);
   Eigen::VectorXd& product = condensed.product;
   r_e.noalias() = condensed.X * r_c;
   r_e = -(condensed.x_b + r_e);
@@ -591,7 +665,7 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
   }
   r.head(m_c) = r_c;
   r.tail(m_e) = r_e;
-  statistics.residual = relative_residual(problem, r);
+  statistics.residual = relative_residual(problem, condensed.symmetric ? problem.W : condensed.W_transpose, r);
   statistics.converged = statistics.residual <= parameters.tolerance;
   return statistics;
 }
@@ -599,6 +673,10 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
 }  // namespace
 
 void PgsCondensation::solve_equalities(Eigen::VectorXd& x) const {
+  if (!symmetric) {
+    x = W_ee_general.solve(x);
+    return;
+  }
   if (x.size() != 1) {
     W_ee.solveInPlace(x);
     return;
@@ -614,8 +692,9 @@ PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::Vec
   check_problem(problem);
   // A warm start of the wrong size, or one carrying NaN/inf from an earlier failure, is worthless.
   if (r.size() != problem.size() || !r.allFinite()) r = Eigen::VectorXd::Zero(problem.size());
-  if (problem.equalities > 0) return solve_with_equalities(problem, parameters_, r, status, scratch_.condensation);
-  return solve_contact_rows(problem, parameters_, r, status);
+  if (problem.equalities > 0)
+    return solve_with_equalities(problem, parameters_, r, status, scratch_.condensation, scratch_.transpose);
+  return solve_contact_rows(problem, parameters_, r, status, scratch_.transpose);
 }
 
 double PgsSolver::residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
@@ -623,7 +702,8 @@ double PgsSolver::residual(const FrictionContactProblem& problem, const Eigen::V
   if (r.size() != problem.size())
     throw std::invalid_argument("PgsSolver::residual: r has the wrong size");
   if (problem.size() == 0) return 0.0;
-  return relative_residual(problem, r);
+  Eigen::MatrixXd transpose;
+  return relative_residual(problem, rows_of(problem.W, transpose), r);
 }
 
 }  // namespace csim

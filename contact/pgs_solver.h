@@ -22,7 +22,8 @@
 //             max(‖b‖, ‖W r‖, 1e-300).
 //   converged when the full residual ≤ tolerance. Non-finite local results are rejected (the previous
 //   impulse is kept) and counted.
-// Polish: after 20 sweeps without convergence, then every 200, and at the end, the iterate is
+// Polish: after 20 sweeps without convergence, then every 200, and at the end (unless the last polish
+// came after the last sweep: never two polishes without a sweep between), the iterate is
 // finished by direct methods, each result kept only when its full residual is smaller:
 //   1. an active-set iteration: the statuses of the iterate (open, stick, slip with its current
 //      direction) turn the law into a square linear system solved directly (full-pivot LU, one step of
@@ -34,8 +35,16 @@
 // held by weak springs (SSNV503: 20000 sweeps and 1e-8 before, 20 sweeps and 1e-9 now), a rigid body
 // on two or four points of a stiff elastic one (box-on-block: no convergence in 2000 sweeps before).
 //
+// W need not be symmetric: the law is u = W r + b row by row, so the local problem of contact c is row
+// block c of W (its diagonal block W_cc as stored, the coupling from its rows), the residual that
+// decides convergence is formed from W's rows, and so is the polish (its linear systems and Newton's
+// Jacobian are rows of W). Every Delassus operator the steppers form is symmetric to the bit; a W that
+// is not (a problem from elsewhere, e.g. FCLib's, with a relative skew of 1e-7 to 7e-4) is read through
+// its transpose, copied once per solve (m² doubles, kept by the solver). With equality rows, an
+// unsymmetric W_ee is factored by a complete orthogonal decomposition instead of the LDLT.
+//
 // Details of this implementation:
-//   - W is taken as symmetric (coupling is read from its contiguous columns);
+//   - W's rows are read as contiguous columns: W's own when W is symmetric to the bit, Wᵀ's otherwise;
 //   - omega relaxes the contact impulses only; with omega > 1 a relaxed impulse is pulled back into its
 //     cone (r_n ≥ 0, r_t scaled radially); the equality block is always solved exactly;
 //   - right after a sweep, the contacts after the last impulse that moved (and that one, when it is
@@ -45,7 +54,8 @@
 //   - status: open if r_n ≤ 0, stick if the elliptic radius of r_t is below (1 − 1e-9) r_n, slip
 //     otherwise (a frictionless closed contact is slip);
 //   - an inconsistent problem (sizes, dimension) throws std::invalid_argument;
-//   - no heap allocation without equality rows; with them, the condensed problem (W_ee's LDLT,
+//   - no heap allocation without equality rows once the solver has seen the problem's size (an
+//     unsymmetric W's transpose is the solver's); with them, the condensed problem (W_ee's LDLT,
 //     W_ee⁺ W_ec and the Schur complement), once per solve.
 #pragma once
 
@@ -70,13 +80,17 @@ struct PgsStatistics {
   bool converged = false;
   int rejected_local_solutions = 0;  // non-finite local results filtered out
   bool polished = false;      // the polish improved the iterate
+  int polishes = 0;           // polishes run (each: the active-set iteration and Newton, see above)
 };
 
 // The work arrays of a solve with equality rows (their condensation, pgs_solver.cpp): a solver keeps
 // them, so that a stepper's solves allocate nothing once they have the problem's size.
 struct PgsCondensation {
   FrictionContactProblem contacts;  // the contact rows only, the equalities condensed out
+  bool symmetric = true;             // W equals its transpose to the bit: W_ee by its LDLT, else by W_ee_general
   Eigen::LDLT<Eigen::MatrixXd> W_ee;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> W_ee_general;
+  Eigen::MatrixXd W_transpose;      // Wᵀ when W is not symmetric (its rows, read as columns), else empty
   Eigen::MatrixXd X;                // W_ee⁺ W_ec
   Eigen::VectorXd x_b;              // W_ee⁺ b_e
   Eigen::VectorXd full_scale, r_c, r_e, u_e, product;
@@ -85,7 +99,7 @@ struct PgsCondensation {
   Eigen::MatrixXd W;
   int dimension = 0, contact_count = -1, equalities = -1;
   // x ← W_ee⁺ x: the LDLT's solve; for a single equality row written out (a point held on a line),
-  // the same to the bit without the solve's set-up.
+  // the same to the bit without the solve's set-up. Of an unsymmetric W, W_ee_general's solve.
   void solve_equalities(Eigen::VectorXd& x) const;
 };
 
@@ -109,6 +123,7 @@ class PgsSolver {
   // (a stepper's own), hence mutable in a const solve.
   struct Scratch {
     PgsCondensation condensation;
+    Eigen::MatrixXd transpose;  // Wᵀ of the contact rows' problem, when W is not symmetric
     Scratch() = default;
     Scratch(const Scratch&) {}
     Scratch& operator=(const Scratch&) { return *this; }

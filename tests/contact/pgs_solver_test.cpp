@@ -3,9 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace csim {
@@ -688,6 +690,223 @@ TEST(PgsSolver, PolishFindsTheLateralSlipOfANodeHeldAcrossTheGround) {
     if (std::abs(r_t(1)) > 0.5 * mu * r_n) ++sliding_sideways;
   }
   EXPECT_GE(sliding_sideways, 1);
+}
+
+// The law is u = W r + b row by row; W need not be symmetric (pgs_solver.h). The hand check below reads
+// W's rows only, so that no reading of its columns can pass it.
+// Largest violation of the 2D Coulomb law at r, in velocity units: penetration, tension, complementarity
+// (r_n u_n), friction outside its cone, a stick that slides, a slip that does not oppose its sliding.
+double law_violation_2d(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+  const Eigen::VectorXd u = problem.W * r + problem.b;  // rows of W
+  double worst = 0.0;
+  for (int c = 0; c < problem.contacts; ++c) {
+    const double r_n = r(2 * c), r_t = r(2 * c + 1), u_n = u(2 * c), u_t = u(2 * c + 1), mu = problem.mu[c](0);
+    worst = std::max({worst, -u_n, -r_n, std::abs(r_n * u_n), std::abs(r_t) - mu * r_n});
+    if (r_n > 0 && std::abs(r_t) < mu * r_n * (1 - 1e-9)) worst = std::max(worst, std::abs(u_t));  // stick
+    if (r_n > 0 && std::abs(r_t) >= mu * r_n * (1 - 1e-9) && mu > 0) worst = std::max(worst, r_t * u_t);  // slip
+  }
+  return worst;
+}
+
+// Two frictionless contacts coupled one way: contact 1's normal velocity feels contact 2's impulse
+// (W_n1n2 = 1/2), contact 2's does not feel contact 1's (W_n2n1 = 0). With b_n = (−1, −1) both close:
+//   u_n1 = r_n1 + r_n2/2 − 1 = 0,  u_n2 = r_n2 − 1 = 0   ⇒   r_n = (1/2, 1),
+// unique (W_nn is a P-matrix: its principal minors 1, 1, 1 are positive). Reading the coupling from
+// W's columns instead solves Wᵀ: r_n = (1, 1/2), which leaves u_n1 = 0 and u_n2 = −1/2 (penetrating);
+// the solver used to report that as converged, with a residual of 0 formed from the same columns.
+FrictionContactProblem one_way_coupled_frictionless() {
+  FrictionContactProblem problem;
+  problem.dimension = 2;
+  problem.contacts = 2;
+  problem.W.resize(4, 4);
+  problem.W << 1.0, 0.0, 0.5, 0.0,  //
+      0.0, 1.0, 0.0, 0.0,           //
+      0.0, 0.0, 1.0, 0.0,           //
+      0.0, 0.0, 0.0, 1.0;
+  problem.b.resize(4);
+  problem.b << -1.0, 0.2, -1.0, -0.2;  // sliding both ways, frictionless: r_t = 0
+  problem.mu.assign(2, Eigen::Vector2d(0.0, 0.0));
+  return problem;
+}
+
+TEST(PgsSolver, SolvesAnUnsymmetricFrictionlessProblemByItsRows) {
+  const FrictionContactProblem problem = one_way_coupled_frictionless();
+  Eigen::VectorXd r;
+  std::vector<ContactStatus> status;
+  const PgsStatistics statistics = PgsSolver().solve(problem, r, &status);
+  ASSERT_TRUE(statistics.converged) << statistics.residual;
+  EXPECT_NEAR(r(0), 0.5, 1e-14);
+  EXPECT_EQ(r(1), 0.0);
+  EXPECT_NEAR(r(2), 1.0, 1e-14);
+  EXPECT_EQ(r(3), 0.0);
+  EXPECT_LE(law_violation_2d(problem, r), 1e-14);
+  EXPECT_LE(statistics.residual, 1e-12);
+  // The verdict is formed from W's rows: the columns' answer is far from converged.
+  Eigen::VectorXd columns_answer(4);
+  columns_answer << 1.0, 0.0, 0.5, 0.0;
+  EXPECT_NEAR(law_violation_2d(problem, columns_answer), 0.5, 1e-15);  // u_n2 = −1/2
+  EXPECT_GT(PgsSolver::residual(problem, columns_answer), 0.1);
+  EXPECT_EQ(PgsSolver::residual(problem, r), statistics.residual);
+}
+
+// Two frictional contacts (μ = 0.3), W unsymmetric in its normal–normal, tangent–tangent and
+// normal–tangent couplings. The solution, chosen first and b = u − W r formed from it:
+//   r = (1, 1/10, 1, −3/10), u = (0, 0, 0, 2/5): contact 1 sticks (|r_t| = 0.1 < 0.3), contact 2 slips
+//   along +t with its friction −μ r_n against it.
+// Enumerating the 4 × 4 status combinations (open, stick, slip ±) in exact rational arithmetic finds
+// this one only; the same enumeration on Wᵀ gives both contacts slipping, r = (2551/1660, −7653/16600,
+// 13/83, −39/830), which is what reading W's columns converged to.
+FrictionContactProblem unsymmetric_frictional() {
+  FrictionContactProblem problem;
+  problem.dimension = 2;
+  problem.contacts = 2;
+  problem.W.resize(4, 4);
+  problem.W << 2.0, 0.5, 1.0, 0.0,  //
+      0.0, 1.0, 0.0, 0.5,           //
+      0.0, 0.0, 2.0, 0.5,           //
+      0.5, 0.0, 0.0, 1.0;
+  problem.b.resize(4);
+  problem.b << -61.0 / 20, 1.0 / 20, -37.0 / 20, 1.0 / 5;
+  problem.mu.assign(2, Eigen::Vector2d(0.3, 0.3));
+  return problem;
+}
+
+TEST(PgsSolver, SolvesAnUnsymmetricFrictionalProblemByItsRows) {
+  const FrictionContactProblem problem = unsymmetric_frictional();
+  for (const bool polish : {true, false}) {
+    PgsParameters parameters;
+    parameters.polish = polish;
+    Eigen::VectorXd r;
+    std::vector<ContactStatus> status;
+    const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r, &status);
+    ASSERT_TRUE(statistics.converged) << "polish " << polish << ": " << statistics.residual;
+    EXPECT_LE((r - Eigen::Vector4d(1.0, 0.1, 1.0, -0.3)).norm(), 1e-12) << "polish " << polish;
+    EXPECT_EQ(status[0], ContactStatus::stick);
+    EXPECT_EQ(status[1], ContactStatus::slip);
+    EXPECT_LE(law_violation_2d(problem, r), 1e-12);
+  }
+  Eigen::VectorXd transposed_answer(4);
+  transposed_answer << 2551.0 / 1660, -7653.0 / 16600, 13.0 / 83, -39.0 / 830;
+  EXPECT_GT(PgsSolver::residual(problem, transposed_answer), 1e-2);
+  // The polish alone (Newton and the active set read rows too) from a stalled start: one sweep, then
+  // the final polish.
+  PgsParameters one_sweep;
+  one_sweep.max_iterations = 1;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(one_sweep).solve(problem, r);
+  ASSERT_TRUE(statistics.converged) << statistics.residual;
+  EXPECT_TRUE(statistics.polished);
+  EXPECT_LE((r - Eigen::Vector4d(1.0, 0.1, 1.0, -0.3)).norm(), 1e-12);
+}
+
+TEST(PgsSolver, SolvesAnUnsymmetricProblemWithAnEqualityRow) {
+  // One frictional contact (μ = 0.3) and one bilateral row, W unsymmetric between them:
+  //   rows n: (2, 1/2, 1), t: (0, 1, 1/2), e: (1/2, 0, 1), b = (−37/20, 0, −3/10).
+  // Condensed (r_e = −(b_e + r_n/2)): W' = [[3/2, 1/2], [−1/4, 1]], b' = (−31/20, 3/20), whose only
+  // solution (enumerated) is stick: r_c = (1, 1/10); then r_e = −(−3/10 + 1/2) = −1/5.
+  FrictionContactProblem problem;
+  problem.dimension = 2;
+  problem.contacts = 1;
+  problem.equalities = 1;
+  problem.W.resize(3, 3);
+  problem.W << 2.0, 0.5, 1.0,  //
+      0.0, 1.0, 0.5,           //
+      0.5, 0.0, 1.0;
+  problem.b = Eigen::Vector3d(-37.0 / 20, 0.0, -0.3);
+  problem.mu = {Eigen::Vector2d(0.3, 0.3)};
+  const PgsSolver solver;
+  for (int solve = 0; solve < 2; ++solve) {  // the second reuses the condensation
+    Eigen::VectorXd r;
+    const PgsStatistics statistics = solver.solve(problem, r);
+    ASSERT_TRUE(statistics.converged) << statistics.residual;
+    EXPECT_LE((r - Eigen::Vector3d(1.0, 0.1, -0.2)).norm(), 1e-14) << r.transpose();
+    EXPECT_LE((problem.W * r + problem.b).norm(), 1e-14);  // stick and the equality: u = 0
+  }
+  // The columns' answer (Wᵀ's solution) is not taken for converged.
+  FrictionContactProblem transposed = problem;
+  transposed.W = problem.W.transpose();
+  Eigen::VectorXd r_transposed;
+  ASSERT_TRUE(PgsSolver().solve(transposed, r_transposed).converged);
+  EXPECT_GT(PgsSolver::residual(problem, r_transposed), 1e-2);
+}
+
+// Two frictionless contacts squeezing one freedom from both sides while both walls approach:
+//   u_n1 = r_n1 − r_n2 − 1,  u_n2 = r_n2 − r_n1 − 1,
+// whose sum is −2 whatever r: no impulses keep both contacts from penetrating, so nothing converges.
+// Gauss–Seidel pushes both impulses up one a sweep; the polish runs at its schedule.
+TEST(PgsSolver, NeverPolishesTwiceWithoutASweepBetween) {
+  FrictionContactProblem problem;
+  problem.dimension = 2;
+  problem.contacts = 2;
+  problem.W.resize(4, 4);
+  problem.W << 1.0, 0.0, -1.0, 0.0,  //
+      0.0, 1.0, 0.0, 0.0,            //
+      -1.0, 0.0, 1.0, 0.0,           //
+      0.0, 0.0, 0.0, 1.0;
+  problem.b = Eigen::Vector4d(-1.0, 0.0, -1.0, 0.0);
+  problem.mu.assign(2, Eigen::Vector2d(0.0, 0.0));
+  // Polishes after sweep 20, every 200, and at the end unless the last one came after the last sweep.
+  const std::vector<std::pair<int, int>> expected{{19, 1}, {20, 1}, {21, 2}, {200, 2}, {201, 3}, {400, 3}, {2000, 11}};
+  for (const auto& [sweeps, polishes] : expected) {
+    PgsParameters parameters;
+    parameters.max_iterations = sweeps;
+    Eigen::VectorXd r;
+    const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+    EXPECT_FALSE(statistics.converged) << sweeps << " sweeps";
+    EXPECT_GT(statistics.residual, 0.1) << sweeps << " sweeps";
+    EXPECT_EQ(statistics.iterations, sweeps);
+    EXPECT_EQ(statistics.polishes, polishes) << sweeps << " sweeps";
+  }
+  PgsParameters unpolished;
+  unpolished.max_iterations = 200;
+  unpolished.polish = false;
+  Eigen::VectorXd r;
+  EXPECT_EQ(PgsSolver(unpolished).solve(problem, r).polishes, 0);
+}
+
+// scenes/sdnv104-rigid with a 1 mg shoe (--set parameters.mass=1e-6 --set parameters.ramp_time=0), the
+// problem of its second step (t = 0.002 s), which stopped the run: "contact solver failed … residual
+// 1.4e-5 after 200 iterations". The shoe's free velocity is h N / m = 7e7 m/s downwards, so the step
+// activates its four corners: the bottom ones (contacts 0, 1) and the top ones (2, 3), 1 m above the
+// ground, whose gap term is g / (h θ) = 1 / (1e-3 · 0.5) = 2000 m/s. A corner's normal row is
+// (0, 1, p_x): each top corner's is its bottom corner's, so u_n(top) = u_n(bottom) + 2000 m/s whatever
+// the impulses, and the top corners must stay open. W's spectrum is 4e6 (the translation, 1/m) down to
+// 667 (the rotation, held by the springs) and five zeros: Gauss–Seidel needs some 20000 sweeps, and
+// the polish's status systems with a top and a bottom corner closed are inconsistent.
+// By hand: the bottom corners hold the shoe (Σ r_n = h N = 70 N·s, the vertical having no stiffness),
+// and it slides (the push, 200 kN, exceeds μ N = 21 kN): r_t = −μ r_n on each.
+TEST(PgsSolver, SolvesARigidShoeWhoseTopCornersShareTheBottomOnesNormalRows) {
+  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/sdnv104_rigid_1mg_shoe.txt");
+  ASSERT_TRUE(file.good());
+  const FrictionContactProblem problem = read_problem(file);
+  ASSERT_EQ(problem.contacts, 4);
+  Eigen::VectorXd warm_start = Eigen::VectorXd::Zero(8);  // the run's: the first step's impulses
+  warm_start.head(4) << 24.499999999986024, 7.3499999999958066, 45.500000000013976, 13.650000000004193;
+  const double N_h = 70000.0 * 1e-3, mu = 0.3, top_gap_velocity = 1.0 / (1e-3 * 0.5);
+  PgsParameters parameters;
+  parameters.max_iterations = 200;  // the scene's contact_solver
+  parameters.tolerance = 1e-12;
+  for (const bool warm : {true, false}) {
+    Eigen::VectorXd r = warm ? warm_start : Eigen::VectorXd::Zero(8);
+    std::vector<ContactStatus> status;
+    const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r, &status);
+    ASSERT_TRUE(statistics.converged) << "warm " << warm << ": " << statistics.residual;
+    EXPECT_LE(statistics.residual, 1e-12);
+    const Eigen::VectorXd u = problem.W * r + problem.b;
+    EXPECT_NEAR(r(0) + r(2), N_h, 1e-12 * N_h);
+    for (const int bottom : {0, 1}) {
+      EXPECT_EQ(status[bottom], ContactStatus::slip) << bottom;
+      EXPECT_NEAR(r(2 * bottom + 1), -mu * r(2 * bottom), 1e-12 * N_h) << bottom;
+      EXPECT_LE(std::abs(u(2 * bottom)), 1e-12 * problem.b.norm()) << bottom;
+      EXPECT_GT(u(2 * bottom + 1), 0.0) << bottom;  // sliding along +t, against its friction
+    }
+    for (const int top : {2, 3}) {
+      EXPECT_EQ(status[top], ContactStatus::open) << top;
+      EXPECT_EQ(r(2 * top), 0.0);
+      EXPECT_EQ(r(2 * top + 1), 0.0);
+      EXPECT_NEAR(u(2 * top), top_gap_velocity, 1e-9 * problem.b.norm()) << top;
+    }
+  }
 }
 
 }  // namespace
