@@ -98,6 +98,7 @@ struct CollisionWorld::Impl {
     // detection O(N).
     std::vector<int> nodes;
     std::vector<Eigen::Vector3d> positions;  // m, world, by node: current on `nodes`, never read elsewhere
+    std::vector<Eigen::Vector3d> normals;    // outward unit normals, by node, current on `nodes` (node contacts)
     Eigen::Vector3d lower, upper;            // m, the box of `nodes` (2D: extruded to z = ±½)
     std::vector<std::pair<int, SurfaceFeatures>> features_of_body;  // bodies not listed: nodes
 
@@ -118,7 +119,9 @@ struct CollisionWorld::Impl {
 
   // The box of the surface's nodes: all the broad phase reads of a surface (its contacts are our closed
   // forms, deformable_surface.h). In plane scenes it spans z = ±½, as the thin shapes' boxes do.
+  // The box and the node normals of the surface's current positions.
   void bound_nodes(Surface& surface) const {
+    surface_node_normals(surface.positions, surface.geometry, surface.nodes, surface.normals);
     surface.lower = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
     surface.upper = -surface.lower;
     for (int node : surface.nodes) {
@@ -268,8 +271,8 @@ void CollisionWorld::Impl::surface_contacts(const Object& surface, const Object&
                         planar, out);
   if (features == SurfaceFeatures::nodes || features == SurfaceFeatures::both)
     for (int node : s.geometry.contact_nodes)
-      node_shape_contact(s.positions[node], node, shape.instance.shape, shape.instance.pose, margin, surface_is_a,
-                         planar, out);
+      node_shape_contact(s.positions[node], node, s.normals[node], shape.instance.shape, shape.instance.pose, margin,
+                         surface_is_a, planar, out);
   for (std::size_t i = begin; i < out.size(); ++i) {
     out[i].key.object_a = surface_is_a ? surface.instance.id : shape.instance.id;
     out[i].key.object_b = surface_is_a ? shape.instance.id : surface.instance.id;

@@ -16,7 +16,44 @@ struct Projection {
   Eigen::Vector3d point, normal;
 };
 
-Projection project(const Eigen::Vector3d& x, const Shape& shape, const Eigen::Isometry3d& pose, bool planar) {
+// How far outside a box (relative to its largest half extent) a point still counts as on it: the
+// round-off of a node placed on a box's edge (x − c = 0.2000000000000002 against h = 0.2).
+constexpr double kOnBoxTolerance = 1e-9;
+// The least |cos| between a box face's outward normal and the surface's inward normal for the face to
+// be one the surface can have been pressed through (60°): a face seen edge-on is not.
+constexpr double kFacingFaces = 0.5;
+
+// A point inside a box (or on it within kOnBoxTolerance): the face it is pushed out through. The
+// nearest face is ambiguous at the box's edges: a surface node under a punch's edge lies on the side
+// face's plane (depth 0) while the bottom face has pressed it by the penetration, and the nearest face
+// would push it sideways (a frictionless punch would push its block sideways). With the
+// surface's outward normal n_s (box frame; zero when unknown), the face is the one the surface looks at:
+// among the faces whose outward normal n_f meets n_s head-on (−n_f·n_s ≥ kFacingFaces), the one where
+// the ray back along −n_s leaves the box first (depth / (−n_f·n_s): the surface-normal projection of
+// segment-to-segment and mortar contact). Without n_s, or when no face qualifies (a surface deeper
+// than the box is wide), the nearest face. Ties go to the lower axis, for determinism.
+int entry_axis(const Eigen::Vector3d& local, const Eigen::Vector3d& h, const Eigen::Vector3d& surface_normal,
+               int axes) {
+  int axis = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < axes; ++i) {
+    const double facing = (local(i) >= 0.0 ? -1.0 : 1.0) * surface_normal(i);  // −n_f·n_s
+    if (!(facing >= kFacingFaces)) continue;
+    const double exit = std::max(h(i) - std::abs(local(i)), 0.0) / facing;
+    if (exit < best) best = exit, axis = i;
+  }
+  if (axis >= 0) return axis;
+  best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < axes; ++i) {
+    const double to_face = h(i) - std::abs(local(i));
+    if (to_face < best) best = to_face, axis = i;
+  }
+  return axis;
+}
+
+// surface_normal: the surface's outward unit normal at x (world), or zero when unknown.
+Projection project(const Eigen::Vector3d& x, const Eigen::Vector3d& surface_normal, const Shape& shape,
+                   const Eigen::Isometry3d& pose, bool planar) {
   if (const auto* halfspace = std::get_if<Halfspace>(&shape)) {
     const Eigen::Vector3d n = pose.linear() * halfspace->normal;
     const double offset = halfspace->offset + n.dot(pose.translation());
@@ -30,27 +67,26 @@ Projection project(const Eigen::Vector3d& x, const Shape& shape, const Eigen::Is
     const Eigen::Vector3d n = length > 0.0 ? Eigen::Vector3d(r / length) : Eigen::Vector3d::UnitY();
     return {length - sphere->radius, pose.translation() + sphere->radius * n, n};
   }
-  // Box: outside, the clamped point; inside, the nearest face.
+  // Box: outside, the clamped point; inside (or on it within round-off), a face (entry_axis).
   const Box& box = std::get<Box>(shape);
   Eigen::Vector3d local = pose.inverse() * x;
   Eigen::Vector3d h = box.half_extents;
+  const int axes = planar ? 2 : 3;
+  const double on_box = kOnBoxTolerance * h.head(axes).maxCoeff();
   if (planar) h.z() = std::numeric_limits<double>::infinity(), local.z() = 0.0;
   const Eigen::Vector3d clamped = local.cwiseMax(-h).cwiseMin(h);
-  if ((clamped - local).squaredNorm() > 0.0) {
-    const Eigen::Vector3d n = (local - clamped).normalized();
-    return {(local - clamped).norm(), pose * clamped, pose.linear() * n};
+  const double outside = (local - clamped).norm();
+  const bool known_normal = surface_normal.squaredNorm() > 0.0;
+  if (outside > (known_normal ? on_box : 0.0)) {
+    const Eigen::Vector3d n = (local - clamped) / outside;
+    return {outside, pose * clamped, pose.linear() * n};
   }
-  int axis = 0;
-  double depth = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < (planar ? 2 : 3); ++i) {
-    const double to_face = h(i) - std::abs(local(i));
-    if (to_face < depth) depth = to_face, axis = i;
-  }
+  const int axis = entry_axis(local, h, pose.linear().transpose() * surface_normal, axes);
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   n(axis) = local(axis) >= 0.0 ? 1.0 : -1.0;
   Eigen::Vector3d on_face = local;
   on_face(axis) = n(axis) * h(axis);
-  return {-depth, pose * on_face, pose.linear() * n};
+  return {-(h(axis) - std::abs(local(axis))), pose * on_face, pose.linear() * n};
 }
 
 }  // namespace
@@ -58,10 +94,10 @@ Projection project(const Eigen::Vector3d& x, const Shape& shape, const Eigen::Is
 namespace {
 
 // A contact of the surface point x (its node weights `surface`) with the shape, if gap ≤ margin.
-void point_shape_contact(const Eigen::Vector3d& x, const SurfacePoint& surface, int feature, const Shape& shape,
-                         const Eigen::Isometry3d& pose, double margin, bool surface_is_a, bool planar,
-                         std::vector<ContactPoint>& out) {
-  const Projection p = project(x, shape, pose, planar);
+void point_shape_contact(const Eigen::Vector3d& x, const Eigen::Vector3d& surface_normal, const SurfacePoint& surface,
+                         int feature, const Shape& shape, const Eigen::Isometry3d& pose, double margin,
+                         bool surface_is_a, bool planar, std::vector<ContactPoint>& out) {
+  const Projection p = project(x, surface_normal, shape, pose, planar);
   if (p.distance > margin) return;
   ContactPoint& c = out.emplace_back();
   c.key.feature = feature;
@@ -86,9 +122,28 @@ void point_shape_contact(const Eigen::Vector3d& x, const SurfacePoint& surface, 
 
 }  // namespace
 
-void node_shape_contact(const Eigen::Vector3d& x, int node, const Shape& shape, const Eigen::Isometry3d& pose,
-                        double margin, bool surface_is_a, bool planar, std::vector<ContactPoint>& out) {
-  point_shape_contact(x, SurfacePoint::at_node(node), node, shape, pose, margin, surface_is_a, planar, out);
+void node_shape_contact(const Eigen::Vector3d& x, int node, const Eigen::Vector3d& surface_normal, const Shape& shape,
+                        const Eigen::Isometry3d& pose, double margin, bool surface_is_a, bool planar,
+                        std::vector<ContactPoint>& out) {
+  point_shape_contact(x, surface_normal, SurfacePoint::at_node(node), node, shape, pose, margin, surface_is_a, planar,
+                      out);
+}
+
+void surface_node_normals(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,
+                          const std::vector<int>& nodes, std::vector<Eigen::Vector3d>& normals) {
+  normals.resize(positions.size());
+  for (int node : nodes) normals[node].setZero();
+  for (const auto& [a, b] : geometry.segments) {  // (t_y, −t_x): outward, |t| long
+    const Eigen::Vector3d t = positions[b] - positions[a];
+    const Eigen::Vector3d n(t.y(), -t.x(), 0.0);
+    normals[a] += n, normals[b] += n;
+  }
+  for (const auto& [a, b, c] : geometry.triangles) {  // twice the area, outward
+    const Eigen::Vector3d n = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
+    normals[a] += n, normals[b] += n, normals[c] += n;
+  }
+  for (int node : nodes)
+    if (const double length = normals[node].norm(); length > 0.0) normals[node] /= length;
 }
 
 void curve_shape_contacts(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,
@@ -97,7 +152,11 @@ void curve_shape_contacts(const std::vector<Eigen::Vector3d>& positions, const D
   for (int i = 0; i < static_cast<int>(geometry.curve.size()); ++i)
     for (int g = 0; g < kCurveGaussPoints; ++g) {
       const SurfacePoint point = curve_point(geometry.curve[i], kCurveGaussAbscissae[g]);
-      point_shape_contact(surface_position(point, positions), point, first_feature + kCurveGaussPoints * i + g,
+      // The curve runs in the boundary's outward order: its outward normal is (t_y, −t_x).
+      const Eigen::Vector3d t = surface_position(curve_derivative(geometry.curve[i], kCurveGaussAbscissae[g]), positions);
+      Eigen::Vector3d normal(t.y(), -t.x(), 0.0);
+      if (const double length = normal.norm(); length > 0.0) normal /= length;
+      point_shape_contact(surface_position(point, positions), normal, point, first_feature + kCurveGaussPoints * i + g,
                           shape, pose, margin, surface_is_a, planar, out);
     }
 }
@@ -150,17 +209,23 @@ Eigen::Vector3d triangle_weights(const Eigen::Vector3d& x, const Eigen::Vector3d
 FacePoint closest_face_point(const Eigen::Vector3d& x, const std::vector<Eigen::Vector3d>& positions,
                              const DeformableSurfaceGeometry& geometry, bool planar) {
   FacePoint best;
-  // Near a convex corner of the surface the closest point is shared by several faces, and x is
-  // outside when it is outside any of them: the side is the largest over the (near-)closest faces.
+  // Near a corner of the surface the closest point is shared by several faces, and x is outside when
+  // it is outside any of them: the side is the largest over the (near-)closest faces. Their normals
+  // are summed: inside, a shape's vertex on a surface node takes the node's normal (as node features
+  // do, surface_node_normals), not that of whichever face came first.
   double side = -std::numeric_limits<double>::infinity();
+  Eigen::Vector3d tied_normals = Eigen::Vector3d::Zero();
+  bool kinked = false;  // tied faces with different normals
   const auto consider = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n, const SurfacePoint& w) {
     const double d = (x - p).norm();
     const double tie = best.weights.count == 0 ? 0.0 : 1e-12 * (1.0 + best.distance);
     if (best.weights.count == 0 || d < best.distance - tie) {
       best.distance = d, best.point = p, best.face_normal = n, best.weights = w;
       side = n.dot(x - p);
+      tied_normals = n, kinked = false;
     } else if (d <= best.distance + tie) {
       side = std::max(side, n.dot(x - p));
+      tied_normals += n, kinked = kinked || n != best.face_normal;
     }
   };
   if (planar) {
@@ -185,6 +250,7 @@ FacePoint closest_face_point(const Eigen::Vector3d& x, const std::vector<Eigen::
     }
   }
   best.outside = side > 0.0;
+  if (kinked && tied_normals.norm() > 0.0) best.face_normal = tied_normals.normalized();
   return best;
 }
 

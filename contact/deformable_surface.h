@@ -47,9 +47,21 @@ struct DeformableSurfaceGeometry {
 
 // The contacts of node `node` at world position x with a rigid shape at `pose` (gap ≤ margin),
 // oriented from the lower object id to the higher: surface_is_a says which is the surface.
-// The surface side's point is the node itself, the shape side's the closest point on its surface.
-void node_shape_contact(const Eigen::Vector3d& x, int node, const Shape& shape, const Eigen::Isometry3d& pose,
-                        double margin, bool surface_is_a, bool planar, std::vector<ContactPoint>& out);
+// The surface side's point is the node itself, the shape side's the closest point on its surface;
+// inside a box (or on it within round-off, 1e-9 of its largest half extent), the point on the face
+// that the surface was pressed through, chosen with surface_normal (the surface's outward unit normal
+// at the node, surface_node_normals; zero when unknown: then the nearest face): at a box's edge the
+// nearest face is ambiguous, and a node under a punch's edge would take the side face's normal.
+void node_shape_contact(const Eigen::Vector3d& x, int node, const Eigen::Vector3d& surface_normal, const Shape& shape,
+                        const Eigen::Isometry3d& pose, double margin, bool surface_is_a, bool planar,
+                        std::vector<ContactPoint>& out);
+
+// The outward unit normal of the surface at each of `nodes` (normals indexed like positions, sized to
+// them; the other entries left as they were): the normalised sum of the outward normals of the faces
+// that hold the node (segments in plane scenes, triangles in space), each weighted by its length or
+// area; zero for a node on no face. `nodes` must hold every node of the geometry's faces.
+void surface_node_normals(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,
+                          const std::vector<int>& nodes, std::vector<Eigen::Vector3d>& normals);
 
 // The contacts of a rigid shape's features with the surface's faces (gap ≤ margin), oriented like
 // node_shape_contact. A sphere gives at most one (its point nearest the surface, feature −1), a box
@@ -62,7 +74,8 @@ void shape_face_contacts(const std::vector<Eigen::Vector3d>& positions, const De
                          bool planar, std::vector<ContactPoint>& out);
 
 // The contacts of the Gauss points of the smoothed boundary (geometry.curve) with a rigid shape
-// (gap ≤ margin), oriented like node_shape_contact; feature = first_feature + kCurveGaussPoints·i + g
+// (gap ≤ margin), oriented like node_shape_contact (the curve's own normal choosing a box's face);
+// feature = first_feature + kCurveGaussPoints·i + g
 // for point g of segment i (first_feature: the node count, so that they never meet node features).
 void curve_shape_contacts(const std::vector<Eigen::Vector3d>& positions, const DeformableSurfaceGeometry& geometry,
                           const Shape& shape, const Eigen::Isometry3d& pose, double margin, bool surface_is_a,

@@ -177,9 +177,19 @@ Eigen::Vector3d FeBody::node_displacement(const ConstVectorRef& q, int node) con
   return u;
 }
 
+Eigen::Vector3d FeBody::displacement_at(const ConstVectorRef& q, const MeshPoint& point) const {
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  for (int a = 0; a < point.count; ++a) u += point.weights[a] * node_displacement(q, point.nodes[a]);
+  return u;
+}
+
+// A node's own displacement where the point is one (to the bit, as springs and contacts see it);
+// elsewhere the elements' interpolation; a point outside the body stays where it is (the scene loader
+// refuses such probes).
 Eigen::Vector3d FeBody::point_world(const ConstVectorRef& q, const Eigen::Vector3d& local) const {
-  const int node = node_at(local);
-  return node < 0 ? local : local + node_displacement(q, node);
+  if (const int node = node_at(local); node >= 0) return local + node_displacement(q, node);
+  const std::optional<MeshPoint> point = locate(local);
+  return point ? Eigen::Vector3d(local + displacement_at(q, *point)) : local;
 }
 
 PointJacobian FeBody::point_jacobian(const ConstVectorRef& q, const Eigen::Vector3d& local) const {

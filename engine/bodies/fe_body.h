@@ -11,8 +11,11 @@
 //   ∫ Nᵀ ρ g dV on a free dof is the row of the whole M times the uniform field, (M G)_f = M_ff G_f +
 //   M_fc G_c, and a consistent M couples a free node to the fixed nodes of the elements they share
 //   (add_weight adds M_fc G_c).
-// The mesh is in world coordinates (its pose is the identity). A material point is a node, named by
-// its reference coordinates (springs and loads attach to nodes; contacts use the boundary nodes).
+// The mesh is in world coordinates (its pose is the identity). A material point is named by its
+// reference coordinates: a node's, or any point of an element, whose motion the element's shape
+// functions interpolate (point_world; a probe between nodes). Springs and loads attach to nodes
+// (point_jacobian has no columns for other points: an element's 16 or 24 would not fit a
+// PointJacobian); contacts use the boundary nodes.
 #pragma once
 
 #include "contact/contact_point.h"
@@ -20,6 +23,7 @@
 #include "fem/finite_strain.h"
 #include "fem/material.h"
 #include "fem/mesh.h"
+#include "fem/point_location.h"
 
 #include <Eigen/SparseCore>
 #include <optional>
@@ -93,6 +97,11 @@ class FeBody final : public Body {
   Eigen::Vector3d node_displacement(const ConstVectorRef& q, int node) const;
   // The node at reference coordinates `point` (within 1e-9 of the mesh size), or −1.
   int node_at(const Eigen::Vector3d& point) const;
+  // The element point at reference coordinates `point` (fem/point_location.h: a search of the
+  // elements, to be done once), or nullopt when no element holds it.
+  std::optional<MeshPoint> locate(const Eigen::Vector3d& point) const { return locate_point(mesh_, point); }
+  // The displacement (m) at an element point, Σ_a N_a u_a (fixed components 0).
+  Eigen::Vector3d displacement_at(const ConstVectorRef& q, const MeshPoint& point) const;
   // All dofs' displacement (fixed ones zero), node-major: for outputs and stresses.
   Eigen::VectorXd full_displacement(const ConstVectorRef& q) const;
   // A global force vector (N per dof of the whole mesh) restricted to the free dofs.

@@ -1,5 +1,6 @@
 #include "tools/run/probes.h"
 
+#include "engine/bodies/fe_body.h"
 #include "tools/scene/scene.h"
 
 namespace csim {
@@ -7,11 +8,17 @@ namespace csim {
 ProbeEvaluator::ProbeEvaluator(const World& world, const RunSettings& run) : world_(world), run_(run) {
   for (const ProbeDefinition& p : run.probes) {
     Eigen::Vector3d reference = Eigen::Vector3d::Zero();
+    std::optional<MeshPoint> element_point;
+    const bool at_point = p.kind == ProbeDefinition::Kind::displacement || p.kind == ProbeDefinition::Kind::position;
     if (p.body >= 0) {
       const BodyInstance& b = world.bodies[p.body];
       reference = b.body->point_world(b.reference_position, p.point);
+      // FeBody::point_world locates such a point at every call; a probe is read at every step.
+      if (const FeBody* fe = b.body->finite_elements(); fe && at_point && fe->node_at(p.point) < 0)
+        element_point = fe->locate(p.point);
     }
     reference_points_.push_back(reference);
+    element_points_.push_back(element_point);
     static const std::pair<const char*, Term> term_names[] = {
         {"kinetic", Term::kinetic}, {"elastic", Term::elastic}, {"mechanical", Term::mechanical},
         {"work", Term::work}, {"contact_dissipation", Term::contact_dissipation},
@@ -54,7 +61,10 @@ double ProbeEvaluator::unscaled(std::size_t i, const State& state) const {
     case Kind::displacement:
     case Kind::position: {
       const BodyInstance& b = world_.bodies[p.body];
-      Eigen::Vector3d x = b.body->point_world(b.positions(state.q), p.point);
+      const std::optional<MeshPoint>& element_point = element_points_[i];
+      Eigen::Vector3d x = element_point ? Eigen::Vector3d(p.point + b.body->finite_elements()->displacement_at(
+                                                               b.positions(state.q), *element_point))
+                                        : b.body->point_world(b.positions(state.q), p.point);
       if (p.kind == Kind::displacement) x -= reference_points_[i];
       return p.direction.dot(x);
     }

@@ -1,5 +1,7 @@
 // Evaluation of the scene's probes on a State (see scene.h for their definitions).
-//   displacement  dir·(p(q) − p(q_ref)) of a material point (m);  position  dir·p(q) (m);
+//   displacement  dir·(p(q) − p(q_ref)) of a material point (m);  position  dir·p(q) (m); on an
+//                 elastic body a point between nodes moves as its element's shape functions
+//                 interpolate (located once, here);
 //   velocity      one velocity component (m/s or rad/s);  energy  a term of the balance (J), or
 //                 mechanical = kinetic + elastic;
 //   contact_force the resultant of a contact law's impulses / h on its first body (N): normal
@@ -14,9 +16,11 @@
 #pragma once
 
 #include "engine/state.h"
+#include "fem/point_location.h"
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <vector>
 
 namespace csim {
@@ -47,6 +51,8 @@ class ProbeEvaluator {
   const World& world_;
   const RunSettings& run_;
   std::vector<Eigen::Vector3d> reference_points_;  // world position at q_ref of each probe's point
+  // Each probe's point as an element point, when it is a point of an elastic body that is not a node.
+  std::vector<std::optional<MeshPoint>> element_points_;
   std::vector<Term> terms_;                        // each probe's, when it is an energy probe
   std::vector<Component> components_;              // each probe's, when it is a contact probe
 };

@@ -11,6 +11,16 @@ Eigen::Vector3d point(const SceneNode& node, const std::string& key, int dimensi
   return node.has(key) ? node.vector(key, dimension, dimension) : Eigen::Vector3d::Zero();
 }
 
+// A spring or a point load on an elastic body acts at a node: at another point it would act on
+// nothing (FeBody::point_jacobian has no columns there), so it is refused.
+void expect_node(const SceneNode& node, const std::string& key, const BodyInstance& body, const Eigen::Vector3d& at,
+                 bool node_key = false) {
+  const FeBody* fe = body.body->finite_elements();
+  if (!fe || fe->node_at(at) >= 0) return;
+  node.fail_at(key, "on the elastic body '" + body.name + "' this acts at a node: give a node's reference coordinates" +
+                        std::string(node_key ? ", or `node:` a one-node set of its mesh" : ""));
+}
+
 }  // namespace
 
 // A spring: {body, point | node, other (default: the ground), other_point, stiffness, direction}.
@@ -25,10 +35,12 @@ void read_springs(const SceneNode& root, World& world) {
     s.body_a = body_named(node, "body", world);
     s.point_a = point(node, "point", d);
     if (node.has("node")) s.point_a = node_point(node, world.bodies[s.body_a]);
+    expect_node(node, "point", world.bodies[s.body_a], s.point_a, true);
     if (node.has("other")) {
       s.body_b = body_named(node, "other", world);
       if (world.bodies[s.body_b].body->fixed()) s.body_b = -1;  // a fixed body is the ground
       s.point_b = point(node, "other_point", d);
+      if (s.body_b >= 0) expect_node(node, "other_point", world.bodies[s.body_b], s.point_b);
     }
     s.stiffness = node.positive("stiffness");
     if (node.has("direction")) {
@@ -62,6 +74,7 @@ void read_loads(const SceneNode& root, World& world) {
       load.nodal_forces = body->restrict(pressure_load(model, body->mesh().face_sets.at(faces), node.number("pressure")));
     } else {
       load.point = point(node, "point", d);
+      expect_node(node, "point", world.bodies[load.body], load.point);
       load.force = node.vector("force", d, d);
     }
     if (node.has("ramp") && node.has("table")) node.fail("give either ramp or table, not both");

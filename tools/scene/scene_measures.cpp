@@ -1,4 +1,5 @@
 // probes (named time series) and checks (a probe against a reference, with a tolerance).
+#include "engine/bodies/fe_body.h"
 #include "tools/scene/scene_parts.h"
 
 #include <limits>
@@ -50,6 +51,17 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     p.body = body_named(spec, "body", world);
     if (spec.has("point")) p.point = spec.vector("point", d, d);
     if (spec.has("node")) p.point = node_point(spec, world.bodies[p.body]);
+    // An elastic body's point between nodes moves with its element (probes.h); one outside every
+    // element is no point of the body, and would read 0 for ever.
+    const BodyInstance& b = world.bodies[p.body];
+    if (const FeBody* fe = b.body->finite_elements(); fe && fe->node_at(p.point) < 0 && !fe->locate(p.point)) {
+      std::ostringstream where;
+      where << "(" << p.point.x() << ", " << p.point.y();
+      if (d == 3) where << ", " << p.point.z();
+      where << ")";
+      spec.fail_at("point", "the point " + where.str() + " is outside every element of body '" + b.name +
+                                "' (reference coordinates, m)");
+    }
     p.direction = component_direction(spec, d);
   } else if (kind == "velocity" || kind == "reaction") {  // a reaction: of a prescribed component
     spec.allow_only({"body", "component", "scale"});
