@@ -91,6 +91,10 @@ QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parame
 
 void QuasiStatic::summarize_statistics(const State& state, SummaryEntries& out) const {
   add_newton_group(state.counters, parameters_.newton_tolerance, out);
+  out.begin_group("complementarity")  // of the accepted iterates, in metres (see the header)
+      .add("max_violation", max_complementarity_)
+      .add("tolerance", parameters_.failure_residual * length_)
+      .end_group();
 }
 
 void QuasiStatic::initialize(State& state) {
@@ -627,6 +631,7 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next, bool
 // configuration it reaches (measure_complementarity), else the message that stops the step.
 std::string QuasiStatic::complementarity_failure(double t_next) {
   measure_complementarity();
+  max_complementarity_ = std::max(max_complementarity_, complementarity_);
   if (complementarity_ <= parameters_.failure_residual * length_) return "";
   const ActiveContact& contact = active_[complementarity_contact_];
   std::ostringstream message;

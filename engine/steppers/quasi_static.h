@@ -115,7 +115,8 @@
 // of a contact that carries a normal force (as min(u_n, r_n / max r_n · L)), at most failure_residual · L
 // (m); otherwise the step fails with a message naming the contact law, the gap and the force. The contact
 // solver's own residual is relative to |b|, which a soft direction makes as large as the motion it
-// allows; this one is in metres.
+// allows; this one is in metres. summary.json gives its largest value over the accepted iterates
+// (complementarity.max_violation, m) beside its tolerance.
 //
 // Outputs: state velocities hold Δq / h, impulses r·h (so that contact-force probes read r);
 // state.reactions the generalized force each prescription exerts (N, N·m); Newton's counters.
@@ -237,6 +238,7 @@ class QuasiStatic final : public Stepper {
   // active_, −1 for none), its gap (m) and normal force (N).
   double complementarity_ = 0.0, complementarity_gap_ = 0.0, complementarity_force_ = 0.0;
   int complementarity_contact_ = -1;
+  double max_complementarity_ = 0.0;  // m, the largest complementarity_ of an accepted iterate (the summary's)
   HeldRows held_rows() const;  // hold_ with its contacts' keys
   Vector held_load() const;    // H_Aᵀ c̃_A over the held rows (ρ times it leaves the load with them)
   std::vector<SparseRow> rows_;
