@@ -218,6 +218,25 @@ bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
   return true;
 }
 
+std::vector<int> SparseLdlt::small_pivots(const Vector& diagonal, double tolerance) const {
+  const Cholmod& c = *cholmod_;
+  std::vector<int> small;
+  if (!c.factor) return small;
+  const int n = static_cast<int>(c.factor->n);
+  if (static_cast<int>(c.factor->minor) < n) {  // stopped at a zero pivot
+    small.push_back(c.permutation[c.factor->minor]);
+    return small;
+  }
+  const int* start = c.column_start();
+  const double* x = c.values();
+  for (int j = 0; j < n; ++j) {
+    const int unknown = c.permutation[j];
+    if (!(x[start[j]] > tolerance * std::max(diagonal(unknown), 0.0))) small.push_back(unknown);
+  }
+  std::sort(small.begin(), small.end());
+  return small;
+}
+
 // x ← Pᵀ (L D Lᵀ)⁻¹ P x: the factor is of P A Pᵀ.
 void SparseLdlt::solve_in_place(Vector& b) const {
   Cholmod& c = *cholmod_;

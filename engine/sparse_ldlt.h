@@ -63,6 +63,13 @@ class SparseLdlt {
   // Factors A (compressed or not; its lower triangle is read); true when the factorization succeeded
   // with every pivot of D positive.
   bool factor_positive_definite(const SparseMatrix& A);
+  // The unknowns (in A's numbering) whose pivot in the last factorization is at most tolerance × their
+  // diagonal entry A_jj (diagonal: A's diagonal, in A's numbering): D_j is what A_jj keeps once the
+  // unknowns eliminated before j have taken their share, so a small ratio is a direction that A holds by
+  // that fraction of its own stiffness or not at all (a ratio at round-off, of either sign: a mechanism
+  // the arithmetic cannot tell from a soft spring). After a factorization stopped by a zero pivot, that
+  // pivot's unknown alone (the later pivots are not known). Scale-free: the same unknowns for c A, c > 0.
+  std::vector<int> small_pivots(const Vector& diagonal, double tolerance) const;
   Vector solve(const Vector& b) const;  // A⁻¹ b
   void solve_in_place(Vector& x) const;  // x ← A⁻¹ x
   // W (m × m) ← H A⁻¹ Hᵀ; H is m × n, in dense storage. With the last G when neither the factor nor the

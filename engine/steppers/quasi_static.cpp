@@ -19,6 +19,9 @@ constexpr double kFirstHeld = 1e-4;    // the held rows' first ρ / max diag(K_z
 constexpr int kHeldRounds = 4;         // solves again after dropping let-go rows, at most
 constexpr int kCompliancePasses = 20;  // penalty friction: solves again at the new normal forces, at most
 constexpr double kComplianceTolerance = 1e-8;  // … until they change by less (over the largest)
+constexpr double kSingularPivot = 1e-10;  // a pivot D_j ≤ this × K_jj: a direction K does not hold (see the header)
+constexpr double kSoftProximal = 1e-6;    // ε / K_jj on such a direction's unknown
+constexpr int kSoftRounds = 8;            // refactorizations that may find further such directions
 
 // values ← S's entries at their places in pattern's values array (zero elsewhere); false when an entry
 // of S falls outside pattern (compressed, rows sorted in each column, as setFromTriplets leaves them).
@@ -88,6 +91,10 @@ QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parame
 
 void QuasiStatic::summarize_statistics(const State& state, SummaryEntries& out) const {
   add_newton_group(state.counters, parameters_.newton_tolerance, out);
+  out.begin_group("complementarity")  // of the accepted iterates, in metres (see the header)
+      .add("max_violation", max_complementarity_)
+      .add("tolerance", parameters_.failure_residual * length_)
+      .end_group();
 }
 
 void QuasiStatic::initialize(State& state) {
@@ -123,10 +130,19 @@ bool QuasiStatic::factor_stiffness() {
   f_aug_ = f_z_;
   factor_kind_ = KeptFactor::Kind::stiffness;
   factor_regularized_ = false;
-  if (!needs_tangent()) return false;
+  if (!needs_tangent()) {  // a linear World's factor, made once
+    if (!soft_unknowns_.empty()) ++counters_->newton_regularized;
+    return false;
+  }
   factored_ = true;
+  soft_unknowns_.clear();
   const bool hub = !reduced_.hub_unknowns().empty();
-  if (!hub && factor_.factor_positive_definite(K_z_)) return false;
+  if (!hub) {
+    const bool positive = factor_.factor_positive_definite(K_z_);
+    // An indefinite tangent of a nonlinear body (a material instability, a compressed ring's sway) is
+    // held below; a linear World's K is positive semidefinite, so that a pivot ≤ 0 is a mechanism.
+    if ((positive || linear_) && hold_soft_directions()) return false;
+  }
   if (linear_)
     throw RunError(t_, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held by "
                        "springs, ties, prescribed components or fixed degrees of freedom)");
@@ -192,6 +208,50 @@ bool QuasiStatic::factor_stiffness() {
   ++counters_->newton_regularized;
   factor_regularized_ = true;
   return false;
+}
+
+// After factor_ of K_z_: the directions K_z holds by at most kSingularPivot of their own stiffness (their
+// pivot, SparseLdlt::small_pivots: a rigid-body mode held by a spring that round-off cannot tell from
+// none, or by none) get proximal terms ε = kSoftProximal · K_jj on their pivot's unknown, factored again
+// until no pivot is small (see the header). Returns false when K_z stays singular (a direction that ε
+// cannot reach in kSoftRounds rounds).
+bool QuasiStatic::hold_soft_directions() {
+  const Vector diagonal = K_z_.diagonal();
+  std::vector<int> soft = factor_.small_pivots(diagonal, kSingularPivot);
+  if (soft.empty()) return true;
+  const double largest = diagonal.cwiseAbs().maxCoeff();
+  SparseMatrix held = K_z_;
+  for (int round = 0; round < kSoftRounds && !soft.empty(); ++round) {
+    for (int j : soft) {
+      held.coeffRef(j, j) += kSoftProximal * (diagonal(j) > 0.0 ? diagonal(j) : largest);
+      soft_unknowns_.push_back(j);
+    }
+    factor_.factor_positive_definite(held);
+    soft = factor_.small_pivots(held.diagonal(), kSingularPivot);
+  }
+  if (!soft.empty()) {
+    soft_unknowns_.clear();
+    return false;
+  }
+  factor_regularized_ = true;
+  ++counters_->newton_regularized;
+  return true;
+}
+
+// "body 'NAME' (its pivot at node N y)" (or a rigid body's component) for an unknown of z, for messages: a
+// small pivot's unknown is the last of its mode in the factor's order, not the component the mode moves.
+std::string QuasiStatic::describe_unknown(int unknown) const {
+  static const char* const axes[] = {"x", "y", "z"};
+  for (const BodyInstance& b : world_.bodies)
+    for (int c = 0; c < b.body->velocity_size(); ++c) {
+      if (reduced_.unknown(b.velocity_offset + c) != unknown) continue;
+      std::ostringstream name;
+      name << "body '" << b.name << "' ";
+      if (b.body->elastic()) name << "(its pivot at node " << c / d_ << " " << axes[c % d_] << ")";
+      else name << "(its pivot at component " << c << ")";
+      return name.str();
+    }
+  return "unknown " + std::to_string(unknown);
 }
 
 void QuasiStatic::update_contact_force() {
@@ -306,7 +366,10 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   t_ = t_next;
   if (needs_tangent()) reduced_.tangent(q_, T_);
   clock_.lap(timers_.free_velocity);
-  detect_contacts(state, t_next);
+  // A linear World's contact geometry is the step start's (see the header): the later iterates that soft
+  // directions need shift its offsets.
+  if (linear_ && iteration_ > 0) shift_contact_offsets(state);
+  else detect_contacts(state, t_next);
   clock_.lap(timers_.detection);
   warm_start(previous_, active_, d_, problem_.size(), r_, &warm_status_);
   soften_friction(state);
@@ -396,6 +459,43 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   const double increment = dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
   kept_.observe(increment, keep, relaxation == 1.0);
   return increment;
+}
+
+// A linear World's later iterate: the step start's contacts and rows, their offsets at q_j (the gap
+// g_k + H_n (q_j ⊖ q_k), the slip H_t (q_j ⊖ q_k)), as detect_contacts would give them for a plane.
+void QuasiStatic::shift_contact_offsets(const State& state) {
+  const int m = problem_.size();
+  if (m == 0) return;
+  world_.position_difference(q_, state.q, step_increment_);
+  for (int i = 0; i < problem_.contacts; ++i) {
+    offset_(d_ * i) = active_[i].point.gap + rows_[d_ * i].dot(step_increment_);
+    for (int k = 1; k < d_; ++k) offset_(d_ * i + k) = rows_[d_ * i + k].dot(step_increment_);
+  }
+}
+
+// complementarity_ ← the last iterate's violation of Signorini's law measured on the configuration it
+// reaches, u = c + H_z Δz computed from Δz (not through W, whose round-off it would share), in metres: a
+// penetration −u_n > 0, and an open gap u_n > 0 under a normal force r_n > 0, as min(u_n, r_n / max r_n · L)
+// (a force at round-off of the largest does not count). Zero for an exact solution whatever W's scaling.
+void QuasiStatic::measure_complementarity() {
+  complementarity_ = 0.0;
+  complementarity_contact_ = -1;
+  const int m = problem_.size();
+  if (m == 0) return;
+  const Vector u = offset_ + H_ * dz_;
+  double largest = 0.0;
+  for (int i = 0; i < problem_.contacts; ++i) largest = std::max(largest, r_(d_ * i));
+  for (int i = 0; i < problem_.contacts; ++i) {
+    const double gap = u(d_ * i), force = r_(d_ * i);
+    double violation = std::max(0.0, -gap);
+    if (gap > 0.0 && force > 0.0 && largest > 0.0) violation = std::min(gap, force / largest * length_);
+    if (violation > complementarity_) {
+      complementarity_ = violation;
+      complementarity_contact_ = i;
+      complementarity_gap_ = gap;
+      complementarity_force_ = force;
+    }
+  }
 }
 
 HeldRows QuasiStatic::held_rows() const {
@@ -491,7 +591,7 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next, bool
   hub_proximal_ = kHubProximal;
   held_weight_ = kFirstHeld;
   std::string failure;
-  for (;;) {
+  for (iteration_ = 0;; ++iteration_) {
     try {
       increment = iterate(state, t_next);
     } catch (const FemError& e) {  // an element inverted at this iterate: a shorter increment may not
@@ -502,8 +602,10 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next, bool
     ++iterations;
     if (!failure.empty()) break;
     const double tolerance = parameters_.newton_tolerance * length_;
-    if (linear_ || increment <= tolerance || kept_.distance_bound() <= tolerance) {
+    if ((linear_ && soft_unknowns_.empty()) || increment <= tolerance || kept_.distance_bound() <= tolerance) {
       failure = contact_failure_;
+      if (failure.empty()) failure = complementarity_failure(t_next);
+      if (failure.empty()) failure = unheld_directions(t_next);
       break;
     }
     if (iterations >= parameters_.newton_max_iterations) {
@@ -512,6 +614,11 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next, bool
               << " after " << iterations << " iterations (tolerance " << parameters_.newton_tolerance * length_
               << "; integrator.newton_max_iterations, or a smaller time.step)";
       if (!contact_failure_.empty()) message << "; its last " << contact_failure_;
+      if (!soft_unknowns_.empty())
+        message << "; the stiffness holds a mode of " << soft_directions() << " by less than " << kSingularPivot
+                << " of its own stiffness (a rigid-body mode held by no spring, or by one round-off cannot tell from "
+                   "none), which the iterates hold by a proximal term: when the contacts do not hold it either, fix "
+                   "or prescribe components of that body, or give it a spring of stiffness comparable to its own";
       failure = message.str();
       break;
     }
@@ -519,6 +626,67 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next, bool
   c.newton_iterations += iterations;
   c.max_newton_iterations = std::max(c.max_newton_iterations, iterations);
   return failure;
+}
+
+// "" when the accepted iterate's contacts meet Signorini's law to failure_residual · L on the
+// configuration it reaches (measure_complementarity), else the message that stops the step.
+std::string QuasiStatic::complementarity_failure(double t_next) {
+  measure_complementarity();
+  max_complementarity_ = std::max(max_complementarity_, complementarity_);
+  if (complementarity_ <= parameters_.failure_residual * length_) return "";
+  const ActiveContact& contact = active_[complementarity_contact_];
+  std::ostringstream message;
+  message << "quasi-static: the contact solution at t = " << t_next << " s violates complementarity by "
+          << complementarity_ << " m (tolerance contact_solver.failure_residual x L = "
+          << parameters_.failure_residual * length_ << " m): a contact point of '"
+          << world_.contact_laws[contact.law].name << "' ends with the gap " << complementarity_gap_
+          << " m under the normal force " << complementarity_force_ << " N";
+  if (!soft_unknowns_.empty()) message << " (the stiffness holds a mode of " << soft_directions() << " only by a proximal term)";
+  return message.str();
+}
+
+// "" when the soft directions (soft_unknowns_) are held at the accepted iterate by K_z with its closed
+// contacts' rows (the normal rows of contacts with a normal force, the tangential ones of those that
+// stick): K_z + ρ H_Aᵀ H_A, ρ = max diag(K_z), has no small pivot. Otherwise a mode that nothing holds,
+// whose position the proximal terms chose: the message that refuses it, naming where.
+std::string QuasiStatic::unheld_directions(double t_next) {
+  if (soft_unknowns_.empty()) return "";
+  const double rho = K_z_.diagonal().cwiseAbs().maxCoeff();
+  Triplets held;
+  std::vector<int> nonzero;
+  for (int i = 0; i < problem_.contacts; ++i) {
+    if (!(r_(d_ * i) > 0.0)) continue;
+    const int rows = active_[i].status == ContactStatus::stick ? d_ : 1;
+    for (int a = d_ * i; a < d_ * i + rows; ++a) {
+      nonzero.clear();
+      for (int k = 0; k < H_.cols(); ++k)
+        if (H_(a, k) != 0.0) nonzero.push_back(k);
+      for (int k : nonzero)
+        for (int l : nonzero) held.emplace_back(k, l, rho * H_(a, k) * H_(a, l));
+    }
+  }
+  SparseMatrix with_contacts(K_z_.rows(), K_z_.cols());
+  with_contacts.setFromTriplets(held.begin(), held.end());
+  with_contacts += K_z_;
+  hold_check_.factor_positive_definite(with_contacts);
+  std::vector<int> unheld = hold_check_.small_pivots(with_contacts.diagonal(), kSingularPivot);
+  if (unheld.empty()) return "";
+  soft_unknowns_ = unheld;
+  std::ostringstream message;
+  message << "quasi-static: at t = " << t_next << " s, a mode of " << soft_directions()
+          << " that neither the stiffness (its pivot is below " << kSingularPivot
+          << " of its diagonal: a rigid-body mode held by no spring, or by one too weak to count) nor the closed "
+             "contacts hold; fix or prescribe components of that body, give it a spring, or use moreau-jean";
+  return message.str();
+}
+
+// The soft directions' unknowns, named (at most three), for messages.
+std::string QuasiStatic::soft_directions() const {
+  std::ostringstream names;
+  for (std::size_t k = 0; k < soft_unknowns_.size() && k < 3; ++k)
+    names << (k > 0 ? ", " : "") << describe_unknown(soft_unknowns_[k]);
+  if (soft_unknowns_.size() > 3) names << " and " << soft_unknowns_.size() - 3 << " more";
+  return names.str();
 }
 
 // state ← the converged increment to t_next. Impulses are the forces × the whole step h, whatever the

@@ -88,6 +88,35 @@
 // settle (a few passes; a contact without a normal force gets no friction). Held sticking rows hold
 // ũ_t, not u_t (their offset takes γ/(μ r_n) r_t at the warm start), so a fixed point stays unbiased.
 //
+// Soft directions. A rigid-body mode held only by a spring of negligible stiffness (or by none, with a
+// pivot left at round-off of either sign) factors, but W = H_z K_z⁻¹ H_zᵀ is then (1/k) a aᵀ plus the
+// body's compliance: when k is below round-off of the body's stiffness the compliance is lost in W's
+// entries and b's (a Hertz contact on a quarter disk held by k = 1e-3 N/m with E = 2e11 Pa put the whole
+// load on one node: +1175 % on the peak pressure, with a contact residual of 1e-13, measured relative
+// to |b| ≈ P/k). The decision is made on the factor's pivots, whatever their sign: an unknown j whose
+// pivot D_j ≤ 1e-10 K_jj (K holds that direction by less than 1e-10 of its own stiffness) gets a proximal
+// term ε = 1e-6 K_jj, factored again until no pivot is small (a few rounds: the term at one node may
+// not reach a mode that does not move it). The proximal term is a spring from the last iterate: it
+// vanishes at the fixed point Δz = 0, so the converged state is the one without it, and W is conditioned
+// by 1e6 instead of 1/k (3 or 4 iterates a step on the quarter disk; 7 with 1e-4). Such a factor is
+// iterated to Newton's tolerance in a linear World too, with the step start's contact geometry (the
+// offsets shifted by H_z Δz); when the contacts do not hold the mode (a loaded body whose contact opens),
+// the iterates do not converge and the run stops, naming the node and component of the small pivot
+// (exit 2). When they do converge, the accepted iterate must show that something holds the mode: K_z with its closed contacts'
+// rows (ρ H_Aᵀ H_A, ρ = max diag K_z: normal rows, and tangential ones where the contact sticks) must have
+// no small pivot; otherwise the mode is unloaded and free (a free rotation the load does not turn), its
+// position the proximal terms' choice, and the run stops the same way. So the decision no longer depends
+// on the sign or size of a pivot left by round-off, which differed from one mesh to another. Counted as
+// regularized iterations.
+//
+// Complementarity. The accepted iterate's contacts must meet Signorini's law on the configuration it
+// reaches, u = c + H_z Δz formed from Δz rather than through W: its penetration −u_n, and the gap u_n
+// of a contact that carries a normal force (as min(u_n, r_n / max r_n · L)), at most failure_residual · L
+// (m); otherwise the step fails with a message naming the contact law, the gap and the force. The contact
+// solver's own residual is relative to |b|, which a soft direction makes as large as the motion it
+// allows; this one is in metres. summary.json gives its largest value over the accepted iterates
+// (complementarity.max_violation, m) beside its tolerance.
+//
 // Outputs: state velocities hold Δq / h, impulses r·h (so that contact-force probes read r), the
 // contacts' points and gaps at the end of the step (the converged configuration: detected at the last
 // iterate, then carried by its increment, ContactDetector::move_contact, so that a closed contact's gap
@@ -134,6 +163,13 @@ class QuasiStatic final : public Stepper {
   double iterate(const State& state, double t_next);
   void assemble_stiffness(const Vector& q, std::size_t world_from);
   bool factor_stiffness();
+  bool hold_soft_directions();  // proximal terms on the directions K_z does not hold (see the header)
+  std::string describe_unknown(int unknown) const;
+  std::string soft_directions() const;
+  void shift_contact_offsets(const State& state);  // a linear World's later iterates
+  void measure_complementarity();
+  std::string complementarity_failure(double t_next);  // of the accepted iterate (see the header)
+  std::string unheld_directions(double t_next);  // soft directions the closed contacts do not hold either
   bool release_let_go_rows();
   void update_contact_force();  // contact_force_ ← Hᵀ r_
   void detect_contacts(const State& state, double t_next);
@@ -196,6 +232,16 @@ class QuasiStatic final : public Stepper {
   double held_rho_ = 0.0;      // the ρ of factor_stiffness' last held factor (N/m)
   KeptFactor::Kind factor_kind_ = KeptFactor::Kind::stiffness;  // … and what it factored
   bool factor_regularized_ = false;                             // … with grown proximal terms
+  // The unknowns of z whose pivot was small (hold_soft_directions), which the factor holds by proximal
+  // terms; empty when it holds none.
+  std::vector<int> soft_unknowns_;
+  SparseLdlt hold_check_;  // K_z with the closed contacts' rows (unheld_directions)
+  int iteration_ = 0;  // of the current attempt (solve_increment)
+  // The last iterate's violation of Signorini's law (measure_complementarity): m, the contact (index in
+  // active_, −1 for none), its gap (m) and normal force (N).
+  double complementarity_ = 0.0, complementarity_gap_ = 0.0, complementarity_force_ = 0.0;
+  int complementarity_contact_ = -1;
+  double max_complementarity_ = 0.0;  // m, the largest complementarity_ of an accepted iterate (the summary's)
   HeldRows held_rows() const;  // hold_ with its contacts' keys
   Vector held_load() const;    // H_Aᵀ c̃_A over the held rows (ρ times it leaves the load with them)
   std::vector<SparseRow> rows_;

@@ -321,3 +321,36 @@ TEST(SparseLdlt, ReportsNegativeDefiniteAndSingularMatricesAndRecovers) {
 
 }  // namespace
 }  // namespace csim
+
+namespace csim {
+namespace {
+
+// small_pivots (sparse_ldlt.h): the chain held at its wall by a spring of k0 instead of 1. A spring at
+// round-off of the others (1e-14, of either sign, or 0) is found whatever the scale of the matrix, and
+// only that direction; a soft but real one (1e-6) is not.
+TEST(SparseLdlt, SmallPivotsFindADirectionHeldAtRoundOffWhateverTheScale) {
+  const int n = 30;
+  for (double k0 : {1e-14, -1e-14, 0.0, 1e-6}) {
+    for (double scale : {1e-8, 1.0, 2e11}) {
+      SparseMatrix A = chain(n);
+      A.coeffRef(0, 0) += k0 - 1.0;  // spring 0 (node 0 to the wall) of k0
+      A *= scale;
+      SparseLdlt factor;
+      factor.factor_positive_definite(A);
+      const Vector diagonal = A.diagonal();
+      const std::vector<int> small = factor.small_pivots(diagonal, 1e-10);
+      if (k0 == 1e-6) {
+        EXPECT_TRUE(small.empty()) << "k0 " << k0 << ", scale " << scale;
+        continue;
+      }
+      ASSERT_EQ(small.size(), 1u) << "k0 " << k0 << ", scale " << scale;
+      // The direction (the whole chain's translation) held again at that unknown: no small pivot left.
+      A.coeffRef(small[0], small[0]) += 1e-6 * diagonal(small[0]);
+      factor.factor_positive_definite(A);
+      EXPECT_TRUE(factor.small_pivots(A.diagonal(), 1e-10).empty()) << "k0 " << k0 << ", scale " << scale;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace csim
