@@ -160,18 +160,40 @@ void CheckEvaluator::add_sample(double t, const std::vector<double>& values, boo
   last_time_ = t;
 }
 
+// A check's result before it is judged: what its definition names (check, probe, kind, source, tolerances).
+static CheckResult check_heading(const RunSettings& run, const CheckDefinition& check) {
+  CheckResult r;
+  r.name = check.name;
+  r.probe = run.probes[check.probe].name;
+  r.kind = check.kind;
+  r.source = check.source;
+  r.absolute_tolerance = check.absolute_tolerance;
+  r.relative_tolerance = check.relative_tolerance;
+  return r;
+}
+
+std::vector<CheckResult> unjudged_checks(const RunSettings& run, double t) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::ostringstream why;
+  why << "not evaluated: the run stopped by a numerical failure at t = " << t << " s";
+  std::vector<CheckResult> results;
+  for (const CheckDefinition& check : run.checks) {
+    CheckResult r = check_heading(run, check);
+    r.reference = r.value = r.error = r.time = nan;
+    r.evaluated = false;
+    r.skipped = !check.enabled;
+    r.note = check.enabled ? why.str() : "excluded: " + check.exclusion;
+    results.push_back(r);
+  }
+  return results;
+}
+
 std::vector<CheckResult> CheckEvaluator::finish(double end_time) {
   for (ExtremumTracker& tracker : trackers_) tracker.finish();
   std::vector<CheckResult> results;
   for (std::size_t c = 0; c < run_.checks.size(); ++c) {
     const CheckDefinition& check = run_.checks[c];
-    CheckResult r;
-    r.name = check.name;
-    r.probe = run_.probes[check.probe].name;
-    r.kind = check.kind;
-    r.source = check.source;
-    r.absolute_tolerance = check.absolute_tolerance;
-    r.relative_tolerance = check.relative_tolerance;
+    CheckResult r = check_heading(run_, check);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const auto not_evaluated = [&](const std::string& why) {
       r.evaluated = false;

@@ -81,6 +81,12 @@ struct CheckCounts {
 };
 CheckCounts count_checks(const std::vector<CheckResult>& checks);
 
+// The checks of a run stopped by a numerical failure at time t (s): not judged, whatever the samples
+// before the failure say (a check of a later time, an extremum or a final value reads what the run did not
+// reach), those excluded by their only_if left excluded. Formed from the definitions alone: nothing is
+// evaluated on a run cut short.
+std::vector<CheckResult> unjudged_checks(const RunSettings& run, double t);
+
 class CheckEvaluator {
  public:
   CheckEvaluator(const RunSettings& run, const ExpressionScope& scope);

@@ -66,32 +66,6 @@ std::size_t output_rows(const RunSettings& run) {
   return static_cast<std::size_t>(std::min<double>(run.steps, intervals + 1.0)) + 1;
 }
 
-// The checks of a run stopped by a numerical failure at time t (s): not judged, whatever the samples
-// before the failure say (a check of a later time, an extremum or a final value reads what the run did not
-// reach), those excluded by their only_if left excluded. Formed from the definitions alone: nothing is
-// evaluated on a run cut short.
-std::vector<CheckResult> unjudged_checks(const RunSettings& run, double t) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::ostringstream why;
-  why << "not evaluated: the run stopped by a numerical failure at t = " << t << " s";
-  std::vector<CheckResult> results;
-  for (const CheckDefinition& check : run.checks) {
-    CheckResult r;
-    r.name = check.name;
-    r.probe = run.probes[check.probe].name;
-    r.kind = check.kind;
-    r.source = check.source;
-    r.absolute_tolerance = check.absolute_tolerance;
-    r.relative_tolerance = check.relative_tolerance;
-    r.reference = r.value = r.error = r.time = nan;
-    r.evaluated = false;
-    r.skipped = !check.enabled;
-    r.note = check.enabled ? why.str() : "excluded: " + check.exclusion;
-    results.push_back(r);
-  }
-  return results;
-}
-
 }  // namespace
 
 void check_outputs(const Scene& scene) {
