@@ -48,6 +48,7 @@
 #include <memory>
 #include <new>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -341,6 +342,13 @@ int run_sweep_command(const Arguments& arguments, const std::string& file, csim:
   return not_passed == 0 ? kPassed : kSomeRunFailed;
 }
 
+// The line that reports a numerical failure of the scene in `file`.
+std::string numerical_failure(const std::string& file, const csim::RunError& e) {
+  std::ostringstream line;
+  line << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what();
+  return line.str();
+}
+
 // The command, once its arguments are read and its runner is chosen; returns its exit status, and sets
 // `stopped` when a stop request ended it (stop_request.h).
 int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& stopped) {
@@ -371,7 +379,7 @@ int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& sto
     try {
       finished = run_into_folder(*scene, options);
     } catch (const csim::RunError& e) {
-      std::cerr << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what()
+      std::cerr << numerical_failure(file, e)
                 << "\ncsim: the outputs up to the failure are in " << options.output_directory
                 << " (summary.json: \"status\": \"failed\")\n";
       return kBadInput;
@@ -394,7 +402,7 @@ int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& sto
   } catch (const csim::OutputFolderError& e) {
     if (speaks) std::cerr << "csim: " << e.what() << "\n";
   } catch (const csim::RunError& e) {
-    if (speaks) std::cerr << "csim: " << file << ": numerical failure at t = " << e.time << " s: " << e.what() << "\n";
+    if (speaks) std::cerr << numerical_failure(file, e) << "\n";
   } catch (const std::bad_alloc&) {  // an environment failure (docs/contract.md): exit 2, the message says which
     if (speaks) std::cerr << "csim: " << file << ": out of memory (the system refused an allocation)\n";
   } catch (const std::system_error& e) {  // a file that cannot be written (atomic_file.h), named in --out
