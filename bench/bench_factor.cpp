@@ -1,4 +1,4 @@
-// The sparse factor of a finite-element iteration matrix (engine/sparse_ldlt.h) against the mesh size
+// The sparse factor of a finite-element iteration matrix (engine/linear_algebra/sparse_ldlt.h) against the mesh size
 // (run by hand: OMP_NUM_THREADS=1 build/bench/bench_factor [max divisions] [repeats]).
 // SDNV104's QUAD4 shoe, A = M + h²θ² K: entries of L (with D), their memory, the time of one solve
 // (median of `repeats`, [min–max]) and per entry of L, the times of its forward half alone
@@ -8,7 +8,7 @@
 // and time, and the time of all their Delassus entries from the cache (delassus_cache.h), which is
 // what the first contact costs, against one full solve per row before.
 #include "bench/shoe_iteration_matrix.h"
-#include "engine/delassus_cache.h"
+#include "engine/contact_stage/delassus_cache.h"
 
 #include <algorithm>
 #include <chrono>

@@ -2,7 +2,7 @@
 // hand: build/bench/bench_orderings [max divisions]; docs/solver-measurements.md, fourteenth round).
 // SDNV104's QUAD4 shoe, A = M + h²θ²K on a (d + 1) × (d + 1) grid of two-unknown nodes: entries of L (D
 // included) and flops of its factorization under CHOLMOD's AMD, METIS and NESDIS orderings (each
-// postordered, as engine/sparse_ldlt.cpp orders), and under a geometric nested dissection of the grid,
+// postordered, as engine/linear_algebra/sparse_ldlt.cpp orders), and under a geometric nested dissection of the grid,
 // the textbook ordering for it (George 1973): a middle grid line as separator, each half dissected in
 // turn, the separators last. For each ordering, the growth of L's entries from the previous size and its
 // slope against the unknowns' growth: what the two sweeps of a step read.

@@ -1,18 +1,18 @@
-// The two triangular sweeps of the FE shoe's factor as a step takes them (engine/supernodal_sweeps.h;
+// The two triangular sweeps of the FE shoe's factor as a step takes them (engine/linear_algebra/supernodal_sweeps.h;
 // run by hand: build/bench/bench_sweeps [repeats]): a forward sweep, then a backward one on its result,
 // `repeats` pairs, at 13 122 and 51 842 DOFs (SDNV104's QUAD4 shoe, A = M + h²θ²K, h = 1e-3 s,
 // θ = 0.51). Each sweep's median and [min–max] in ms. bench_factor times each sweep alone, repeated,
 // where the backward sweep finds what it read last in the cache; here it finds what the forward sweep
 // read, as in a step.
 //
-// A second table puts the step's pass over K and M (engine/linear_products.h) before each pair, as a
+// A second table puts the step's pass over K and M (engine/linear_algebra/linear_products.h) before each pair, as a
 // step does between its backward sweep and the next step's forward sweep, and gives the 51 842 / 13 122
 // ratio of each column: whether that pass costs the forward sweep the part of L the backward sweep left
 // in the cache, and what the sweeps' own ratio is against target 3's 4.85 (docs/solver-measurements.md,
 // fifteenth round). The two tables' runs alternate the sizes within each repeat.
 #include "bench/shoe_iteration_matrix.h"
-#include "engine/linear_products.h"
-#include "engine/sparse_ldlt.h"
+#include "engine/linear_algebra/linear_products.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
 
 #include <algorithm>
 #include <chrono>

@@ -19,7 +19,7 @@
 // Evaluated with no allocation once the work buffers are sized.
 #pragma once
 
-#include "engine/linear_products.h"
+#include "engine/linear_algebra/linear_products.h"
 #include "engine/springs.h"
 #include "engine/world.h"
 

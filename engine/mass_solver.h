@@ -6,7 +6,7 @@
 #pragma once
 
 #include "engine/dynamics.h"
-#include "engine/sparse_ldlt.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
 
 #include <Eigen/Dense>
 

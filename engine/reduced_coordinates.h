@@ -44,8 +44,8 @@
 #pragma once
 
 #include "engine/dynamics.h"
-#include "engine/sparse_assembly.h"
-#include "engine/sparse_row.h"
+#include "engine/linear_algebra/sparse_assembly.h"
+#include "engine/linear_algebra/sparse_row.h"
 #include "engine/world.h"
 
 #include <Eigen/SparseCore>

@@ -1,6 +1,6 @@
 #include "engine/springs.h"
 
-#include "engine/same_bits.h"
+#include "engine/linear_algebra/same_bits.h"
 
 #include <algorithm>
 #include <array>

@@ -1,7 +1,7 @@
 #include "engine/structural_operators.h"
 
-#include "engine/dense_inverse.h"
-#include "engine/small_dense_products.h"
+#include "engine/linear_algebra/dense_inverse.h"
+#include "engine/linear_algebra/small_dense_products.h"
 #include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 

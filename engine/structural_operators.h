@@ -16,7 +16,7 @@
 #pragma once
 
 #include "engine/dynamics.h"
-#include "engine/sparse_ldlt.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
 
 namespace csim {
 

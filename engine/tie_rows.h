@@ -12,7 +12,7 @@
 // the scene loader has checked that the hub cannot move it (reduced_coordinates.h).
 #pragma once
 
-#include "engine/sparse_row.h"
+#include "engine/linear_algebra/sparse_row.h"
 #include "engine/world.h"
 
 #include <vector>

@@ -12,7 +12,7 @@ import re
 import sys
 
 # Most specific first: a path belongs to the first folder it lies in.
-FOLDERS = ["engine/bodies", "engine/steppers", "engine", "contact", "fem",
+FOLDERS = ["engine/bodies", "engine/steppers", "engine/contact_stage", "engine/linear_algebra", "engine", "contact", "fem",
            "tools/scene", "tools/run", "tools/studies", "tools/output", "tools/reference", "tools"]
 CORE = ("engine", "contact", "fem")
 SOURCE_SUFFIXES = {".h", ".hpp", ".cpp", ".cc"}

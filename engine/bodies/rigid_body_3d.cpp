@@ -1,6 +1,6 @@
 #include "engine/bodies/rigid_body_3d.h"
 
-#include "engine/same_bits.h"
+#include "engine/linear_algebra/same_bits.h"
 
 #include <cstring>
 

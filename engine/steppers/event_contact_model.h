@@ -19,7 +19,7 @@
 // frame is neglected: exact for translating bodies, which is what this reference mode is for.
 #pragma once
 
-#include "engine/contact_detector.h"
+#include "engine/contact_stage/contact_detector.h"
 #include "engine/steppers/smooth_contact_model.h"
 #include "engine/world.h"
 

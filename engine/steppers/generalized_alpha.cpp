@@ -1,6 +1,6 @@
 #include "engine/steppers/generalized_alpha.h"
 
-#include "engine/steppers/contact_solve.h"
+#include "engine/contact_stage/contact_solve.h"
 
 #include <algorithm>
 #include <cmath>

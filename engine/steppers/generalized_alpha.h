@@ -54,7 +54,7 @@
 #pragma once
 
 #include "contact/pgs_solver.h"
-#include "engine/contact_detector.h"
+#include "engine/contact_stage/contact_detector.h"
 #include "engine/dynamics.h"
 #include "engine/mass_solver.h"
 #include "engine/structural_operators.h"

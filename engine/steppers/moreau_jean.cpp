@@ -1,8 +1,8 @@
 #include "engine/steppers/moreau_jean.h"
 
-#include "engine/same_bits.h"
-#include "engine/small_dense_products.h"
-#include "engine/steppers/contact_solve.h"
+#include "engine/linear_algebra/same_bits.h"
+#include "engine/linear_algebra/small_dense_products.h"
+#include "engine/contact_stage/contact_solve.h"
 #include "fem/mesh.h"
 
 #include <algorithm>

@@ -94,9 +94,9 @@
 #pragma once
 
 #include "contact/pgs_solver.h"
-#include "engine/contact_detector.h"
-#include "engine/delassus_cache.h"
-#include "engine/forward_rows.h"
+#include "engine/contact_stage/contact_detector.h"
+#include "engine/contact_stage/delassus_cache.h"
+#include "engine/linear_algebra/forward_rows.h"
 #include "engine/dynamics.h"
 #include "engine/structural_operators.h"
 #include "engine/tie_rows.h"

@@ -1,7 +1,7 @@
 #include "engine/steppers/quasi_static.h"
 
-#include "engine/sparse_assembly.h"
-#include "engine/steppers/contact_solve.h"
+#include "engine/linear_algebra/sparse_assembly.h"
+#include "engine/contact_stage/contact_solve.h"
 #include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 

@@ -125,9 +125,9 @@
 #pragma once
 
 #include "contact/pgs_solver.h"
-#include "engine/contact_detector.h"
+#include "engine/contact_stage/contact_detector.h"
 #include "engine/dynamics.h"
-#include "engine/sparse_ldlt.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
 #include "engine/reduced_coordinates.h"
 #include "engine/steppers/kept_factor.h"
 #include "engine/steppers/phase_clock.h"

@@ -16,7 +16,7 @@
 #pragma once
 
 #include "contact/regularized_law.h"
-#include "engine/contact_detector.h"
+#include "engine/contact_stage/contact_detector.h"
 #include "engine/dynamics.h"
 #include "engine/steppers/smooth_contact_model.h"
 #include "engine/world.h"

@@ -2,7 +2,7 @@
 // small mass on the diagonal, so that it is positive definite.
 #pragma once
 
-#include "engine/sparse_ldlt.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
 
 namespace csim {
 

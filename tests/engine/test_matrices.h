@@ -2,7 +2,7 @@
 #pragma once
 
 #include "engine/bodies/body.h"
-#include "engine/supernodal_ldlt.h"
+#include "engine/linear_algebra/supernodal_ldlt.h"
 
 #include <cmath>
 #include <random>

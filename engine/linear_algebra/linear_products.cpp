@@ -1,4 +1,4 @@
-#include "engine/linear_products.h"
+#include "engine/linear_algebra/linear_products.h"
 
 #include <stdexcept>
 

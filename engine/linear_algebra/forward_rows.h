@@ -13,7 +13,7 @@
 // the results are the same to the bit.
 #pragma once
 
-#include "engine/delassus_cache.h"
+#include "engine/contact_stage/delassus_cache.h"
 
 #include <vector>
 

@@ -1,4 +1,4 @@
-#include "engine/supernodal_ldlt.h"
+#include "engine/linear_algebra/supernodal_ldlt.h"
 
 #include <Eigen/Dense>
 

@@ -1,4 +1,4 @@
-#include "engine/steppers/contact_solve.h"
+#include "engine/contact_stage/contact_solve.h"
 
 #include "engine/steppers/stepper.h"
 

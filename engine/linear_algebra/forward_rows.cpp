@@ -1,4 +1,4 @@
-#include "engine/forward_rows.h"
+#include "engine/linear_algebra/forward_rows.h"
 
 #include <algorithm>
 

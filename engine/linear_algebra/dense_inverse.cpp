@@ -1,4 +1,4 @@
-#include "engine/dense_inverse.h"
+#include "engine/linear_algebra/dense_inverse.h"
 
 #include <cmath>
 

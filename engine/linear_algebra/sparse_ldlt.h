@@ -39,8 +39,8 @@
 #pragma once
 
 #include "engine/bodies/body.h"
-#include "engine/supernodal_ldlt.h"
-#include "engine/supernodal_sweeps.h"
+#include "engine/linear_algebra/supernodal_ldlt.h"
+#include "engine/linear_algebra/supernodal_sweeps.h"
 
 #include <memory>
 #include <vector>

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "contact/collision_world.h"
-#include "engine/sparse_row.h"
+#include "engine/linear_algebra/sparse_row.h"
 #include "engine/state.h"
 #include "engine/world.h"
 

@@ -1,8 +1,8 @@
-// The sparse LDLᵀ of the steppers (engine/sparse_ldlt.h, on CHOLMOD): its Delassus operator from the
+// The sparse LDLᵀ of the steppers (engine/linear_algebra/sparse_ldlt.h, on CHOLMOD): its Delassus operator from the
 // forward substitution alone against H A⁻¹ Hᵀ from dense algebra, its sparse forward columns, its
 // positive-definiteness verdict, the reuse of its symbolic analysis while the pattern stays, and the
 // Delassus operator it keeps while neither the factor nor the rows change.
-#include "engine/sparse_ldlt.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
 #include "tests/engine/test_matrices.h"
 
 #include <gtest/gtest.h>

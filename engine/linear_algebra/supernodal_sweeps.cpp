@@ -1,4 +1,4 @@
-#include "engine/supernodal_sweeps.h"
+#include "engine/linear_algebra/supernodal_sweeps.h"
 
 #include <Eigen/Core>
 

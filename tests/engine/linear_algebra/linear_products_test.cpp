@@ -1,6 +1,6 @@
 // K and M applied to several vectors in one pass (linear_products.h), and a linear World's step-end
 // products through Dynamics::linear_products.
-#include "engine/linear_products.h"
+#include "engine/linear_algebra/linear_products.h"
 
 #include "engine/dynamics.h"
 #include "tools/run/run.h"

@@ -1,4 +1,4 @@
-#include "engine/delassus_cache.h"
+#include "engine/contact_stage/delassus_cache.h"
 
 #include <algorithm>
 

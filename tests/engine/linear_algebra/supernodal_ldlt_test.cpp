@@ -1,10 +1,10 @@
-// The supernodal numeric LDLᵀ (engine/supernodal_ldlt.h): L D Lᵀ against the matrix it factors, on
+// The supernodal numeric LDLᵀ (engine/linear_algebra/supernodal_ldlt.h): L D Lᵀ against the matrix it factors, on
 // patterns with supernodes of every width (a grid of two-unknown nodes, a random sparse matrix whose
 // elimination tree branches inside supernodes, an arrow matrix with dense last rows like a hub's);
 // its verdict on matrices that are not positive definite; and, inside SparseLdlt, refactorizations of
 // one pattern through CHOLMOD's storage that solve as a dense factorization does.
-#include "engine/sparse_ldlt.h"
-#include "engine/supernodal_ldlt.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
+#include "engine/linear_algebra/supernodal_ldlt.h"
 #include "tests/engine/test_matrices.h"
 
 #include <gtest/gtest.h>

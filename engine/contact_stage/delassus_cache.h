@@ -10,7 +10,7 @@
 #pragma once
 
 #include "contact/contact_point.h"
-#include "engine/sparse_ldlt.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
 
 #include <compare>
 #include <map>

@@ -1,4 +1,4 @@
-#include "engine/sparse_ldlt.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
 
 #include <cholmod.h>
 

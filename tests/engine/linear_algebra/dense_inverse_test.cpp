@@ -1,6 +1,6 @@
 // The explicit inverse of a lumped World's iteration matrix, and the small products built on it.
-#include "engine/dense_inverse.h"
-#include "engine/small_dense_products.h"
+#include "engine/linear_algebra/dense_inverse.h"
+#include "engine/linear_algebra/small_dense_products.h"
 
 #include <gtest/gtest.h>
 

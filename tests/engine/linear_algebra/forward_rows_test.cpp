@@ -1,7 +1,7 @@
-// The forward columns stored by the factor's rows (engine/forward_rows.h): their dots and w + Y r the same
+// The forward columns stored by the factor's rows (engine/linear_algebra/forward_rows.h): their dots and w + Y r the same
 // to the bit as SparseLdlt::dot and add_scaled column by column, with every column or a subset, and
 // rebuilt when a row of the list changes.
-#include "engine/forward_rows.h"
+#include "engine/linear_algebra/forward_rows.h"
 
 #include "tests/engine/grid_stencil.h"
 

@@ -1,8 +1,8 @@
-// The fixed-pattern assembly of the Newton steppers' tangent (engine/sparse_assembly.h): the matrix it
+// The fixed-pattern assembly of the Newton steppers' tangent (engine/linear_algebra/sparse_assembly.h): the matrix it
 // assembles equals setFromTriplets' bit for bit, on its first assembly, on the next ones (values
 // scattered into the remembered pattern), and after the positions change (an entry more, one less, one
 // moved), and it builds the pattern again only then.
-#include "engine/sparse_assembly.h"
+#include "engine/linear_algebra/sparse_assembly.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// The Delassus cache of a sparse linear World (engine/delassus_cache.h): W of the rows asked for against
+// The Delassus cache of a sparse linear World (engine/contact_stage/delassus_cache.h): W of the rows asked for against
 // H A⁻¹ Hᵀ from dense algebra as contacts enter, stay, change their row and leave, only the new rows'
 // entries computed, and everything dropped on a refactorization.
-#include "engine/delassus_cache.h"
+#include "engine/contact_stage/delassus_cache.h"
 
 #include "tests/engine/grid_stencil.h"
 

@@ -1,10 +1,10 @@
-// The sweeps of an LDLᵀ solve by supernodes (engine/supernodal_sweeps.h) against dense triangular solves
+// The sweeps of an LDLᵀ solve by supernodes (engine/linear_algebra/supernodal_sweeps.h) against dense triangular solves
 // with the same L and D, on factors whose supernodes have every width (a grid of two-unknown nodes, a
 // random sparse pattern, an arrow with a dense hub, a diagonal), and inside SparseLdlt: its two halves
 // compose to CHOLMOD's solve.
-#include "engine/sparse_ldlt.h"
-#include "engine/supernodal_ldlt.h"
-#include "engine/supernodal_sweeps.h"
+#include "engine/linear_algebra/sparse_ldlt.h"
+#include "engine/linear_algebra/supernodal_ldlt.h"
+#include "engine/linear_algebra/supernodal_sweeps.h"
 #include "tests/engine/test_matrices.h"
 
 #include <gtest/gtest.h>

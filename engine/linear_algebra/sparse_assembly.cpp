@@ -1,4 +1,4 @@
-#include "engine/sparse_assembly.h"
+#include "engine/linear_algebra/sparse_assembly.h"
 
 #include <algorithm>
 #include <stdexcept>

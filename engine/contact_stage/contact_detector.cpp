@@ -1,4 +1,4 @@
-#include "engine/contact_detector.h"
+#include "engine/contact_stage/contact_detector.h"
 
 #include <cmath>
 #include <limits>

@@ -1,6 +1,6 @@
 // ContactDetector on its own: a rigid cube resting on (then lifted above) a fixed halfspace, with the
 // gaps, normals, points and rows of H that a hand computation gives.
-#include "engine/contact_detector.h"
+#include "engine/contact_stage/contact_detector.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 
