@@ -97,8 +97,11 @@ std::string inconsistency(const FrictionContactProblem& problem) {
     return "dimension must be 2 or 3, not " + std::to_string(problem.dimension);
   if (problem.contacts < 0 || problem.equalities < 0) return "negative contact or equality count";
   const Eigen::Index n = problem.size();
-  if (problem.W.rows() != n || problem.W.cols() != n)
-    return "W is " + std::to_string(problem.W.rows()) + "x" + std::to_string(problem.W.cols()) +
+  const bool sparse = problem.storage == DelassusStorage::sparse;
+  const Eigen::Index rows = sparse ? problem.W_sparse.rows() : problem.W.rows();
+  const Eigen::Index cols = sparse ? problem.W_sparse.cols() : problem.W.cols();
+  if (rows != n || cols != n)
+    return std::string(sparse ? "W_sparse" : "W") + " is " + std::to_string(rows) + "x" + std::to_string(cols) +
            ", expected " + std::to_string(n) + "x" + std::to_string(n);
   if (problem.b.size() != n)
     return "b has " + std::to_string(problem.b.size()) + " rows, expected " + std::to_string(n);
@@ -111,6 +114,8 @@ std::string inconsistency(const FrictionContactProblem& problem) {
 void write_problem(std::ostream& out, const FrictionContactProblem& problem) {
   if (const std::string problem_with_it = inconsistency(problem); !problem_with_it.empty())
     throw std::runtime_error("write_problem: " + problem_with_it);
+  if (problem.storage != DelassusStorage::dense)
+    throw std::runtime_error("write_problem: a sparse W is not written yet (the text format stores W dense)");
   const Eigen::Index n = problem.size();
   // Built in a string so the caller's stream flags and locale play no part in the numbers.
   std::string text;

@@ -26,18 +26,28 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <iosfwd>
 #include <string>
 #include <vector>
 
 namespace csim {
 
+// W's storage. Dense: a few contacts, or a World whose contacts all couple (the nodes of one elastic
+// body). Sparse: rows stored compressed (CSR), the nonzero pattern made of whole dimension × dimension
+// blocks between two contacts that share a body (and whole rows and columns for the equalities), so that
+// memory and a Gauss–Seidel sweep cost O(nonzero blocks): a pile's W has 0.3 % nonzero blocks.
+enum class DelassusStorage { dense, sparse };
+using SparseDelassus = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
 struct FrictionContactProblem {
   int dimension = 3;        // 2 (plane problems) or 3
   int contacts = 0;         // number of contacts
   int equalities = 0;       // number of bilateral rows after the contact rows
-  Eigen::MatrixXd W;        // Delassus, (dimension·contacts + equalities)²; the steppers' is symmetric positive
-                            // semi-definite, a problem from elsewhere may be unsymmetric (pgs_solver.h reads rows)
+  DelassusStorage storage = DelassusStorage::dense;  // which of W and W_sparse holds the Delassus operator
+  Eigen::MatrixXd W;        // storage dense: Delassus, (dimension·contacts + equalities)²; the steppers' is symmetric
+                            // positive semi-definite, a problem from elsewhere may be unsymmetric (pgs_solver.h reads rows)
+  SparseDelassus W_sparse;  // storage sparse: the same operator, same size and row order; W is then empty
   Eigen::VectorXd b;        // free term: local free velocity (m/s) or free gap and slip (m), same size
   std::vector<Eigen::Vector2d> mu;  // per contact (μ1, μ2), dimensionless, ≥ 0; dimension 2 uses μ1 only
 

@@ -41,6 +41,8 @@ constexpr int kFirstPolish = 20;
 void check_problem(const FrictionContactProblem& problem) {
   if (const std::string problem_with_it = inconsistency(problem); !problem_with_it.empty())
     throw std::invalid_argument("PgsSolver: " + problem_with_it);
+  if (problem.storage != DelassusStorage::dense)
+    throw std::invalid_argument("PgsSolver: a sparse W is not solved yet; store W dense");
 }
 
 template <int D>
