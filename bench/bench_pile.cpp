@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <string>
 #include <unistd.h>
@@ -96,7 +97,12 @@ int main(int argc, char** argv) {
   std::vector<double> ms;
   csim::RunReport report;
   for (int k = 0; k < repeats; ++k) {
-    report = csim::run_scene(*scene, {});
+    try {
+      report = csim::run_scene(*scene, {});
+    } catch (const std::exception& error) {
+      std::printf("%zu spheres: the run stopped: %s\n", spheres.size(), error.what());
+      return 1;
+    }
     ms.push_back(1e3 * report.wall_time / static_cast<double>(report.state.counters.steps));
   }
   std::sort(ms.begin(), ms.end());
