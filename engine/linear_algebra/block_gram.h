@@ -1,0 +1,29 @@
+// The Delassus operator W = Yᵀ D⁻¹ Y of the forward columns y_a = L⁻¹ P h_aᵀ of a problem's rows
+// (sparse_ldlt.h), stored sparse: W_ab = y_aᵀ D⁻¹ y_b is zero unless the two columns share a row of the
+// factor, which for bodies that A does not couple (rigid bodies, points, separate elastic bodies) means
+// unless the two rows move a common body. A pile of spheres has a few nonzero 3 × 3 blocks a row, where a
+// dense W has m² entries: memory and the Gauss–Seidel sweep then cost O(nonzero blocks).
+//
+// Storage (contact/friction_contact_problem.h, DelassusStorage::sparse): rows compressed, the pattern made
+// of whole blocks: the first dimension · contacts columns are the contacts' rows, `dimension` each, every
+// later one (an equality row) a block of its own; two blocks any of whose columns share a factor row get
+// all their entries (zeros included), the others none. W is symmetric to the bit (each entry computed
+// once and mirrored).
+//
+// Cost: the rows the columns reach, each with the list of blocks reaching it (O(Σ |y_a|)), then one
+// sparse dot for each entry of the pattern.
+#pragma once
+
+#include "engine/linear_algebra/sparse_ldlt.h"
+
+#include <Eigen/SparseCore>
+#include <vector>
+
+namespace csim {
+
+// W (columns.size() square) from these forward columns of one factor's rows; dimension: 2 or 3;
+// contacts: how many leading blocks of `dimension` columns are contacts.
+void block_gram(const SparseLdlt& factor, const std::vector<const SparseLdlt::ForwardColumn*>& columns,
+                int dimension, int contacts, Eigen::SparseMatrix<double, Eigen::RowMajor>& W);
+
+}  // namespace csim
