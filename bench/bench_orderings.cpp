@@ -1,5 +1,5 @@
 // The fill of the FE shoe's factor under each fill-reducing ordering, against the mesh size (run by
-// hand: build/bench/bench_orderings [max divisions]; docs/solver-measurements.md, fourteenth round).
+// hand: build/bench/bench_orderings [max divisions]; docs/solver-measurements.md, "The sparse factor").
 // SDNV104's QUAD4 shoe, A = M + h²θ²K on a (d + 1) × (d + 1) grid of two-unknown nodes: entries of L (D
 // included) and flops of its factorization under CHOLMOD's AMD, METIS and NESDIS orderings (each
 // postordered, as engine/linear_algebra/sparse_ldlt.cpp orders), and under a geometric nested dissection of the grid,

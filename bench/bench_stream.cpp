@@ -1,5 +1,5 @@
 // This host's memory read rate, the floor against which the FE sweeps' times are read
-// (docs/solver-measurements.md, thirteenth and fourteenth rounds; run by hand: build/bench/bench_stream
+// (docs/solver-measurements.md, "The host's memory"; run by hand: build/bench/bench_stream
 // [repeats]). An array of doubles is summed in eight independent sums, ascending and descending, each
 // read after a 256 MB array has pushed it out of the caches; GB/s of the median of `repeats` reads
 // [min–max]. Then the cache as one core sees it: arrays of 1 to 64 MB, each summed ascending `repeats`

@@ -9,7 +9,7 @@
 // step does between its backward sweep and the next step's forward sweep, and gives the 51 842 / 13 122
 // ratio of each column: whether that pass costs the forward sweep the part of L the backward sweep left
 // in the cache, and what the sweeps' own ratio is against target 3's 4.85 (docs/solver-measurements.md,
-// fifteenth round). The two tables' runs alternate the sizes within each repeat.
+// "The sparse factor"). The two tables' runs alternate the sizes within each repeat.
 #include "bench/shoe_iteration_matrix.h"
 #include "engine/linear_algebra/linear_products.h"
 #include "engine/linear_algebra/sparse_ldlt.h"
@@ -68,8 +68,8 @@ int main(int argc, char** argv) {
   std::vector<csim::Vector> f;
   for (const auto& size : sizes) f.push_back(csim::Vector::LinSpaced(size->n, -1.0, 1.0));
   csim::Vector forward_half, forward_scaled, x, Kq, Kv, Mv, q, v;
-  // Within a repeat the sizes alternate; each runs a few rounds first, so that its factor is in the
-  // cache as far as a run of many steps of that size keeps it, and its last round is timed.
+  // Within a repeat the sizes alternate; each runs a few times first, so that its factor is in the
+  // cache as far as a run of many steps of that size keeps it, and the last is timed.
   constexpr int kRounds = 4;
   std::vector<double> t(5);
   for (int r = 0; r < repeats; ++r) {

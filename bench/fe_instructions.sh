@@ -1,9 +1,9 @@
 #!/bin/bash
 # Instructions a steady step of the FE shoe at 13 122 and 51 842 DOFs, and their slope against the DOFs
-# (docs/solver-measurements.md, eighth and fourteenth rounds): sdnv104-quad4 at 80 and 160 divisions,
-# callgrind's MoreauJean::step inclusive over runs of 200 and 300 steps of 1e-3 s, the difference
-# divided by 100 steps, so that the factorization and the first contacts' W cancel. The work of the
-# algorithm, which the host's caches do not change: bench_fe's slope in time is this one plus what
+# (docs/solver-measurements.md, "The FE step against the mesh size"): sdnv104-quad4 at 80 and 160
+# divisions, callgrind's MoreauJean::step inclusive over runs of 200 and 300 steps of 1e-3 s, the
+# difference divided by 100 steps, so that the factorization and the first contacts' W cancel. The work
+# of the algorithm, which the host's caches do not change: bench_fe's slope in time is this one plus what
 # memory adds at 52k. About 10 minutes.
 # usage: bench/fe_instructions.sh CSIM [OUT_DIR]   (needs valgrind; CSIM built with -g)
 set -euo pipefail

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """Where the FE shoe's steady step spends its wall-clock time at 13 122 and 51 842 DOFs, function by
-function (docs/solver-measurements.md, thirteenth round): sdnv104-quad4 at 80 and 160 divisions, each
-run for 200 and 1200 steps of 1e-3 s under `perf record -e cpu-clock` (a software clock: no hardware
-counters needed, which this VM lacks); a function's time a step is the difference of its samples over
-the two runs divided by 1000 steps, so that one-time work (factorization, the first Delassus entries)
-cancels. The runs of one repeat alternate the sizes; each cell is the median over the repeats. The last
-column is the 52k/13k ratio of a function, against 3.95 (the DOFs') and 4.85 (3.95^1.15, target 3).
+function (docs/solver-measurements.md, "The FE step against the mesh size"): sdnv104-quad4 at 80 and 160
+divisions, each run for 200 and 1200 steps of 1e-3 s under `perf record -e cpu-clock` (a software clock:
+no hardware counters needed, which this VM lacks); a function's time a step is the difference of its
+samples over the two runs divided by 1000 steps, so that one-time work (factorization, the first Delassus
+entries) cancels. The runs of one repeat alternate the sizes; each cell is the median over the repeats.
+The last column is the 52k/13k ratio of a function, against 3.95 (the DOFs') and 4.85
+(3.95^1.15, target 3).
 
 usage: bench/fe_profile.py CSIM [REPEATS]   (needs perf: apt-get install linux-perf; CSIM with -g
        for readable names; ROWS=N in the environment lists N functions, 18 by default)

@@ -21,7 +21,8 @@
 // FCL does the broad phase: its manager holds each surface as one object whose box is the bounding
 // box of the surface's nodes, set at every update (collision_world.cpp). Since every feature above is
 // a closed form of ours, that box is all FCL reads of a surface: a BVH of the surface's faces, refitted
-// at every update, gave the same box at many times the cost (docs/rolling.md, issue 31's sixth round).
+// at every update, gave the same box at many times the cost (the refit was 5 % of a rolling ring's
+// instructions).
 // In plane scenes the box spans z = ±½, like the thin shapes' boxes; nodes and normals stay in z = 0.
 #pragma once
 

@@ -84,9 +84,8 @@ class StructuralOperators {
   // by a sparse constant K with springs once their sum sparse_stiffness_ is formed; K is the one that
   // stiffness() names. A large FE body's K-sized matrices are thus held once here, not three times.
   SparseMatrix body_stiffness_, sparse_stiffness_;
-  // CHOLMOD's simplicial LDLᵀ with its AMD ordering: the fastest single right-hand-side solve of the
-  // factorizations compared (timings: docs/solver-measurements.md); for a nonlinear World its pivots
-  // say whether A > 0.
+  // CHOLMOD's LDLᵀ (sparse_ldlt.h: ordering, refactorization and sweeps, with their figures in
+  // docs/solver-measurements.md, "The sparse factor"); for a nonlinear World its pivots say whether A > 0.
   SparseLdlt sparse_factor_;
 
   const SparseMatrix& stiffness() const { return dynamics_.has_springs() ? sparse_stiffness_ : body_stiffness_; }

@@ -5,8 +5,8 @@
 //   - w + Y r (the backward half's right-hand side), after it.
 // Why. Column by column, each dot gathers z at its column's rows and each column scatters into w: at 52k
 // DOFs 322 columns of about 900 rows each, mostly the same top separators, read from a 415 KB vector
-// that no longer stays in the 1 MB L2 with the rest of the step (docs/solver-measurements.md, thirteenth
-// round). By rows, z and w are read once, ascending, and the sums sit in a few KB.
+// that no longer stays in the 1 MB L2 with the rest of the step (docs/solver-measurements.md, "The
+// sparse factor"). By rows, z and w are read once, ascending, and the sums sit in a few KB.
 //
 // Bits. A dot sums its column's rows ascending from zero, and an entry of w + Y r adds its columns in the
 // list's order: the operations of SparseLdlt::dot and add_scaled column by column, in the same order, so
