@@ -8,8 +8,8 @@
 // A second table puts the step's pass over K and M (engine/linear_algebra/linear_products.h) before each pair, as a
 // step does between its backward sweep and the next step's forward sweep, and gives the 51 842 / 13 122
 // ratio of each column: whether that pass costs the forward sweep the part of L the backward sweep left
-// in the cache, and what the sweeps' own ratio is against target 3's 4.85 (docs/solver-measurements.md,
-// fifteenth round). The two tables' runs alternate the sizes within each repeat.
+// in the cache, and what the sweeps' own ratio is against target 3's 4.85 (docs/solver-measurements.md).
+// The two tables' runs alternate the sizes within each repeat.
 #include "bench/shoe_iteration_matrix.h"
 #include "engine/linear_algebra/linear_products.h"
 #include "engine/linear_algebra/sparse_ldlt.h"
@@ -68,14 +68,14 @@ int main(int argc, char** argv) {
   std::vector<csim::Vector> f;
   for (const auto& size : sizes) f.push_back(csim::Vector::LinSpaced(size->n, -1.0, 1.0));
   csim::Vector forward_half, forward_scaled, x, Kq, Kv, Mv, q, v;
-  // Within a repeat the sizes alternate; each runs a few rounds first, so that its factor is in the
-  // cache as far as a run of many steps of that size keeps it, and its last round is timed.
-  constexpr int kRounds = 4;
+  // Within a repeat the sizes alternate; each runs a few steps' sweeps first, so that its factor is in
+  // the cache as far as a run of many steps of that size keeps it, and its last is timed.
+  constexpr int kPasses = 4;
   std::vector<double> t(5);
   for (int r = 0; r < repeats; ++r) {
     for (std::size_t k = 0; k < sizes.size(); ++k) {
       Size& size = *sizes[k];
-      for (int round = 0; round < kRounds; ++round) {
+      for (int pass = 0; pass < kPasses; ++pass) {
         // The pair alone, its first sweep starting where the last pair's second ended.
         auto start = std::chrono::steady_clock::now();
         size.factor.forward_substitute(f[k], forward_half, forward_scaled);
