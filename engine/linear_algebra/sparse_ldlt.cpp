@@ -347,17 +347,26 @@ void SparseLdlt::forward(const int* index, const double* value, int count, Forwa
   if (!ours_) return forward_by_cholmod(index, value, count, y);
   const Cholmod& c = *cholmod_;
   // The reach: every column on the paths from the right-hand side's nonzeros to the root (marks are
-  // cleared on the way out, so that the next call starts from zero).
+  // cleared on the way out, so that the next call starts from zero), in ascending order, so that a
+  // column's ancestors come after it. Each path ascends (a parent comes after its child), so that the
+  // reach is the merge of the new part of each path into the reach so far, where a sort of the whole
+  // took a ninth of the time of a column at 13k unknowns (bench_factor's forward table).
   reach_.clear();
   for (int k = 0; k < count; ++k) {
     int j = c.inverse[index[k]];
     work_(j) += value[k];
+    const std::size_t before = reach_.size();
     for (; j >= 0 && !mark_[j]; j = parent_[j]) {
       mark_[j] = 1;
       reach_.push_back(j);
     }
+    if (before > 0 && reach_.size() > before) {
+      merged_.resize(reach_.size());
+      std::merge(reach_.begin(), reach_.begin() + static_cast<std::ptrdiff_t>(before), reach_.begin() + static_cast<std::ptrdiff_t>(before),
+                 reach_.end(), merged_.begin());
+      reach_.swap(merged_);
+    }
   }
-  std::sort(reach_.begin(), reach_.end());  // a column's ancestors come after it
   const int* start = c.column_start();
   const int* column_count = c.column_count();
   const int* row = c.row_index();

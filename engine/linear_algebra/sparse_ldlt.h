@@ -23,9 +23,9 @@
 // CHOLMOD's own routines on the same factor, with the same results at round-off: cholmod_factorize_p for
 // every factorization, cholmod_solve2 for the halves (CHOLMOD_L; CHOLMOD_DLt) and for the pivots
 // (CHOLMOD_D of a vector of ones), cholmod_solve2 with a sparse right-hand side (Bset, Xset) for forward.
-// With an LLᵀ factor (CHOLMOD's supernodal one, or Kernels::cholmod_ll) the forward columns are D^½ times smaller and the pivots D are 1,
-// which every product of them here (W, the two halves) takes into account: only the ForwardColumn values
-// themselves differ, and they are read through this class alone.
+// With an LLᵀ factor (CHOLMOD's supernodal one, or Kernels::cholmod_ll) the forward columns are D^-½
+// times those of LDLᵀ and the pivots are 1, which every product of them here (W, the two halves) takes
+// into account: only the ForwardColumn values themselves differ, and they are read through this class.
 //
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
 // iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
@@ -165,7 +165,7 @@ class SparseLdlt {
   mutable std::vector<int> parent_;
   mutable Vector pivots_;
   mutable bool tree_ready_ = false;
-  mutable std::vector<int> mark_, reach_;  // forward's work space: a visit mark by column, the reach
+  mutable std::vector<int> mark_, reach_, merged_;  // forward's work space: a visit mark by column, the reach
   mutable Vector work_;                    // forward's dense work vector, zero between calls
   Matrix Y_, compact_;                     // inverse_block's work space (Y_ zero between calls)
   std::vector<ForwardColumn> columns_;     // Y's columns
