@@ -68,14 +68,14 @@ int main(int argc, char** argv) {
   std::vector<csim::Vector> f;
   for (const auto& size : sizes) f.push_back(csim::Vector::LinSpaced(size->n, -1.0, 1.0));
   csim::Vector forward_half, forward_scaled, x, Kq, Kv, Mv, q, v;
-  // Within a repeat the sizes alternate; each runs a few times first, so that its factor is in the
-  // cache as far as a run of many steps of that size keeps it, and the last is timed.
-  constexpr int kRounds = 4;
+  // Within a repeat the sizes alternate; each runs a few steps' sweeps first, so that its factor is in
+  // the cache as far as a run of many steps of that size keeps it, and its last is timed.
+  constexpr int kPasses = 4;
   std::vector<double> t(5);
   for (int r = 0; r < repeats; ++r) {
     for (std::size_t k = 0; k < sizes.size(); ++k) {
       Size& size = *sizes[k];
-      for (int round = 0; round < kRounds; ++round) {
+      for (int pass = 0; pass < kPasses; ++pass) {
         // The pair alone, its first sweep starting where the last pair's second ended.
         auto start = std::chrono::steady_clock::now();
         size.factor.forward_substitute(f[k], forward_half, forward_scaled);

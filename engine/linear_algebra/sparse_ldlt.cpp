@@ -16,6 +16,15 @@ struct SparseLdlt::Cholmod {
   cholmod_dense* x = nullptr;
   cholmod_dense* y = nullptr;
   cholmod_dense* e = nullptr;
+  // forward_by_cholmod's: the sparse solve's result, work space, right-hand side's pattern (Bset) and
+  // the solution's (Xset), and its dense right-hand side (zero between calls).
+  cholmod_dense* sparse_x = nullptr;
+  cholmod_dense* sparse_y = nullptr;
+  cholmod_dense* sparse_e = nullptr;
+  cholmod_sparse* bset = nullptr;
+  cholmod_sparse* xset = nullptr;
+  Vector sparse_b;
+  double analysed_nonzeros = 0.0;  // entries of L by the last analysis (CHOLMOD's count)
   std::vector<int> permutation;  // the unknown at each position of the factor's order (P)
   std::vector<int> inverse;      // position in the factor's order of each unknown
   // triu(P A Pᵀ), compressed by columns, rows sorted: what the factorization reads as it is. slot[p] is
@@ -36,6 +45,11 @@ struct SparseLdlt::Cholmod {
     cholmod_free_dense(&x, &common);
     cholmod_free_dense(&y, &common);
     cholmod_free_dense(&e, &common);
+    cholmod_free_dense(&sparse_x, &common);
+    cholmod_free_dense(&sparse_y, &common);
+    cholmod_free_dense(&sparse_e, &common);
+    cholmod_free_sparse(&bset, &common);
+    cholmod_free_sparse(&xset, &common);
     cholmod_finish(&common);
   }
   int* column_start() const { return static_cast<int*>(factor->p); }
@@ -78,9 +92,38 @@ cholmod_dense dense_view(double* value, int n) {
   return view;
 }
 
+// The CHOLMOD versions whose simplicial factor our kernels read: 3.x (cholmod_core.h) to 5.x (cholmod.h)
+// document the same layout of it. Another version builds, and its factors are read by CHOLMOD alone.
+#if CHOLMOD_MAIN_VERSION < 3 || CHOLMOD_MAIN_VERSION > 5
+#pragma message("sparse_ldlt.cpp: a CHOLMOD version whose factor layout is not known here; CHOLMOD's routines read it")
+#endif
+constexpr bool kKnownCholmod = CHOLMOD_MAIN_VERSION >= 3 && CHOLMOD_MAIN_VERSION <= 5;
+
+// The library's main version that of the header (a library swapped under the binary), asked once.
+bool library_is_the_header_version() {
+  static const bool same = cholmod_version(nullptr) / 1000 == CHOLMOD_MAIN_VERSION;
+  return same;
+}
+
 }  // namespace
 
+bool cholmod_layout_supported(const cholmod_factor& factor) {
+  if (!kKnownCholmod || !library_is_the_header_version()) return false;
+  if (factor.xtype != CHOLMOD_REAL || factor.dtype != CHOLMOD_DOUBLE || factor.itype != CHOLMOD_INT) return false;
+  if (factor.is_super || factor.is_ll || factor.ordering != CHOLMOD_NATURAL) return false;
+  if (!factor.p || !factor.i || !factor.nz || !factor.x) return false;
+  const int* start = static_cast<const int*>(factor.p);
+  const int* row = static_cast<const int*>(factor.i);
+  const int n = static_cast<int>(factor.n);
+  for (int j = 0; j < n; ++j)
+    if (row[start[j]] != j) return false;
+  return true;
+}
+
 SparseLdlt::SparseLdlt() : cholmod_(std::make_unique<Cholmod>()) {}
+SparseLdlt::SparseLdlt(Kernels kernels) : SparseLdlt() {
+  kernels_ = kernels;
+}
 SparseLdlt::~SparseLdlt() = default;
 
 void SparseLdlt::release_pattern() {
@@ -99,6 +142,7 @@ int SparseLdlt::size() const { return cholmod_->factor ? static_cast<int>(cholmo
 
 double SparseLdlt::factor_nonzeros() const {
   if (!cholmod_->factor) return 0.0;
+  if (!ours_) return cholmod_->analysed_nonzeros;
   const int n = size();
   double count = 0.0;
   for (int j = 0; j < n; ++j) count += cholmod_->column_count()[j];
@@ -169,10 +213,11 @@ void SparseLdlt::analyse(const SparseMatrix& A) {
   c.factor = cholmod_analyze(&upper, &c.common);
   if (!c.factor) throw std::runtime_error("CHOLMOD could not analyse the matrix (out of memory?)");
   if (c.factor->ordering != CHOLMOD_NATURAL) throw std::logic_error("SparseLdlt: CHOLMOD reordered a permuted matrix");
+  c.analysed_nonzeros = c.common.lnz;
   outer_.assign(outer, outer + n + 1);
   inner_.assign(inner, inner + nnz);
   ++analyses_;
-  cholmod_complete_ = supernodal_ready_ = sweeps_ready_ = false;
+  cholmod_complete_ = supernodal_ready_ = sweeps_ready_ = ours_ = false;
 }
 
 bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
@@ -206,10 +251,19 @@ bool SparseLdlt::factor_positive_definite(const SparseMatrix& A) {
   cholmod_factorize_p(&upper, no_shift, nullptr, 0, c.factor, &c.common);
   sweeps_ready_ = false;
   if (c.common.status < CHOLMOD_OK) throw std::runtime_error("CHOLMOD could not factor the matrix (out of memory?)");
-  cholmod_complete_ = c.factor->minor == c.factor->n && !c.factor->is_ll;
-  if (!cholmod_complete_) {
-    supernodal_ready_ = false;  // its storage may no longer hold every column
-    return false;               // a zero pivot
+  if (kernels_ == Kernels::cholmod_ll && !c.factor->is_ll && c.factor->minor == c.factor->n &&
+      !cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, c.factor, &c.common))
+    throw std::runtime_error("CHOLMOD could not convert the factor (out of memory?)");
+  // The layout, checked once per CHOLMOD factorization: our kernels read this factor, or CHOLMOD does.
+  ours_ = kernels_ == Kernels::ours_where_supported && cholmod_layout_supported(*c.factor);
+  const bool complete = c.factor->minor == c.factor->n;
+  cholmod_complete_ = ours_ && complete;
+  if (!cholmod_complete_) supernodal_ready_ = false;  // its storage may no longer hold every column
+  if (!complete) return false;  // a zero pivot (an LLᵀ factor: a pivot not > 0)
+  if (!ours_) {
+    if (c.factor->is_ll) return true;  // complete: every pivot was > 0
+    prepare_tree();
+    return (pivots_.array() > 0.0).all();
   }
   const int* start = c.column_start();
   const double* x = c.values();
@@ -227,11 +281,15 @@ std::vector<int> SparseLdlt::small_pivots(const Vector& diagonal, double toleran
     small.push_back(c.permutation[c.factor->minor]);
     return small;
   }
-  const int* start = c.column_start();
-  const double* x = c.values();
+  Vector D(n);
+  if (ours_) {
+    for (int j = 0; j < n; ++j) D(j) = c.values()[c.column_start()[j]];
+  } else {
+    cholmod_pivots(D, true);
+  }
   for (int j = 0; j < n; ++j) {
     const int unknown = c.permutation[j];
-    if (!(x[start[j]] > tolerance * std::max(diagonal(unknown), 0.0))) small.push_back(unknown);
+    if (!(D(j) > tolerance * std::max(diagonal(unknown), 0.0))) small.push_back(unknown);
   }
   std::sort(small.begin(), small.end());
   return small;
@@ -262,6 +320,11 @@ void SparseLdlt::prepare_tree() const {
   if (tree_ready_) return;
   const Cholmod& c = *cholmod_;
   const int n = size();
+  if (!ours_) {  // CHOLMOD's forward columns need no tree
+    cholmod_pivots(pivots_, false);
+    tree_ready_ = true;
+    return;
+  }
   const int* start = c.column_start();
   const int* count = c.column_count();
   const int* row = c.row_index();
@@ -281,19 +344,29 @@ void SparseLdlt::prepare_tree() const {
 
 void SparseLdlt::forward(const int* index, const double* value, int count, ForwardColumn& y) const {
   prepare_tree();
+  if (!ours_) return forward_by_cholmod(index, value, count, y);
   const Cholmod& c = *cholmod_;
   // The reach: every column on the paths from the right-hand side's nonzeros to the root (marks are
-  // cleared on the way out, so that the next call starts from zero).
+  // cleared on the way out, so that the next call starts from zero), in ascending order, so that a
+  // column's ancestors come after it. Each path ascends (a parent comes after its child), so that the
+  // reach is the merge of the new part of each path into the reach so far, where a sort of the whole
+  // took a ninth of the time of a column at 13k unknowns (bench_factor's forward table).
   reach_.clear();
   for (int k = 0; k < count; ++k) {
     int j = c.inverse[index[k]];
     work_(j) += value[k];
+    const std::size_t before = reach_.size();
     for (; j >= 0 && !mark_[j]; j = parent_[j]) {
       mark_[j] = 1;
       reach_.push_back(j);
     }
+    if (before > 0 && reach_.size() > before) {
+      merged_.resize(reach_.size());
+      std::merge(reach_.begin(), reach_.begin() + static_cast<std::ptrdiff_t>(before), reach_.begin() + static_cast<std::ptrdiff_t>(before),
+                 reach_.end(), merged_.begin());
+      reach_.swap(merged_);
+    }
   }
-  std::sort(reach_.begin(), reach_.end());  // a column's ancestors come after it
   const int* start = c.column_start();
   const int* column_count = c.column_count();
   const int* row = c.row_index();
@@ -309,6 +382,69 @@ void SparseLdlt::forward(const int* index, const double* value, int count, Forwa
     work_(j) = 0.0;
     mark_[j] = 0;
   }
+}
+
+// CHOLMOD's sparse forward solve, L y = P hᵀ for the pattern of P hᵀ (Bset): it finds y's pattern
+// (Xset, unsorted: the reach), which is sorted here as a ForwardColumn's rows are.
+void SparseLdlt::forward_by_cholmod(const int* index, const double* value, int count, ForwardColumn& y) const {
+  Cholmod& c = *cholmod_;
+  const int n = size();
+  if (!c.bset || static_cast<int>(c.bset->nrow) != n) {
+    cholmod_free_sparse(&c.bset, &c.common);
+    c.bset = cholmod_allocate_sparse(n, 1, n, 0, 1, 0, CHOLMOD_PATTERN, &c.common);
+    if (!c.bset) throw std::runtime_error("CHOLMOD could not allocate (out of memory?)");
+    c.sparse_b.setZero(n);
+  }
+  int* set = static_cast<int*>(c.bset->i);
+  static_cast<int*>(c.bset->p)[0] = 0;
+  static_cast<int*>(c.bset->p)[1] = count;
+  for (int k = 0; k < count; ++k) {
+    set[k] = c.inverse[index[k]];
+    c.sparse_b(set[k]) += value[k];
+  }
+  cholmod_dense rhs = dense_view(c.sparse_b.data(), n);
+  const int solved = cholmod_solve2(CHOLMOD_L, c.factor, &rhs, c.bset, &c.sparse_x, &c.xset, &c.sparse_y, &c.sparse_e, &c.common);
+  for (int k = 0; k < count; ++k) c.sparse_b(set[k]) = 0.0;
+  if (!solved) throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
+  const int* rows = static_cast<const int*>(c.xset->i);
+  const int length = static_cast<const int*>(c.xset->p)[1];
+  y.index.assign(rows, rows + length);
+  std::sort(y.index.begin(), y.index.end());
+  const double* x = static_cast<const double*>(c.sparse_x->x);
+  y.value.resize(length);
+  for (int k = 0; k < length; ++k) y.value[k] = x[y.index[k]];
+}
+
+void SparseLdlt::solve_by_cholmod(int system, double* x) const {
+  Cholmod& c = *cholmod_;
+  const int n = size();
+  cholmod_dense rhs = dense_view(x, n);
+  if (!cholmod_solve2(system, c.factor, &rhs, nullptr, &c.x, nullptr, &c.y, &c.e, &c.common))
+    throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
+  std::copy_n(static_cast<const double*>(c.x->x), n, x);
+}
+
+// D from D⁻¹ 1 (CHOLMOD_D): D of an LDLᵀ factor, 1 for an LLᵀ one, whose columns hold D^½ (the pivots
+// that its forward columns go with). With of_ldlt, D of the LDLᵀ factorization whatever the factor (an
+// LLᵀ one converted on a copy by CHOLMOD: L_jj²).
+void SparseLdlt::cholmod_pivots(Vector& D, bool of_ldlt) const {
+  Cholmod& c = *cholmod_;
+  const int n = size();
+  cholmod_factor* factor = c.factor;
+  if (of_ldlt && factor->is_ll) {
+    factor = cholmod_copy_factor(c.factor, &c.common);
+    if (!factor || !cholmod_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, factor, &c.common)) {
+      cholmod_free_factor(&factor, &c.common);
+      throw std::runtime_error("CHOLMOD could not convert the factor (out of memory?)");
+    }
+  }
+  D.setOnes(n);
+  cholmod_dense ones = dense_view(D.data(), n);
+  const int solved = cholmod_solve2(CHOLMOD_D, factor, &ones, nullptr, &c.x, nullptr, &c.y, &c.e, &c.common);
+  if (factor != c.factor) cholmod_free_factor(&factor, &c.common);
+  if (!solved) throw std::runtime_error("CHOLMOD could not solve (out of memory?)");
+  const double* x = static_cast<const double*>(c.x->x);
+  for (int j = 0; j < n; ++j) D(j) = 1.0 / x[j];
 }
 
 double SparseLdlt::delassus_entry(const ForwardColumn& a, const ForwardColumn& b) const {
@@ -341,7 +477,10 @@ void SparseLdlt::back_substitute(const Vector& z, Vector& x) const {
   Cholmod& c = *cholmod_;
   const int n = size();
   c.permuted = z;
-  sweeps().backward(c.column_start(), c.values(), c.permuted.data());
+  if (ours_)
+    sweeps().backward(c.column_start(), c.values(), c.permuted.data());
+  else
+    solve_by_cholmod(CHOLMOD_DLt, c.permuted.data());
   x.resize(n);
   for (int k = 0; k < n; ++k) x(c.permutation[k]) = c.permuted(k);
 }
@@ -366,7 +505,10 @@ void SparseLdlt::forward_sweep(const Vector& f, Vector& w) const {
   const int n = size();
   w.resize(n);
   for (int k = 0; k < n; ++k) w(k) = f(c.permutation[k]);
-  sweeps().forward(c.column_start(), c.values(), w.data());
+  if (ours_)
+    sweeps().forward(c.column_start(), c.values(), w.data());
+  else
+    solve_by_cholmod(CHOLMOD_L, w.data());
 }
 
 void SparseLdlt::forward_substitute(const Vector& f, Vector& w, Vector& z) const {

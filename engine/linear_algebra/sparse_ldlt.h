@@ -14,7 +14,18 @@
 // solve (forward_substitute, back_substitute, and solve_free, solve_with_reactions: a linear step's, the
 // quasi-static stepper's, a Newton step's impulses) are swept by supernodes over CHOLMOD's storage
 // (supernodal_sweeps.h): a linear step streams a large L once in each, and read by supernodes it is 8
-// bytes an entry instead of 12 (docs/solver-measurements.md, ninth round). The two agree at round-off.
+// bytes an entry instead of 12 (docs/solver-measurements.md). The two agree at round-off.
+//
+// CHOLMOD's factor storage. The refactorization, the sweeps, forward and the pivots read (and the
+// refactorization writes) the arrays of CHOLMOD's factor directly, in the layout that
+// cholmod_layout_supported below checks once per CHOLMOD factorization. When it does not hold, or when
+// the factor is made with Kernels::cholmod or Kernels::cholmod_ll, every operation goes through
+// CHOLMOD's own routines on the same factor, with the same results at round-off: cholmod_factorize_p for
+// every factorization, cholmod_solve2 for the halves (CHOLMOD_L; CHOLMOD_DLt) and for the pivots
+// (CHOLMOD_D of a vector of ones), cholmod_solve2 with a sparse right-hand side (Bset, Xset) for forward.
+// With an LLᵀ factor (CHOLMOD's supernodal one, or Kernels::cholmod_ll) the forward columns are D^-½
+// times those of LDLᵀ and the pivots are 1, which every product of them here (W, the two halves) takes
+// into account: only the ForwardColumn values themselves differ, and they are read through this class.
 //
 // Symbolic analysis. The ordering and the elimination tree depend on A's pattern only, which a Newton
 // iteration's tangent mostly keeps (a node contact's rows sit in its node's block, already there; rows
@@ -45,10 +56,34 @@
 #include <memory>
 #include <vector>
 
+struct cholmod_factor_struct;  // CHOLMOD's cholmod_factor (cholmod_core.h), whose header stays in the .cpp
+
 namespace csim {
+
+// Whether our kernels may read and write this CHOLMOD factor's arrays directly, as SparseLdlt's
+// refactorization (supernodal_ldlt.h), sweeps (supernodal_sweeps.h), forward columns and pivots do.
+// The layout they assume, each item checked here:
+//  - CHOLMOD 3.x to 5.x, the library's main version that of the header it was compiled against
+//    (Debian bookworm: SuiteSparse 5.12, CHOLMOD 3.0.14; the simplicial layout below is the one
+//    cholmod_core.h of 3.x and cholmod.h of 4.x and 5.x document);
+//  - numeric (xtype CHOLMOD_REAL, dtype CHOLMOD_DOUBLE: x holds doubles, no z), int indices (itype
+//    CHOLMOD_INT: p, i, nz are int arrays);
+//  - simplicial (is_super false: p, i, nz, x hold L by columns) LDLᵀ (is_ll false: the first entry of
+//    column j is D_j, in place of L's unit diagonal);
+//  - the natural ordering (ordering CHOLMOD_NATURAL): the factor is of triu(P A Pᵀ), P SparseLdlt's own;
+//  - column j's first row index is j (i[p[j]] == j), for every j (n reads).
+// Not assumed: packed or monotonic columns (columns are read at p[j], nz[j] entries); rows sorted within
+// a column (the refactorization checks the whole pattern before it writes, SupernodalLdlt::matches, and
+// the sweeps' supernodes compare the rows they join).
+bool cholmod_layout_supported(const cholmod_factor_struct& factor);
 
 class SparseLdlt {
  public:
+  // Which code reads the factor: ours where cholmod_layout_supported (the default), or CHOLMOD's
+  // routines only, on its simplicial LDLᵀ (cholmod) or on that factor turned into LLᵀ by CHOLMOD
+  // (cholmod_ll: L D^½, a layout the check refuses): the fallback, chosen here for tests and benchmarks.
+  enum class Kernels { ours_where_supported, cholmod, cholmod_ll };
+
   // A sparse column of Y = L⁻¹ P hᵀ: its nonzero rows (in the factor's order, ascending) and values.
   struct ForwardColumn {
     std::vector<int> index;
@@ -56,6 +91,7 @@ class SparseLdlt {
   };
 
   SparseLdlt();
+  explicit SparseLdlt(Kernels kernels);
   ~SparseLdlt();
   SparseLdlt(const SparseLdlt&) = delete;
   SparseLdlt& operator=(const SparseLdlt&) = delete;
@@ -98,6 +134,8 @@ class SparseLdlt {
   // Frees what only a refactorization reads (A's pattern and its map into triu(P A Pᵀ), about 20 bytes
   // an entry of A's lower triangle): for a matrix factored once. A later factorization analyses again.
   void release_pattern();
+  // Whether the last CHOLMOD factorization left a factor our kernels read (see above); false before one.
+  bool reads_factor_storage() const { return ours_; }
   int size() const;                            // n
   long analyses() const { return analyses_; }  // symbolic analyses so far
   long factorizations() const { return factorizations_; }
@@ -108,6 +146,8 @@ class SparseLdlt {
  private:
   struct Cholmod;
   std::unique_ptr<Cholmod> cholmod_;
+  Kernels kernels_ = Kernels::ours_where_supported;
+  bool ours_ = false;  // our kernels read the factor: the check of the last CHOLMOD factorization
   std::vector<int> outer_, inner_;  // the pattern the analysis was made for
   long analyses_ = 0, factorizations_ = 0, kept_delassus_ = 0;
   // Refactorizations of a pattern go through supernodal_ (supernodal_ldlt.h) into the storage of
@@ -125,7 +165,7 @@ class SparseLdlt {
   mutable std::vector<int> parent_;
   mutable Vector pivots_;
   mutable bool tree_ready_ = false;
-  mutable std::vector<int> mark_, reach_;  // forward's work space: a visit mark by column, the reach
+  mutable std::vector<int> mark_, reach_, merged_;  // forward's work space: a visit mark by column, the reach
   mutable Vector work_;                    // forward's dense work vector, zero between calls
   Matrix Y_, compact_;                     // inverse_block's work space (Y_ zero between calls)
   std::vector<ForwardColumn> columns_;     // Y's columns
@@ -139,6 +179,10 @@ class SparseLdlt {
   Vector free_forward_, block_values_;         // solve_free's w = L⁻¹ P f, and E_Sᵀ A⁻¹ f or H_Sᵀ r
   void analyse(const SparseMatrix& A);  // the ordering and symbolic factor of A's pattern
   void prepare_tree() const;
+  // CHOLMOD's routines where the layout is not ours to read (see above).
+  void forward_by_cholmod(const int* index, const double* value, int count, ForwardColumn& y) const;
+  void solve_by_cholmod(int system, double* x) const;  // x ← the solution of CHOLMOD's system at x
+  void cholmod_pivots(Vector& D, bool of_ldlt) const;  // D (see the .cpp)
   void forward_sweep(const Vector& f, Vector& w) const;  // w ← L⁻¹ P f
   void inverse_block();  // gram_ for unknowns_
 };

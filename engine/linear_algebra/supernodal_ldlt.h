@@ -10,7 +10,7 @@
 // then its update L_s D_s L_sᵀ below its diagonal block is formed by a product compiled for small
 // blocks and subtracted from the later supernodes' blocks through relative row positions, which the
 // pattern alone decides (found once, by analyse). The blocks are then copied out to the simplicial
-// storage. Measurements: docs/rolling.md (issue 31, seventh round).
+// storage. Measurements: docs/rolling.md.
 //
 // Storage. Column j of L holds its entries in rows ascending, the diagonal first (holding D_j), at
 // start[j]: CHOLMOD's simplicial LDLᵀ layout, so that its solves read what is written here. The pattern

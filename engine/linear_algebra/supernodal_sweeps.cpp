@@ -96,8 +96,7 @@ void SupernodalSweeps::forward(const int* start, const double* values, double* x
 
 // The supernodes from the last; within one, its columns from the last, each read from its end (the rows
 // below the diagonal block, then the block, then D_j): the whole sweep reads the storage in descending
-// order, a stream the hardware prefetches as it does the forward sweep's (docs/solver-measurements.md,
-// thirteenth round). x below the supernode is final, and x_k once the supernode's columns after k are.
+// order, a stream the hardware prefetches as it does the forward sweep's (docs/solver-measurements.md). x below the supernode is final, and x_k once the supernode's columns after k are.
 void SupernodalSweeps::backward(const int* start, const double* values, double* x) const {
   for (int s = supernodes() - 1; s >= 0; --s) {
     const int c0 = first_column_[s], w = first_column_[s + 1] - c0;

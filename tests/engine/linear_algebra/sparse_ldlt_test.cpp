@@ -354,3 +354,128 @@ TEST(SparseLdlt, SmallPivotsFindADirectionHeldAtRoundOffWhateverTheScale) {
 
 }  // namespace
 }  // namespace csim
+
+namespace csim {
+namespace {
+
+// What the steppers read of a factor, for rows H: W from the forward columns and from delassus, H A⁻¹ f
+// and A⁻¹ (f + Hᵀ r) from the two halves (forward_substitute, back_substitute) and from solve_free and
+// solve_with_reactions, and a whole solve.
+struct FactorReadings {
+  Matrix W_columns, W;
+  Vector rows_free, total, Hx, x, solved;
+};
+
+FactorReadings readings(SparseLdlt& factor, const Matrix& H, const Vector& f, const Vector& r) {
+  const int m = static_cast<int>(H.rows()), n = static_cast<int>(H.cols());
+  FactorReadings out;
+  std::vector<SparseLdlt::ForwardColumn> y(m);
+  for (int a = 0; a < m; ++a) {
+    std::vector<int> index;
+    std::vector<double> value;
+    for (int j = 0; j < n; ++j)
+      if (H(a, j) != 0.0) {
+        index.push_back(j);
+        value.push_back(H(a, j));
+      }
+    factor.forward(index.data(), value.data(), static_cast<int>(index.size()), y[a]);
+    EXPECT_TRUE(std::is_sorted(y[a].index.begin(), y[a].index.end()));
+    EXPECT_LT(static_cast<int>(y[a].index.size()), n);  // the reach, not all of L
+  }
+  out.W_columns.resize(m, m);
+  for (int a = 0; a < m; ++a)
+    for (int b = 0; b < m; ++b) out.W_columns(a, b) = factor.delassus_entry(y[a], y[b]);
+  Vector w, z;
+  factor.forward_substitute(f, w, z);
+  out.rows_free.resize(m);
+  for (int a = 0; a < m; ++a) out.rows_free(a) = SparseLdlt::dot(y[a], z);
+  for (int a = 0; a < m; ++a) SparseLdlt::add_scaled(r(a), y[a], w);
+  factor.back_substitute(w, out.total);
+  factor.delassus(H, out.W);
+  factor.solve_free(f, out.Hx);
+  factor.solve_with_reactions(r, out.x);
+  out.solved = factor.solve(f);
+  return out;
+}
+
+// The fallback to CHOLMOD's routines (sparse_ldlt.h, cholmod_layout_supported): a factor our kernels do
+// not read, CHOLMOD's simplicial LDLᵀ by choice (Kernels::cholmod) or that factor turned into LLᵀ by
+// CHOLMOD, whose layout the check refuses (Kernels::cholmod_ll), gives what our kernels give, and what dense algebra
+// gives, on a random grid's matrix of 800 unknowns: after CHOLMOD's factorization and after a
+// refactorization of the same pattern (supernodal_ldlt.h for our kernels, CHOLMOD's for the fallback).
+TEST(SparseLdlt, CholmodsRoutinesGiveWhatOurKernelsGiveWhereTheLayoutIsNotOurs) {
+  std::mt19937 random(17);
+  SparseMatrix A = test::random_grid(20, random);
+  const int n = static_cast<int>(A.rows()), m = 12;
+  std::uniform_int_distribution<int> unknown(0, n - 1);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Matrix H = Matrix::Zero(m, n);
+  for (int a = 0; a < m; ++a)
+    for (int k = 0; k < 1 + a % 3; ++k) H(a, unknown(random)) = uniform(random);
+  const Vector f = Vector::LinSpaced(n, -2.0, 3.0), r = Vector::LinSpaced(m, 0.5, -1.5);
+  SparseLdlt ours, cholmod(SparseLdlt::Kernels::cholmod), ll(SparseLdlt::Kernels::cholmod_ll);
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1)  // the same pattern, other values (still positive definite): a refactorization
+      for (int j = 0; j < n; ++j) A.coeffRef(j, j) *= 1.0 + 0.3 * (j % 3);
+    ASSERT_TRUE(ours.factor_positive_definite(A));
+    EXPECT_TRUE(ours.reads_factor_storage());
+    EXPECT_EQ(ours.supernodal_factorizations(), pass);
+    const FactorReadings expected = readings(ours, H, f, r);
+    // Dense algebra, independently.
+    const Eigen::LDLT<Matrix> dense{Matrix(A)};
+    const Matrix W = H * dense.solve(H.transpose());
+    const Vector free = dense.solve(f), total = dense.solve(f + H.transpose() * r);
+    const double w_scale = W.lpNorm<Eigen::Infinity>(), free_scale = (H * free).lpNorm<Eigen::Infinity>();
+    const double x_scale = total.lpNorm<Eigen::Infinity>();
+    EXPECT_LE((expected.W - W).lpNorm<Eigen::Infinity>(), 1e-12 * w_scale);
+    EXPECT_LE((expected.total - total).lpNorm<Eigen::Infinity>(), 1e-11 * x_scale);
+    for (SparseLdlt* fallback : {&cholmod, &ll}) {
+      ASSERT_TRUE(fallback->factor_positive_definite(A));
+      EXPECT_FALSE(fallback->reads_factor_storage());
+      EXPECT_EQ(fallback->supernodal_factorizations(), 0);
+      const FactorReadings got = readings(*fallback, H, f, r);
+      EXPECT_LE((got.W_columns - expected.W_columns).lpNorm<Eigen::Infinity>(), 1e-12 * w_scale) << pass;
+      EXPECT_LE((got.W - expected.W).lpNorm<Eigen::Infinity>(), 1e-12 * w_scale) << pass;
+      EXPECT_LE((got.rows_free - expected.rows_free).lpNorm<Eigen::Infinity>(), 1e-12 * free_scale) << pass;
+      EXPECT_LE((got.Hx - expected.Hx).lpNorm<Eigen::Infinity>(), 1e-12 * free_scale) << pass;
+      EXPECT_LE((got.total - expected.total).lpNorm<Eigen::Infinity>(), 1e-11 * x_scale) << pass;
+      EXPECT_LE((got.x - expected.x).lpNorm<Eigen::Infinity>(), 1e-11 * x_scale) << pass;
+      EXPECT_LE((got.solved - expected.solved).lpNorm<Eigen::Infinity>(), 1e-11 * free.lpNorm<Eigen::Infinity>()) << pass;
+      EXPECT_EQ(fallback->factor_nonzeros(), ours.factor_nonzeros());
+    }
+    // CHOLMOD's LDLᵀ forward columns are ours: the same rows (the reach), the same values.
+    for (int j : {0, n / 2, n - 1}) {
+      const double one = 1.0;
+      SparseLdlt::ForwardColumn a, b;
+      ours.forward(&j, &one, 1, a);
+      cholmod.forward(&j, &one, 1, b);
+      ASSERT_EQ(a.index, b.index) << j;
+      for (std::size_t k = 0; k < a.value.size(); ++k) EXPECT_NEAR(a.value[k], b.value[k], 1e-13) << j;
+    }
+  }
+}
+
+// The verdicts that read D go through CHOLMOD alike: positive definiteness and small pivots.
+TEST(SparseLdlt, CholmodsRoutinesGiveTheSameVerdictsOnDefinitenessAndSmallPivots) {
+  for (const SparseLdlt::Kernels kernels : {SparseLdlt::Kernels::ours_where_supported, SparseLdlt::Kernels::cholmod,
+                                            SparseLdlt::Kernels::cholmod_ll}) {
+    const int label = static_cast<int>(kernels);
+    SparseLdlt factor(kernels);
+    EXPECT_FALSE(factor.factor_positive_definite(-1.0 * chain(6))) << label;
+    EXPECT_FALSE(factor.factor_positive_definite(chain(6, 0.0, 0))) << label;
+    EXPECT_FALSE(factor.factor_positive_definite(chain(6, -0.5, 3))) << label;  // one negative spring
+    EXPECT_TRUE(factor.factor_positive_definite(chain(6))) << label;
+    SparseMatrix A = chain(30);
+    A.coeffRef(0, 0) += 1e-14 - 1.0;  // the wall spring at round-off of the others
+    A *= 2e11;
+    EXPECT_TRUE(factor.factor_positive_definite(A)) << label;
+    const std::vector<int> small = factor.small_pivots(A.diagonal(), 1e-10);
+    ASSERT_EQ(small.size(), 1u) << label;
+    A.coeffRef(small[0], small[0]) += 1e-6 * A.coeff(small[0], small[0]);
+    EXPECT_TRUE(factor.factor_positive_definite(A)) << label;
+    EXPECT_TRUE(factor.small_pivots(A.diagonal(), 1e-10).empty()) << label;
+  }
+}
+
+}  // namespace
+}  // namespace csim

@@ -59,16 +59,16 @@ TEST(SupernodalLdlt, RefactorizationsInSparseLdltSolveAsTheDenseFactorization) {
   SparseLdlt factor;
   ASSERT_TRUE(factor.factor_positive_definite(A));
   EXPECT_EQ(factor.supernodal_factorizations(), 0);  // a pattern's first factorization is CHOLMOD's
-  for (int round = 0; round < 3; ++round) {
-    for (int p = 0; p < A.nonZeros(); ++p) A.valuePtr()[p] *= 1.0 + 0.2 * std::sin(3.0 * p + round);
+  for (int pass = 0; pass < 3; ++pass) {
+    for (int p = 0; p < A.nonZeros(); ++p) A.valuePtr()[p] *= 1.0 + 0.2 * std::sin(3.0 * p + pass);
     A = 0.5 * (A + SparseMatrix(A.transpose()));
     A.diagonal().array() += 2.0 * n;  // stays positive definite
     ASSERT_TRUE(factor.factor_positive_definite(A));
-    EXPECT_EQ(factor.supernodal_factorizations(), round + 1);
+    EXPECT_EQ(factor.supernodal_factorizations(), pass + 1);
     const Vector expected = Matrix(A).ldlt().solve(b);
     EXPECT_LE((factor.solve(b) - expected).lpNorm<Eigen::Infinity>(), 1e-13 * expected.lpNorm<Eigen::Infinity>());
     // The forward columns read the new factor: a diagonal entry of A⁻¹.
-    const int index[] = {round * 7};
+    const int index[] = {pass * 7};
     const double value[] = {1.0};
     SparseLdlt::ForwardColumn y;
     factor.forward(index, value, 1, y);

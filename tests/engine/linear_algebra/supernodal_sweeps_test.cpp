@@ -102,16 +102,16 @@ TEST(SupernodalSweeps, HalvesInSparseLdltComposeToItsSolve) {
   const int n = static_cast<int>(A.rows());
   const Vector f = Vector::LinSpaced(n, -1.0, 2.0);
   SparseLdlt factor;
-  for (int round = 0; round < 2; ++round) {
-    if (round == 1) A.diagonal().array() += 0.3;  // the same pattern: a supernodal refactorization
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) A.diagonal().array() += 0.3;  // the same pattern: a supernodal refactorization
     ASSERT_TRUE(factor.factor_positive_definite(A));
-    EXPECT_EQ(factor.supernodal_factorizations(), round);
+    EXPECT_EQ(factor.supernodal_factorizations(), pass);
     Vector w, z, x;
     factor.forward_substitute(f, w, z);
     factor.back_substitute(w, x);
     const Vector solved = factor.solve(f);
-    EXPECT_LE((x - solved).lpNorm<Eigen::Infinity>(), 1e-12 * solved.lpNorm<Eigen::Infinity>()) << "round " << round;
-    EXPECT_LE((A * x - f).lpNorm<Eigen::Infinity>(), 1e-12 * f.lpNorm<Eigen::Infinity>()) << "round " << round;
+    EXPECT_LE((x - solved).lpNorm<Eigen::Infinity>(), 1e-12 * solved.lpNorm<Eigen::Infinity>()) << "pass " << pass;
+    EXPECT_LE((A * x - f).lpNorm<Eigen::Infinity>(), 1e-12 * f.lpNorm<Eigen::Infinity>()) << "pass " << pass;
   }
 }
 
