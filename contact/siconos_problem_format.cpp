@@ -1,5 +1,7 @@
 #include "contact/siconos_problem_format.h"
 
+#include "contact/whole_blocks.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -92,34 +94,7 @@ class Cursor {
   int token_line_ = 1;  // line of the last token read
 };
 
-struct Entry {
-  int row, column;
-  double value;
-};
-
-// W_sparse from its entries, every d × d block that holds one completed with explicit zeros.
-SparseDelassus block_sparse(int size, int dimension, const std::vector<Entry>& entries) {
-  const std::int64_t block_count = size / dimension;
-  std::vector<std::int64_t> blocks;
-  blocks.reserve(entries.size());
-  for (const Entry& entry : entries)
-    blocks.push_back(entry.row / dimension * block_count + entry.column / dimension);
-  std::sort(blocks.begin(), blocks.end());
-  blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(blocks.size() * dimension * dimension + entries.size());
-  for (const std::int64_t block : blocks) {
-    const int row = static_cast<int>(block / block_count) * dimension;
-    const int column = static_cast<int>(block % block_count) * dimension;
-    for (int i = 0; i < dimension; ++i)
-      for (int j = 0; j < dimension; ++j) triplets.emplace_back(row + i, column + j, 0.0);
-  }
-  // Entries repeated in the file add up, as CSparse's compression of a triplet matrix sums them.
-  for (const Entry& entry : entries) triplets.emplace_back(entry.row, entry.column, entry.value);
-  SparseDelassus W(size, size);
-  W.setFromTriplets(triplets.begin(), triplets.end());
-  return W;
-}
+using Entry = Eigen::Triplet<double>;
 
 // NM_DENSE after storage, size0 and size1: the sizes again, then the entries column by column.
 Eigen::MatrixXd read_dense(Cursor& cursor, int size) {
@@ -184,10 +159,10 @@ SparseDelassus read_sparse_block(Cursor& cursor, int size, int dimension) {
       const long long rows = row_end[block_row] - first_row, columns = column_end[column] - first_column;
       for (long long j = 0; j < columns; ++j)
         for (long long i = 0; i < rows; ++i)  // column-major within a block (SBM_get_value)
-          entries.push_back({static_cast<int>(first_row + i), static_cast<int>(first_column + j), cursor.number("W")});
+          entries.emplace_back(static_cast<int>(first_row + i), static_cast<int>(first_column + j), cursor.number("W"));
     }
   }
-  return block_sparse(size, dimension, entries);
+  return whole_blocks(size, dimension, entries);
 }
 
 // NM_SPARSE: NSM_write_in_file's origin, then CSparseMatrix_print_in_file's text.
@@ -218,9 +193,9 @@ SparseDelassus read_csparse(Cursor& cursor, int size, int dimension) {
       const int row = static_cast<int>(cursor.integer("a row index", 0, size - 1));
       const int column = static_cast<int>(cursor.integer("a column index", 0, size - 1));
       cursor.expect(":", "a triplet entry");
-      entries.push_back({row, column, cursor.number("W")});
+      entries.emplace_back(row, column, cursor.number("W"));
     }
-    return block_sparse(size, dimension, entries);
+    return whole_blocks(size, dimension, entries);
   }
   const char* keyword = kind == Kind::columns ? "col" : "row";
   long long next = 0;
@@ -236,10 +211,10 @@ SparseDelassus read_csparse(Cursor& cursor, int size, int dimension) {
       const int inner = static_cast<int>(cursor.integer("an entry's index", 0, size - 1));
       cursor.expect(":", "an entry");
       const double value = cursor.number("W");
-      entries.push_back(kind == Kind::columns ? Entry{inner, outer, value} : Entry{outer, inner, value});
+      entries.push_back(kind == Kind::columns ? Entry(inner, outer, value) : Entry(outer, inner, value));
     }
   }
-  return block_sparse(size, dimension, entries);
+  return whole_blocks(size, dimension, entries);
 }
 
 }  // namespace

@@ -143,7 +143,7 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
 
   const PgsParameters defaults;
   CLI::App* solve = app.add_subcommand("solve", "solve one frictional contact problem read from a file");
-  solve->add_option("PROBLEM", a.solve.problem, "the problem: csim's text format or Siconos' FrictionContactProblem format")
+  solve->add_option("PROBLEM", a.solve.problem, "the problem: csim's text format, Siconos' FrictionContactProblem format or FCLib's HDF5")
       ->required();
   solve->add_option("--tolerance", a.solve.tolerance,
                     "relative residual at which the solve stops (default " + CLI::detail::to_string(defaults.tolerance) + ")")

@@ -1,5 +1,6 @@
 #include "tools/solve_command.h"
 
+#include "contact/fclib_problem_format.h"
 #include "contact/friction_contact_problem.h"
 #include "contact/pgs_solver.h"
 #include "contact/siconos_problem_format.h"
@@ -57,6 +58,13 @@ FrictionContactProblem read_csim_problem(const std::string& file, const std::str
 FrictionContactProblem load_problem(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw BadProblem(file + ": cannot open the problem file: " + std::strerror(errno));
+  if (is_hdf5_file(file)) {
+    try {
+      return read_fclib_problem(file);
+    } catch (const std::runtime_error& e) {
+      throw BadProblem(file + ": " + e.what() + " (read as an FCLib HDF5 file)");
+    }
+  }
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw BadProblem(file + ": cannot read the problem file");
   std::istringstream first_word(text);

@@ -159,6 +159,16 @@ else:
     check(error <= 1e-8, f"sparse-block: natural-map error {error:.3e} > 1e-8")
 print(f"FC3D_Example1_SBM.dat: exit {status}: {(stdout or stderr).strip()}")
 
+# An FCLib HDF5 file (W by compressed rows, stored by blocks): solved, or refused as above.
+path = os.path.join(SICONOS, "LMGC_100_PR_PerioBox-i00361-60-03000.hdf5")
+status, stdout, stderr = solve(path, "--tolerance", "1e-8")
+if status == 2:
+    check(re.match(r"^csim: .*PerioBox.*\.hdf5: W is stored by blocks .*not solved yet", stderr) is not None,
+          f"FCLib: stderr {stderr!r}")
+else:
+    check(status in (0, 1) and LINE.match(stdout) is not None, f"FCLib: exit {status}, {stdout!r} {stderr!r}")
+print(f"LMGC_100_PR_PerioBox-i00361-60-03000.hdf5: exit {status}: {(stdout or stderr).strip()}")
+
 for failure in failures:
     print("FAIL:", failure)
 sys.exit(1 if failures else 0)
