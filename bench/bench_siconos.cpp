@@ -4,16 +4,20 @@
 // (fc3d_compute_error / fc2d_compute_error, relative to max(‖q‖, ‖r‖, ‖u‖)), computed by Siconos itself.
 //
 //   bench_siconos DIR [--tolerance 1e-8] [--max-iterations 100000] [--timeout 120] [--dense-limit 4096]
+//                     [--repeats 3]
 //
 // Each solve runs in a child process killed after --timeout seconds; the time is the solve's alone
-// (reading, conversions and the error excluded). csim reads each file with its own reader
+// (reading, conversions and the error excluded), the median of --repeats solves alternating between the
+// two solvers (a solver that took over 10 s, or did not finish, is not repeated), ± half the spread. csim reads each file with its own reader
 // (contact/siconos_problem_format.h), Siconos with frictionContact_newFromFile; the two readings are
 // compared first (q, mu, and W x for a fixed x), a row saying so when they differ. A solver that refuses a
 // W stored by blocks gets a dense copy up to --dense-limit rows (noted in the table), none above.
 // Siconos 4.4's fc2d driver takes no CSparse W (storage 2): it gets the block-sparse copy made by its own
-// SBM_from_csparse. Files named GFC*/gfc* (global problems, another format) and HDF5 files (FCLib; Debian's
-// Siconos is built without it) are listed, not run. OpenBLAS runs one thread (the program re-executes
+// SBM_from_csparse. FCLib's HDF5 files are read by csim alone (Debian's Siconos is built without FCLIB):
+// Siconos gets a block-sparse copy of that reading. Files named GFC*/gfc* (global problems, another
+// format) and FCLib's global problems are listed, not run. OpenBLAS runs one thread (the program re-executes
 // itself with OPENBLAS_NUM_THREADS=1 when it is unset).
+#include "contact/fclib_problem_format.h"
 #include "contact/friction_contact_problem.h"
 #include "contact/pgs_solver.h"
 #include "contact/siconos_problem_format.h"
@@ -55,12 +59,14 @@ struct Options {
   int max_iterations = 100000;  // both solvers: the time limit decides
   double timeout = 120.0;       // s
   int dense_limit = 4096;       // rows of a dense copy of W for a solver that refuses it by blocks (128 MiB)
+  int repeats = 3;              // solves of each problem by each solver, alternating; none after one over 10 s
 };
 
 // What a child sends back through its pipe: a plain struct.
 struct Outcome {
   enum State { solved, refused, failed, timed_out } state = failed;
-  double seconds = 0.0, error = NAN;
+  double seconds = 0.0, error = NAN;  // seconds: the median of the repeats
+  double spread = 0.0;                 // (slowest − fastest) / 2 / median of the repeats
   int iterations = 0;
   char note[200] = "";
 };
@@ -199,7 +205,7 @@ std::string compare_readings(const csim::FrictionContactProblem& ours, ::Frictio
   return "";
 }
 
-// max |W − Wᵀ| / max |W|: 0 for a symmetric W.
+// max |W − Wᵀ| / max |W|: 0 for a symmetric W (the table's "skew").
 double skew(const csim::FrictionContactProblem& problem) {
   if (problem.storage == csim::DelassusStorage::dense) {
     const double scale = std::max(problem.W.cwiseAbs().maxCoeff(), 1e-300);
@@ -222,11 +228,26 @@ std::string cell(const Outcome& outcome, bool time) {
     case Outcome::refused: return "refused";
     case Outcome::failed: return "failed";
     case Outcome::solved:
-      if (time) std::snprintf(text, sizeof text, "%.4g", outcome.seconds);
+      if (time && outcome.spread > 0.0)
+        std::snprintf(text, sizeof text, "%.3g ±%.0f%%", outcome.seconds, 100.0 * outcome.spread);
+      else if (time) std::snprintf(text, sizeof text, "%.3g", outcome.seconds);
       else std::snprintf(text, sizeof text, "%.1e", outcome.error);
       return text;
   }
   return "";
+}
+
+// The last run, its time the median of the runs' (all solved) and their spread.
+Outcome median(const std::vector<Outcome>& runs) {
+  Outcome outcome = runs.back();
+  if (outcome.state != Outcome::solved) return outcome;
+  std::vector<double> seconds;
+  for (const Outcome& run : runs) seconds.push_back(run.seconds);
+  std::sort(seconds.begin(), seconds.end());
+  const std::size_t n = seconds.size();
+  outcome.seconds = n % 2 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
+  outcome.spread = n > 1 ? 0.5 * (seconds.back() - seconds.front()) / outcome.seconds : 0.0;
+  return outcome;
 }
 
 bool converged(const Outcome& outcome, double tolerance) {
@@ -237,10 +258,21 @@ const char* storage_name(int storage) {
   return storage == NM_DENSE ? "dense" : storage == NM_SPARSE_BLOCK ? "SBM" : "CSparse";
 }
 
-bool is_hdf5(const std::filesystem::path& path) {
-  char signature[8] = {};
-  std::ifstream(path, std::ios::binary).read(signature, sizeof signature);
-  return std::memcmp(signature, "\x89HDF\r\n\x1a\n", 8) == 0;
+// Siconos' problem from csim's reading of it, W stored by blocks (SBM_from_csparse drops explicit zeros).
+::FrictionContactProblem* siconos_copy(const csim::FrictionContactProblem& problem) {
+  const int n = problem.size();
+  NumericsMatrix* entries = NM_create(NM_SPARSE, n, n);
+  NM_triplet_alloc(entries, problem.W_sparse.nonZeros());
+  for (int row = 0; row < n; ++row)
+    for (csim::SparseDelassus::InnerIterator it(problem.W_sparse, row); it; ++it)
+      NM_entry(entries, row, static_cast<int>(it.col()), it.value());
+  SparseBlockStructuredMatrix* blocks = SBM_new();
+  SBM_from_csparse(problem.dimension, NM_csc(entries), blocks);
+  auto* q = static_cast<double*>(std::malloc(sizeof(double) * n));
+  auto* mu = static_cast<double*>(std::malloc(sizeof(double) * problem.contacts));
+  for (int i = 0; i < n; ++i) q[i] = problem.b(i);
+  for (int c = 0; c < problem.contacts; ++c) mu[c] = problem.mu[c](0);
+  return frictionContactProblem_new_with_data(problem.dimension, problem.contacts, NM_new_SBM(n, n, blocks), q, mu);
 }
 
 Options parse(int argc, char** argv) {
@@ -252,12 +284,15 @@ Options parse(int argc, char** argv) {
     else if (word == "--max-iterations" && has_value) options.max_iterations = std::atoi(argv[++i]);
     else if (word == "--timeout" && has_value) options.timeout = std::atof(argv[++i]);
     else if (word == "--dense-limit" && has_value) options.dense_limit = std::atoi(argv[++i]);
+    else if (word == "--repeats" && has_value) options.repeats = std::atoi(argv[++i]);
     else if (options.directory.empty() && word[0] != '-') options.directory = word;
     else throw std::invalid_argument("unknown argument '" + word + "'");
   }
-  if (options.directory.empty() || !(options.tolerance > 0) || options.max_iterations < 1 || !(options.timeout > 0))
+  if (options.directory.empty() || !(options.tolerance > 0) || options.max_iterations < 1 || !(options.timeout > 0) ||
+      options.repeats < 1)
     throw std::invalid_argument(
-        "usage: bench_siconos DIR [--tolerance 1e-8] [--max-iterations 100000] [--timeout 120] [--dense-limit 4096]");
+        "usage: bench_siconos DIR [--tolerance 1e-8] [--max-iterations 100000] [--timeout 120] [--dense-limit 4096] "
+        "[--repeats 3]");
   return options;
 }
 
@@ -281,9 +316,9 @@ int main(int argc, char** argv) {
     if (entry.is_regular_file()) files.push_back(entry.path());
   std::sort(files.begin(), files.end());
 
-  std::printf("tolerance %g, at most %d iterations, %g s a solve, from r = 0; error: Siconos' natural map\n\n",
-              options.tolerance, options.max_iterations, options.timeout);
-  std::printf("| problem | d | contacts | W | skew | csim s | csim error | csim sweeps | NSGS s | NSGS error | NSGS iterations | csim/NSGS |\n");
+  std::printf("tolerance %g, at most %d iterations, %g s a solve, from r = 0, median of %d; error: Siconos' natural map\n\n",
+              options.tolerance, options.max_iterations, options.timeout, options.repeats);
+  std::printf("| problem | d | contacts | W | symmetric (skew) | csim s | csim error | csim sweeps | NSGS s | NSGS error | NSGS iterations | csim/NSGS |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::vector<std::string> notes, skipped;
   int problems = 0, csim_solved = 0, nsgs_solved = 0, both = 0, csim_no_slower = 0;
@@ -293,32 +328,48 @@ int main(int argc, char** argv) {
       skipped.push_back(name + ": a global problem (GlobalFrictionContactProblem format), not run");
       continue;
     }
-    if (is_hdf5(path)) {
-      skipped.push_back(name + ": HDF5 (FCLib), read by neither csim nor Debian's Siconos (built without FCLIB)");
-      continue;
-    }
     csim::FrictionContactProblem ours;
+    ::FrictionContactProblem* theirs = nullptr;
+    std::string storage;
     try {
-      std::ifstream in(path);
-      ours = csim::read_siconos_problem(in);
+      if (csim::is_hdf5_file(path)) {
+        ours = csim::read_fclib_problem(path);
+        theirs = siconos_copy(ours);
+        storage = "FCLib";
+        notes.push_back(name + ": NSGS on an SBM copy of csim's reading (Debian's Siconos reads no HDF5)");
+      } else {
+        std::ifstream in(path);
+        ours = csim::read_siconos_problem(in);
+      }
     } catch (const std::exception& e) {
-      skipped.push_back(name + ": not a FrictionContactProblem file: " + e.what());
+      skipped.push_back(name + ": " + e.what());
       continue;
     }
-    FILE* file = std::fopen(path.c_str(), "r");
-    ::FrictionContactProblem* theirs = frictionContact_newFromFile(file);
-    std::fclose(file);
-    const int storage = theirs->M->storageType;
-    const std::string disagreement = compare_readings(ours, *theirs);
-    if (!disagreement.empty()) notes.push_back(name + ": the two readers disagree on " + disagreement);
-    if (storage == NM_SPARSE) {  // fc2d_driver (4.4) takes dense and SBM only
+    if (!theirs) {
+      FILE* file = std::fopen(path.c_str(), "r");
+      theirs = frictionContact_newFromFile(file);
+      std::fclose(file);
+      storage = storage_name(theirs->M->storageType);
+      const std::string disagreement = compare_readings(ours, *theirs);
+      if (!disagreement.empty()) notes.push_back(name + ": the two readers disagree on " + disagreement);
+    }
+    if (theirs->M->storageType == NM_SPARSE) {  // fc2d_driver (4.4) takes dense and SBM only
       SparseBlockStructuredMatrix* blocks = SBM_new();
       SBM_from_csparse(theirs->dimension, NM_csc(theirs->M), blocks);
       theirs->M = NM_new_SBM(rows(*theirs), rows(*theirs), blocks);
       notes.push_back(name + ": NSGS on Siconos' SBM_from_csparse copy of W");
     }
-    const Outcome csim_outcome = in_child(options.timeout, [&] { return solve_with_csim(ours, *theirs, options); });
-    const Outcome nsgs_outcome = in_child(options.timeout, [&] { return solve_with_nsgs(*theirs, options); });
+    std::vector<Outcome> csim_runs, nsgs_runs;
+    for (int repeat = 0; repeat < options.repeats; ++repeat) {
+      const bool csim_again = csim_runs.empty() || (csim_runs.back().state == Outcome::solved &&
+                                                    csim_runs.back().seconds < 10.0);
+      const bool nsgs_again = nsgs_runs.empty() || (nsgs_runs.back().state == Outcome::solved &&
+                                                    nsgs_runs.back().seconds < 10.0);
+      if (csim_again)
+        csim_runs.push_back(in_child(options.timeout, [&] { return solve_with_csim(ours, *theirs, options); }));
+      if (nsgs_again) nsgs_runs.push_back(in_child(options.timeout, [&] { return solve_with_nsgs(*theirs, options); }));
+    }
+    const Outcome csim_outcome = median(csim_runs), nsgs_outcome = median(nsgs_runs);
     for (const Outcome* outcome : {&csim_outcome, &nsgs_outcome})
       if (outcome->note[0] != '\0')
         notes.push_back(name + ": " + (outcome == &csim_outcome ? "csim: " : "NSGS: ") + outcome->note);
@@ -336,16 +387,17 @@ int main(int argc, char** argv) {
     }
     char skew_text[32];
     const double skew_value = skew(ours);
-    if (skew_value == 0.0) std::snprintf(skew_text, sizeof skew_text, "0");
-    else std::snprintf(skew_text, sizeof skew_text, "%.0e", skew_value);
+    if (skew_value == 0.0) std::snprintf(skew_text, sizeof skew_text, "yes");
+    else std::snprintf(skew_text, sizeof skew_text, "no (%.0e)", skew_value);
     std::printf("| %s | %d | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", name.c_str(), ours.dimension,
-                ours.contacts, storage_name(storage), skew_text, cell(csim_outcome, true).c_str(),
+                ours.contacts, storage.c_str(), skew_text, cell(csim_outcome, true).c_str(),
                 cell(csim_outcome, false).c_str(),
                 csim_outcome.state == Outcome::solved ? std::to_string(csim_outcome.iterations).c_str() : "",
                 cell(nsgs_outcome, true).c_str(), cell(nsgs_outcome, false).c_str(),
                 nsgs_outcome.state == Outcome::solved ? std::to_string(nsgs_outcome.iterations).c_str() : "",
                 ratio.c_str());
     std::fflush(stdout);
+    frictionContactProblem_free(theirs);
   }
   std::printf("\n%d problems: csim reached %g on %d, NSGS on %d; on the %d both reached, csim was no slower on %d.\n",
               problems, options.tolerance, csim_solved, nsgs_solved, both, csim_no_slower);
