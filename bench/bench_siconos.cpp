@@ -8,9 +8,10 @@
 //
 // Each solve runs in a child process killed after --timeout seconds; the time is the solve's alone
 // (reading, conversions and the error excluded), the median of --repeats solves alternating between the
-// two solvers (a solver that took over 10 s, or did not finish, is not repeated), ± half the spread. csim reads each file with its own reader
-// (contact/siconos_problem_format.h), Siconos with frictionContact_newFromFile; the two readings are
-// compared first (q, mu, and W x for a fixed x), a row saying so when they differ. A solver that refuses a
+// two solvers (a solver that took over 10 s, or did not finish, is not repeated), ± half the spread.
+// csim reads each file with its own reader (contact/siconos_problem_format.h), Siconos with
+// frictionContact_newFromFile; the two readings are compared first (q, mu, and W x for a fixed x), a note
+// saying so when they differ. A solver that refuses a
 // W stored by blocks gets a dense copy up to --dense-limit rows (noted in the table), none above.
 // Siconos 4.4's fc2d driver takes no CSparse W (storage 2): it gets the block-sparse copy made by its own
 // SBM_from_csparse. FCLib's HDF5 files are read by csim alone (Debian's Siconos is built without FCLIB):
@@ -316,9 +317,11 @@ int main(int argc, char** argv) {
     if (entry.is_regular_file()) files.push_back(entry.path());
   std::sort(files.begin(), files.end());
 
-  std::printf("tolerance %g, at most %d iterations, %g s a solve, from r = 0, median of %d; error: Siconos' natural map\n\n",
+  std::printf("tolerance %g, at most %d iterations, %g s a solve, from r = 0, median of %d; "
+              "error: Siconos' natural map\n\n",
               options.tolerance, options.max_iterations, options.timeout, options.repeats);
-  std::printf("| problem | d | contacts | W | symmetric (skew) | csim s | csim error | csim sweeps | NSGS s | NSGS error | NSGS iterations | csim/NSGS |\n");
+  std::printf("| problem | d | contacts | W | symmetric (skew) | csim s | csim error | csim sweeps | NSGS s "
+              "| NSGS error | NSGS iterations | csim/NSGS |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::vector<std::string> notes, skipped;
   int problems = 0, csim_solved = 0, nsgs_solved = 0, both = 0, csim_no_slower = 0;
@@ -374,7 +377,8 @@ int main(int argc, char** argv) {
       if (outcome->note[0] != '\0')
         notes.push_back(name + ": " + (outcome == &csim_outcome ? "csim: " : "NSGS: ") + outcome->note);
     ++problems;
-    const bool csim_ok = converged(csim_outcome, options.tolerance), nsgs_ok = converged(nsgs_outcome, options.tolerance);
+    const bool csim_ok = converged(csim_outcome, options.tolerance);
+    const bool nsgs_ok = converged(nsgs_outcome, options.tolerance);
     csim_solved += csim_ok;
     nsgs_solved += nsgs_ok;
     std::string ratio = "–";

@@ -122,7 +122,8 @@ FrictionContactProblem read_fclib_problem(const std::string& path) {
 
   std::vector<Eigen::Triplet<double>> entries;
   if (nz >= 0) {
-    const std::vector<int> rows = file.integers("/fclib_local/W/i", nz), columns = file.integers("/fclib_local/W/p", nz);
+    const std::vector<int> rows = file.integers("/fclib_local/W/i", nz);
+    const std::vector<int> columns = file.integers("/fclib_local/W/p", nz);
     const std::vector<double> values = file.numbers("/fclib_local/W/x", nz);
     for (int k = 0; k < nz; ++k) {
       check_index("/fclib_local/W/i", rows[k], m);

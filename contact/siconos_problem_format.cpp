@@ -126,7 +126,8 @@ std::vector<long long> block_boundaries(Cursor& cursor, long long count, int siz
 
 // NM_SPARSE_BLOCK: SBM_write_in_file's layout (see the header).
 SparseDelassus read_sparse_block(Cursor& cursor, int size, int dimension) {
-  const long long block_count = cursor.integer("the number of blocks (nbblocks)", 1, static_cast<long long>(size) * size);
+  const long long block_count =
+      cursor.integer("the number of blocks (nbblocks)", 1, static_cast<long long>(size) * size);
   const long long block_rows = cursor.integer("the number of block rows", 1, size);
   const long long block_columns = cursor.integer("the number of block columns", 1, size);
   const std::vector<long long> row_end = block_boundaries(cursor, block_rows, size, dimension, "block row sizes");
@@ -148,7 +149,8 @@ SparseDelassus read_sparse_block(Cursor& cursor, int size, int dimension) {
   std::vector<Entry> entries;
   for (long long block_row = 0; block_row + 1 < filled1; ++block_row) {
     const long long first_row = block_row ? row_end[block_row - 1] : 0;
-    std::vector<long long> seen(block_column.begin() + row_start[block_row], block_column.begin() + row_start[block_row + 1]);
+    std::vector<long long> seen(block_column.begin() + row_start[block_row],
+                                block_column.begin() + row_start[block_row + 1]);
     std::sort(seen.begin(), seen.end());
     if (std::adjacent_find(seen.begin(), seen.end()) != seen.end())
       cursor.fail("block row " + std::to_string(block_row) + " holds the same block column twice");
@@ -173,7 +175,8 @@ SparseDelassus read_csparse(Cursor& cursor, int size, int dimension) {
     cursor.fail("expected CSparse's version line");
   const std::string_view header = cursor.rest_of_line("CSparse's size line");
   enum class Kind { columns, rows, triplets } kind = Kind::columns;
-  std::string_view shape = header.substr(header.find_first_not_of(' ') == std::string_view::npos ? 0 : header.find_first_not_of(' '));
+  std::string_view shape = header;
+  shape.remove_prefix(std::min(shape.find_first_not_of(' '), shape.size()));
   if (shape.starts_with("triplet:")) kind = Kind::triplets;
   if (shape.starts_with("csr:")) kind = Kind::rows;
   if (kind != Kind::columns) shape.remove_prefix(shape.find(':') + 1);
