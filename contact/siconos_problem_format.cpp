@@ -80,6 +80,19 @@ class Cursor {
     return line;
   }
 
+  // Tokens left, counted up to `limit`.
+  int tokens_left(int limit) {
+    int count = 0;
+    while (count < limit) {
+      while (position_ < text_.size() && is_space(text_[position_])) advance();
+      if (position_ == text_.size()) break;
+      token_line_ = line_;
+      while (position_ < text_.size() && !is_space(text_[position_])) ++position_;
+      ++count;
+    }
+    return count;
+  }
+
   [[noreturn]] void fail(const std::string& message) const { throw ProblemFileError(token_line_, message); }
 
  private:
@@ -246,6 +259,8 @@ FrictionContactProblem read_siconos_problem(std::istream& in) {
     if (value < 0.0) cursor.fail("negative friction coefficient " + std::to_string(value));
     mu = Eigen::Vector2d(value, value);
   }
+  if (cursor.tokens_left(2) > 1)
+    cursor.fail("more after mu than a FrictionContactProblem holds (a GlobalFrictionContactProblem file?)");
   return problem;
 }
 

@@ -21,7 +21,9 @@
 //             6 significant digits), per row "row i …" for csr, or "i j : value" triplets;
 //   q                       size0 numbers
 //   mu                      nc numbers, one friction coefficient per contact
-// Anything after mu is ignored, as Siconos' reader ignores it.
+// After mu, one token at most (several of Siconos' files end with a flag, 0 or 1), which is ignored as
+// Siconos' reader ignores it. More is refused: a GlobalFrictionContactProblem file (GFC3D_*.dat) starts
+// the same way, and reading its first part as this problem would solve another problem silently.
 //
 // The problem is Siconos' u = M r + q with r, u in [n, t1(, t2)] order per contact and an isotropic
 // Coulomb cone of coefficient mu: csim's FrictionContactProblem (friction_contact_problem.h) with W = M,
@@ -33,7 +35,7 @@
 //
 // Errors throw ProblemFileError with the 1-based line of the offending token: a malformed or
 // non-finite number, a size that does not fit the dimension and contact count, a negative mu, a block
-// structure that does not cover whole contacts, input that ends early.
+// structure that does not cover whole contacts, input that ends early or goes on after mu.
 #pragma once
 
 #include "contact/friction_contact_problem.h"

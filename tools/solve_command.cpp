@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -56,6 +57,8 @@ FrictionContactProblem read_csim_problem(const std::string& file, const std::str
 }
 
 FrictionContactProblem load_problem(const std::string& file) {
+  std::error_code error;
+  if (std::filesystem::is_directory(file, error)) throw BadProblem(file + ": a folder, not a problem file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw BadProblem(file + ": cannot open the problem file: " + std::strerror(errno));
   if (is_hdf5_file(file)) {

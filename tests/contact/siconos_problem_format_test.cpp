@@ -170,6 +170,12 @@ TEST(SiconosProblemFormat, MalformedInputNamesTheLine) {
   expect_error(header + "1 0 0\n0 x 0\n0 0 1\n-1 0 0\n0.3\n", 8, "malformed number 'x'");
   expect_error(header + W + "1 nan 0\n0.3\n", 10, "non-finite");
   expect_error(header + W + "-1 0 0\n-0.3\n", 11, "negative friction");
+  // One token after mu is a flag some of Siconos' files end with; more is another kind of file.
+  {
+    std::istringstream flagged(header + W + "-1 0 0\n0.3\n1\n");
+    EXPECT_NO_THROW(read_siconos_problem(flagged));
+  }
+  expect_error(header + W + "-1 0 0\n0.3\n3\n1.0 0.0\n", 13, "more after mu");
   // A block row of 4 rows in a dimension-3 problem splits a contact.
   expect_error("3\n2\n1\n6\n6\n1\n1\n1\n4\t6\n", 9, "splits a contact");
   // A block numbered out of order.
