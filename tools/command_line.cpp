@@ -1,15 +1,18 @@
 #include "tools/command_line.h"
 
+#include "contact/pgs_solver.h"
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <climits>
 #include <iostream>
 
 namespace csim::cli {
 
 namespace {
 
-const std::vector<std::string> kCommands{"run", "validate", "dump-config", "compare", "stress", "sweep", "help"};
+const std::vector<std::string> kCommands{"run", "validate", "dump-config", "compare", "stress", "sweep", "solve", "help"};
 
 void add_scene(CLI::App& command, Arguments& a) {
   command.add_option("SCENE", a.scene, "a scene folder (holding scene.yaml) or a scene file")->required();
@@ -138,6 +141,24 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
                 "Exit status: 0 every case passed its checks, 1 some case did not (recorded in its row),\n"
                 "2 bad input (lists, sweeps file, --set, a key no case could set); " + std::string(kStopped));
 
+  const PgsParameters defaults;
+  CLI::App* solve = app.add_subcommand("solve", "solve one frictional contact problem read from a file");
+  solve->add_option("PROBLEM", a.solve.problem, "the problem: csim's text format, Siconos' FrictionContactProblem format or FCLib's HDF5")
+      ->required();
+  solve->add_option("--tolerance", a.solve.tolerance,
+                    "relative residual at which the solve stops (default " + CLI::detail::to_string(defaults.tolerance) + ")")
+      ->type_name("T")
+      ->check(kPositive);
+  solve->add_option("--max-iterations", a.solve.max_iterations,
+                    "Gauss-Seidel sweeps at most (default " + std::to_string(defaults.max_iterations) + ")")
+      ->type_name("N")
+      ->check(CLI::Range(1, INT_MAX));
+  solve->add_option("--out", a.solve.solution_file, "write r there, one number a line, in the problem's row order")
+      ->type_name("FILE");
+  solve->footer("Prints one line: converged=yes|no iterations=N residual=R time_s=T (T: the solve alone, reading excluded).\n"
+                "FILE is written completely or not at all. Exit status: 0 converged, 1 not converged, 2 bad input\n"
+                "(the message names the file and the line) or FILE cannot be written.");
+
   CLI::App* help = app.add_subcommand("help", "print the help of csim or of one command");
   help->add_option("COMMAND", help_topic, "the command to explain");
 }
@@ -160,7 +181,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Arguments& argument
   if (argc >= 2 && argv[1][0] != '-' &&
       std::find(kCommands.begin(), kCommands.end(), argv[1]) == kCommands.end())
     return bad_argument("", "unknown command '" + std::string(argv[1]) +
-                                "' (commands: run, validate, dump-config, compare, stress, sweep, help)");
+                                "' (commands: run, validate, dump-config, compare, stress, sweep, solve, help)");
   // CLI11 drops the empty items of a delimited list: `--steps 1e-2,,1e-3` would quietly run two steps.
   for (int i = 2; i < argc; ++i) {
     const std::string word = argv[i];
@@ -187,7 +208,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Arguments& argument
     return kSuccess;
   } catch (const CLI::ParseError& e) {
     const auto selected = app.get_subcommands();
-    if (argc < 2) return bad_argument("", "missing command (run, validate, dump-config, compare, stress, sweep, help)");
+    if (argc < 2) return bad_argument("", "missing command (run, validate, dump-config, compare, stress, sweep, solve, help)");
     return bad_argument(selected.empty() ? "" : " " + selected.front()->get_name(), e.what());
   }
   arguments.command = app.get_subcommands().front()->get_name();
@@ -198,7 +219,7 @@ std::optional<int> parse_command_line(int argc, char** argv, Arguments& argument
   }
   if (std::find(kCommands.begin(), kCommands.end(), help_topic) == kCommands.end())
     return bad_argument("", "help: no command '" + help_topic +
-                                "' (commands: run, validate, dump-config, compare, stress, sweep)");
+                                "' (commands: run, validate, dump-config, compare, stress, sweep, solve)");
   std::cout << command_help(app, help_topic);
   return kSuccess;
 }

@@ -2,6 +2,8 @@
 // options and its own help (`csim run --help`, `csim help run`, `csim --help`, `csim help`).
 #pragma once
 
+#include "tools/solve_command.h"
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +29,8 @@ struct Arguments {
   // sweep
   std::vector<std::string> set_lists, grids;  // KEY=V1,V2,..., in the order given
   bool no_case_outputs = false;
+  // solve
+  SolveArguments solve;
 };
 
 // Reads argv into `arguments`. Returns the exit status when csim must stop here: 0 once help is printed

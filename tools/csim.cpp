@@ -7,6 +7,7 @@
 //   csim stress SCENE [--set KEY=VALUE]... [--sweeps FILE] [--out DIR] [--only SWEEP[,SWEEP...]]
 //   csim sweep SCENE [--set KEY=VALUE]... (--set-list KEY=V1,V2...|--grid KEY=V1,V2...)... | --sweeps FILE
 //              [--out DIR] [--no-case-outputs]
+//   csim solve PROBLEM [--tolerance T] [--max-iterations N] [--out FILE]   (solve_command.h)
 //   csim help [COMMAND], csim [COMMAND] --help: help on stdout, exit 0; a bad argument: one line, exit 2.
 // SCENE is a scene folder (holding scene.yaml) or a YAML file.
 // run, compare, stress and sweep write into a temporary folder beside DIR and swap it in whole when they
@@ -20,6 +21,7 @@
 // Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
 // 1 some run did, 2 bad input (sweeps file, --only, --set).
 // Exit status of sweep: 0 every case passed its checks, 1 some case did not (recorded in its row), 2 bad input.
+// Exit status of solve: 0 converged, 1 not converged, 2 bad input or an output file that cannot be written.
 // compare, stress and sweep run their cases through a study runner (tools/studies/study_runner.h): serially,
 // or spread over the ranks when started by mpirun or srun, rank 0 alone printing and writing; the other
 // ranks leave quietly, with status 0 once the study is done or 2 when it could not start. A stopped study
@@ -36,6 +38,7 @@
 #include "tools/studies/sweep.h"
 #include "tools/command_line.h"
 #include "tools/scene_argument.h"
+#include "tools/solve_command.h"
 #include "tools/stop_signals.h"
 
 #include <unistd.h>
@@ -418,6 +421,7 @@ int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& sto
 int main(int argc, char** argv) {
   Arguments arguments;
   if (const std::optional<int> status = csim::cli::parse_command_line(argc, argv, arguments)) return *status;
+  if (arguments.command == "solve") return csim::cli::solve_command(arguments.solve);
   const bool study = arguments.command == "compare" || arguments.command == "stress" || arguments.command == "sweep";
   if (arguments.command == "run" || study) csim::cli::install_stop_handlers();
   // Lives as long as the command: MPI is finalized when main returns (mpi_study_runner.h).

@@ -16,7 +16,7 @@ case "$mode" in
 esac
 
 # What `csim` needs: the compiler and the libraries it links; gnuplot draws `csim compare`'s figure.
-packages=(g++ cmake make libeigen3-dev libfcl-dev libccd-dev libsundials-dev libsuitesparse-dev
+packages=(g++ cmake make libeigen3-dev libfcl-dev libccd-dev libsundials-dev libsuitesparse-dev libhdf5-dev
           libyaml-cpp-dev libcli11-dev zlib1g-dev gnuplot-nox)
 # What the tests and benchmarks add: GoogleTest, Python with VTK for the ParaView read-back, Bullet.
 [ "$mode" = all ] && packages+=(libgtest-dev python3 python3-vtk9 libbullet-dev)
