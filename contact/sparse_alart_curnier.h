@@ -21,8 +21,10 @@
 // convergence on non-isolated solutions. No dense factorization, no full pivoting.
 //
 // Budget: work is counted in flops (a product by W: 2 per stored entry; a factorization: UMFPACK's
-// count; a solve: 2 per entry of L and U). Before each factorization, if the work spent plus the
-// symbolic estimate would exceed budget.available, the method stops (budget.exhausted).
+// symbolic flop estimate, which its time follows better than the flops it counts; a solve with its
+// refinement step: 4 per entry of L and U and a product by J, twice). Before each factorization, and
+// before each line-search trial, if the work would exceed budget.available, the method stops
+// (budget.exhausted).
 //
 // Orthotropic friction (μ1 ≠ μ2) is not handled: the function then returns false, r untouched. The
 // problem must be stored sparse, without equality rows, and with W_sparse of whole blocks including
