@@ -76,8 +76,10 @@ struct PgsParameters {
   double omega = 1.0;         // relaxation, (0, 2)
   bool polish = true;         // the direct polish (above)
   // Sparse path (sparse_pgs.h): the polish's work is at most polish_budget times the sweeps' work so far
-  // (both in flops, PgsStatistics::polish_work and sweep_work). The dense path's polish is not bounded.
+  // plus polish_allowance (all in flops, PgsStatistics::polish_work and sweep_work): the allowance, about
+  // a millisecond, lets a small problem's few sweeps be finished. The dense path's polish is not bounded.
   double polish_budget = 10.0;
+  double polish_allowance = 1e6;
 };
 
 struct PgsStatistics {

@@ -207,7 +207,8 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const Block
     ++statistics.polishes;
     polished_after = statistics.iterations;
     PolishBudget budget;
-    budget.available = parameters.polish_budget * statistics.sweep_work - statistics.polish_work;
+    budget.available =
+        parameters.polish_budget * statistics.sweep_work + parameters.polish_allowance - statistics.polish_work;
     if (polish<D>(problem, W, r, statistics.residual, parameters.tolerance, budget)) statistics.polished = true;
     statistics.polish_work += budget.spent;
     statistics.polish_factorizations += budget.factorizations;

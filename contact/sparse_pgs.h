@@ -13,8 +13,8 @@
 //     sparse LU, a proximal step on a rank-deficient W), with the same schedule as the dense path (after
 //     20 sweeps, every 200, at the end), tried with ρ scales 1 and 1e3 from the Gauss–Seidel iterate,
 //     each result kept only when its full residual is smaller. Its work (flops) is bounded:
-//     polish work ≤ PgsParameters::polish_budget × the sweeps' work so far (PgsStatistics::sweep_work,
-//     polish_work); a polish that would exceed it is cut before the factorization that would.
+//     polish work ≤ PgsParameters::polish_budget × the sweeps' work so far + polish_allowance
+//     (PgsStatistics::sweep_work, polish_work); a polish that would exceed it is cut before the factorization that would.
 //     There is no active-set stage on this path (its systems are dense on the closed rows).
 //   - Equality rows are not condensed sparsely: a sparse problem with equalities throws
 //     std::invalid_argument (store W dense for such a problem).

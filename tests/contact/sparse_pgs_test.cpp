@@ -237,6 +237,7 @@ TEST(SparsePgs, ThePolishStaysWithinItsBudget) {
     PgsParameters parameters;
     parameters.tolerance = 1e-12;
     parameters.polish_budget = budget;
+    parameters.polish_allowance = 0.0;
     Eigen::VectorXd r;
     const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
     EXPECT_LE(statistics.polish_work, budget * statistics.sweep_work) << budget;
@@ -248,6 +249,15 @@ TEST(SparsePgs, ThePolishStaysWithinItsBudget) {
     }
     if (budget == 10.0) EXPECT_TRUE(statistics.converged) << statistics.residual;
   }
+  // The allowance alone (no sweep work to speak of: one sweep) is a bound too.
+  PgsParameters one_sweep;
+  one_sweep.max_iterations = 1;
+  one_sweep.polish_budget = 0.0;
+  one_sweep.polish_allowance = 5e4;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(one_sweep).solve(problem, r);
+  EXPECT_LE(statistics.polish_work, 5e4);
+  EXPECT_TRUE(statistics.polish_cut);
 }
 
 TEST(SparsePgs, RefusesEqualityRowsByName) {
