@@ -158,6 +158,13 @@ bool sparse_alart_curnier_newton(const FrictionContactProblem& problem, const Sp
                           lu.info) != UMFPACK_OK)
     return false;
   const double predicted = std::max(lu.info[UMFPACK_FLOPS_ESTIMATE], 0.0);
+  // A solve and its refinement step: each a pass over L and U and a product by J (the estimates of L's
+  // and U's entries are upper bounds, as the flops').
+  const auto solve_cost = [&](double entries) {
+    return (1.0 + lu.control[UMFPACK_IRSTEP]) * (4.0 * entries + product_flops) + product_flops;
+  };
+  const double predicted_solve =
+      solve_cost(std::max(lu.info[UMFPACK_LNZ_ESTIMATE], 0.0) + std::max(lu.info[UMFPACK_UNZ_ESTIMATE], 0.0));
 
   std::vector<ContactJacobian> jacobian(static_cast<std::size_t>(problem.contacts));
   std::vector<double> values;
@@ -168,9 +175,9 @@ bool sparse_alart_curnier_newton(const FrictionContactProblem& problem, const Sp
   bool regularize = false;
   int iteration = 0;
   // A factorization of J + δ I and its solve into `step`; false if refused by the budget or failed.
-  // Room is kept for the line search's first trial and the caller's residual check (a product each).
+  // Room is kept for the solve, the line search's first trial and the caller's residual check.
   const auto newton_step = [&](double delta) {
-    if (budget.spent + predicted + 3.0 * product_flops > budget.available) {
+    if (budget.spent + predicted + predicted_solve + 2.0 * product_flops > budget.available) {
       budget.exhausted = true;
       return false;
     }
@@ -189,9 +196,7 @@ bool sparse_alart_curnier_newton(const FrictionContactProblem& problem, const Sp
     if (umfpack_di_solve(UMFPACK_At, W.outerIndexPtr(), W.innerIndexPtr(), values.data(), step.data(), rhs.data(),
                          lu.numeric, lu.control, lu.info) != UMFPACK_OK)
       return false;
-    // The solve and its refinement step: each a pass over L and U and a product by J.
-    budget.spent += (1.0 + lu.control[UMFPACK_IRSTEP]) * (4.0 * (lu.info[UMFPACK_LNZ] + lu.info[UMFPACK_UNZ]) + product_flops) +
-                    product_flops;
+    budget.spent += std::min(predicted_solve, solve_cost(lu.info[UMFPACK_LNZ] + lu.info[UMFPACK_UNZ]));
     if (!step.allFinite()) return false;
     multiply(W, values, step, check);
     return (check - rhs).norm() <= 1e-8 * rhs.norm();
