@@ -1,5 +1,7 @@
 #include "contact/friction_contact_problem.h"
 
+#include "contact/whole_blocks.h"
+
 #include <charconv>
 #include <istream>
 #include <ostream>
@@ -23,6 +25,15 @@
 //   ...
 //   end
 //
+// or, for storage sparse, in place of the W section, the stored entries as triplets in row order
+// (0-based row and column; explicit zeros kept, so that the pattern of whole blocks round-trips):
+//   W sparse 5                (the number of entries)
+//   0 0 2.5
+//   ...
+//   end
+// A problem read from a `W sparse` section is stored sparse, its pattern completed to whole blocks
+// (whole_blocks.h) when it has no equality rows. Files with a dense W section load as before.
+//
 // Numbers are written with std::to_chars' shortest round-trip form (never fewer digits than needed for
 // an exact round trip, so at most max_digits10 = 17 significant digits, and "0.3" rather than
 // "0.29999999999999999") and read with std::from_chars: both are locale-independent, and nan/inf
@@ -35,6 +46,8 @@ constexpr const char* kKeyword = "csim-friction-contact-problem";
 constexpr int kVersion = 1;
 // A corrupt count must not turn into a multi-gigabyte allocation of W: 65536 rows is already 32 GiB.
 constexpr long long kMaxRows = 65536;
+// A sparse W costs its entries, not rows²: only b and mu grow with the rows.
+constexpr long long kMaxSparseRows = 1LL << 26;
 
 std::string format_number(double value) {
   char buffer[64];
@@ -59,8 +72,9 @@ class TokenReader {
       fail(std::string("expected keyword '") + keyword + "', found '" + token + "'");
   }
 
-  double number(const char* what) {
-    const std::string token = next(what);
+  double number(const char* what) { return number_of(next(what), what); }
+
+  double number_of(const std::string& token, const char* what) const {
     double value = 0.0;
     const char* first = token.data();
     const char* last = first + token.size();
@@ -90,6 +104,32 @@ class TokenReader {
   std::istream& in_;
 };
 
+// The `W sparse` section after its keyword: the entry count, then row, column and value per entry.
+void read_sparse_section(TokenReader& reader, FrictionContactProblem& problem) {
+  const long long n = problem.size();
+  const long long count = reader.integer("the count of W's entries");
+  if (count < 0 || (n > 0 && count / n > n)) reader.fail("W sparse: entry count " + std::to_string(count) + " does not fit " +
+                                                         std::to_string(n) + " rows");
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(std::min<long long>(count, 1LL << 24)));
+  for (long long e = 0; e < count; ++e) {
+    const long long row = reader.integer("W sparse row");
+    const long long column = reader.integer("W sparse column");
+    if (row < 0 || row >= n || column < 0 || column >= n)
+      reader.fail("W sparse: entry (" + std::to_string(row) + ", " + std::to_string(column) + ") outside " +
+                  std::to_string(n) + "x" + std::to_string(n));
+    entries.emplace_back(static_cast<int>(row), static_cast<int>(column), reader.number("W sparse value"));
+  }
+  problem.storage = DelassusStorage::sparse;
+  if (problem.equalities == 0) {
+    problem.W_sparse = whole_blocks(static_cast<int>(n), problem.dimension, entries);
+  } else {
+    problem.W_sparse.resize(n, n);
+    problem.W_sparse.setFromTriplets(entries.begin(), entries.end());
+  }
+  problem.W_sparse.makeCompressed();
+}
+
 }  // namespace
 
 std::string inconsistency(const FrictionContactProblem& problem) {
@@ -114,8 +154,6 @@ std::string inconsistency(const FrictionContactProblem& problem) {
 void write_problem(std::ostream& out, const FrictionContactProblem& problem) {
   if (const std::string problem_with_it = inconsistency(problem); !problem_with_it.empty())
     throw std::runtime_error("write_problem: " + problem_with_it);
-  if (problem.storage != DelassusStorage::dense)
-    throw std::runtime_error("write_problem: a sparse W is not written yet (the text format stores W dense)");
   const Eigen::Index n = problem.size();
   // Built in a string so the caller's stream flags and locale play no part in the numbers.
   std::string text;
@@ -128,10 +166,17 @@ void write_problem(std::ostream& out, const FrictionContactProblem& problem) {
     text += format_number(mu(0)) + " " + format_number(mu(1)) + "\n";
   text += "q\n";
   for (Eigen::Index i = 0; i < n; ++i) text += (i ? " " : "") + format_number(problem.b(i));
-  text += "\nW\n";
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index j = 0; j < n; ++j) text += (j ? " " : "") + format_number(problem.W(i, j));
-    text += "\n";
+  if (problem.storage == DelassusStorage::sparse) {
+    text += "\nW sparse " + std::to_string(problem.W_sparse.nonZeros()) + "\n";
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (SparseDelassus::InnerIterator it(problem.W_sparse, i); it; ++it)
+        text += std::to_string(it.row()) + " " + std::to_string(it.col()) + " " + format_number(it.value()) + "\n";
+  } else {
+    text += "\nW\n";
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index j = 0; j < n; ++j) text += (j ? " " : "") + format_number(problem.W(i, j));
+      text += "\n";
+    }
   }
   text += "end\n";
   out << text;
@@ -156,8 +201,8 @@ FrictionContactProblem read_problem(std::istream& in) {
   reader.expect("equalities");
   const long long equalities = reader.integer("equalities");
   if (contacts < 0 || equalities < 0) reader.fail("negative contact or equality count");
-  if (contacts > kMaxRows || equalities > kMaxRows || dimension * contacts + equalities > kMaxRows)
-    reader.fail("problem size exceeds " + std::to_string(kMaxRows) + " rows (corrupt header?)");
+  if (contacts > kMaxSparseRows || equalities > kMaxSparseRows || dimension * contacts + equalities > kMaxSparseRows)
+    reader.fail("problem size exceeds " + std::to_string(kMaxSparseRows) + " rows (corrupt header?)");
   problem.dimension = static_cast<int>(dimension);
   problem.contacts = static_cast<int>(contacts);
   problem.equalities = static_cast<int>(equalities);
@@ -173,9 +218,18 @@ FrictionContactProblem read_problem(std::istream& in) {
   problem.b.resize(n);
   for (Eigen::Index i = 0; i < n; ++i) problem.b(i) = reader.number("q");
   reader.expect("W");
-  problem.W.resize(n, n);
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = 0; j < n; ++j) problem.W(i, j) = reader.number("W");
+  const std::string first = reader.next("W");
+  if (n == 0 && first == "end") return problem;  // an empty dense W: its first token closes the file
+  if (first == "sparse") {
+    read_sparse_section(reader, problem);
+  } else {
+    if (n > kMaxRows)
+      reader.fail("a dense W of " + std::to_string(n) + " rows exceeds " + std::to_string(kMaxRows) +
+                  " (corrupt header? a large problem is stored `W sparse`)");
+    problem.W.resize(n, n);
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (Eigen::Index j = 0; j < n; ++j) problem.W(i, j) = (i == 0 && j == 0) ? reader.number_of(first, "W") : reader.number("W");
+  }
   // The closing keyword catches a W with more entries than the header announced.
   reader.expect("end");
   return problem;

@@ -1,6 +1,8 @@
 #include "contact/pgs_solver.h"
 
 #include "contact/alart_curnier.h"
+#include "contact/pgs_local.h"
+#include "contact/sparse_pgs.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,15 +22,13 @@
 namespace csim {
 namespace {
 
-template <int D>
-using Vector = Eigen::Matrix<double, D, 1>;
-template <int D>
-using Matrix = Eigen::Matrix<double, D, D>;
-
-// An impulse whose elliptic radius is within this relative distance of r_n is reported as slip: the
-// local solves put slipping impulses on the boundary to round-off, and a stick solution lying on the
-// boundary to the same precision is at the stick/slip threshold, where both descriptions hold.
-constexpr double kBoundaryTolerance = 1e-9;
+using pgs_local::Matrix;
+using pgs_local::Vector;
+using pgs_local::cone_ratio;
+using pgs_local::keep_in_cone;
+using pgs_local::solve_local;
+using pgs_local::status_of;
+using pgs_local::velocity_scale;
 
 // Sweeps between two attempts at the active-set polish (see polish()).
 constexpr int kPolishInterval = 200;
@@ -41,18 +41,6 @@ constexpr int kFirstPolish = 20;
 void check_problem(const FrictionContactProblem& problem) {
   if (const std::string problem_with_it = inconsistency(problem); !problem_with_it.empty())
     throw std::invalid_argument("PgsSolver: " + problem_with_it);
-  if (problem.storage != DelassusStorage::dense)
-    throw std::invalid_argument("PgsSolver: a sparse W is not solved yet; store W dense");
-}
-
-template <int D>
-ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::Vector2d& mu,
-                          Vector<D>& r) {
-  if constexpr (D == 2) {
-    return solve_local_2d(W, q, mu(0), r);
-  } else {
-    return solve_local_3d(W, q, mu, r);
-  }
 }
 
 // Free velocity of the contact whose rows start at `first`, with every other impulse frozen at r
@@ -61,8 +49,7 @@ ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::V
 // The contact's D rows of W (W_rows' columns, contiguous) are summed side by side, four entries
 // a pass in two packets of two, whose four partial sums are added at the end: Eigen's general product
 // costs more in set-up than a dozen rows' arithmetic, and with a single packet a column each addition
-// waits on the last, which made 2D sweeps slower than Eigen's (docs/solver-measurements.md, twelfth
-// round; bench/bench_pgs).
+// waits on the last, which made 2D sweeps slower than Eigen's (bench/bench_pgs).
 template <int D>
 Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows,
                                const Eigen::VectorXd& r, Eigen::Index first) {
@@ -113,38 +100,6 @@ double product_squared(const FrictionContactProblem& problem, Eigen::Index first
   return (frozen - problem.b.template segment<D>(first) + W_cc * r_c).squaredNorm();
 }
 
-// Elliptic radius of r_t over r_n, on the rough axes only; 1 (on the boundary) for a frictionless
-// contact, whose disk is the single point r_t = 0.
-template <int D>
-double cone_ratio(const Vector<D>& r, const Eigen::Vector2d& mu) {
-  double radius_squared = 0.0;
-  bool rough = false;
-  for (int k = 1; k < D; ++k) {
-    if (mu(k - 1) > 0) {
-      rough = true;
-      radius_squared += (r(k) / mu(k - 1)) * (r(k) / mu(k - 1));
-    }
-  }
-  return rough ? std::sqrt(radius_squared) / r(0) : 1.0;
-}
-
-template <int D>
-ContactStatus status_of(const Vector<D>& r, const Eigen::Vector2d& mu) {
-  if (!(r(0) > 0)) return ContactStatus::open;
-  return cone_ratio<D>(r, mu) < 1.0 - kBoundaryTolerance ? ContactStatus::stick : ContactStatus::slip;
-}
-
-// Over-relaxation (omega > 1) can carry an impulse out of the cone; pull it back radially (in the
-// elliptic metric) so that every iterate stays admissible. Smooth axes are zeroed.
-template <int D>
-void keep_in_cone(Vector<D>& r, const Eigen::Vector2d& mu) {
-  r(0) = std::max(r(0), 0.0);
-  for (int k = 1; k < D; ++k)
-    if (!(mu(k - 1) > 0)) r(k) = 0.0;
-  const double ratio = cone_ratio<D>(r, mu);
-  if (ratio > 1.0) r.template tail<D - 1>() *= r(0) > 0 ? 1.0 / ratio : 0.0;
-}
-
 // True if W equals its transpose to the bit.
 bool is_symmetric(const Eigen::MatrixXd& W) {
   const Eigen::Index m = W.rows();
@@ -160,11 +115,6 @@ const Eigen::MatrixXd& rows_of(const Eigen::MatrixXd& W, Eigen::MatrixXd& transp
   if (is_symmetric(W)) return W;
   transpose.noalias() = W.transpose();
   return transpose;
-}
-
-// Denominator of the relative residuals: the velocity scale of the problem.
-double velocity_scale(double norm_b, double norm_Wr) {
-  return std::max({norm_b, norm_Wr, 1e-300});
 }
 
 struct SweepResult {
@@ -512,6 +462,7 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const Eigen
     const SweepResult swept =
         sweep<D>(problem, W_rows, parameters, r, statistics.rejected_local_solutions);
     statistics.iterations = iteration;
+    statistics.sweep_work += 2.0 * static_cast<double>(W_rows.size());
     residual_is_current = false;
     // A stalled iteration: try the active-set polish every kPolishInterval sweeps.
     if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish)) {
@@ -694,6 +645,7 @@ PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::Vec
   check_problem(problem);
   // A warm start of the wrong size, or one carrying NaN/inf from an earlier failure, is worthless.
   if (r.size() != problem.size() || !r.allFinite()) r = Eigen::VectorXd::Zero(problem.size());
+  if (problem.storage == DelassusStorage::sparse) return solve_sparse(problem, parameters_, r, status, scratch_.completed);
   if (problem.equalities > 0)
     return solve_with_equalities(problem, parameters_, r, status, scratch_.condensation, scratch_.transpose);
   return solve_contact_rows(problem, parameters_, r, status, scratch_.transpose);
@@ -704,6 +656,7 @@ double PgsSolver::residual(const FrictionContactProblem& problem, const Eigen::V
   if (r.size() != problem.size())
     throw std::invalid_argument("PgsSolver::residual: r has the wrong size");
   if (problem.size() == 0) return 0.0;
+  if (problem.storage == DelassusStorage::sparse) return sparse_residual(problem, r);
   Eigen::MatrixXd transpose;
   return relative_residual(problem, rows_of(problem.W, transpose), r);
 }

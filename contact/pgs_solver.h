@@ -1,6 +1,9 @@
 // Projected Gauss–Seidel (non-smooth Gauss–Seidel) on the Delassus operator, with an exact local
 // solve per contact (coulomb_local.h) and an exact block solve of the bilateral rows.
 //
+// Two paths, by the problem's storage: dense W (what follows) and sparse W (sparse_pgs.h: sweeps in
+// O(stored entries), a sparse Newton polish whose work is bounded by the sweeps', equalities refused).
+//
 // One sweep visits contacts in row order, solving each contact's local problem with the others'
 // impulses frozen (relaxed by omega).
 //
@@ -72,6 +75,11 @@ struct PgsParameters {
   double tolerance = 1e-12;   // relative residual (see above), dimensionless
   double omega = 1.0;         // relaxation, (0, 2)
   bool polish = true;         // the direct polish (above)
+  // Sparse path (sparse_pgs.h): the polish's work is at most polish_budget times the sweeps' work so far
+  // plus polish_allowance (all in flops, PgsStatistics::polish_work and sweep_work): the allowance, about
+  // a millisecond, lets a small problem's few sweeps be finished. The dense path's polish is not bounded.
+  double polish_budget = 10.0;
+  double polish_allowance = 1e6;
 };
 
 struct PgsStatistics {
@@ -81,6 +89,10 @@ struct PgsStatistics {
   int rejected_local_solutions = 0;  // non-finite local results filtered out
   bool polished = false;      // the polish improved the iterate
   int polishes = 0;           // polishes run (each: the active-set iteration and Newton, see above)
+  double sweep_work = 0.0;    // flops of the sweeps' products by W (2 per stored entry and sweep)
+  double polish_work = 0.0;   // sparse path: flops of the polish (factorizations, solves, products)
+  int polish_factorizations = 0;  // sparse path: sparse LU factorizations of the polish
+  bool polish_cut = false;    // sparse path: a polish stopped at its budget
 };
 
 // The work arrays of a solve with equality rows (their condensation, pgs_solver.cpp): a solver keeps
@@ -124,6 +136,7 @@ class PgsSolver {
   struct Scratch {
     PgsCondensation condensation;
     Eigen::MatrixXd transpose;  // Wᵀ of the contact rows' problem, when W is not symmetric
+    SparseDelassus completed;   // a sparse W completed to whole blocks, when the problem's is not
     Scratch() = default;
     Scratch(const Scratch&) {}
     Scratch& operator=(const Scratch&) { return *this; }

@@ -1,0 +1,304 @@
+#include "contact/sparse_pgs.h"
+
+#include "contact/pgs_local.h"
+#include "contact/sparse_alart_curnier.h"
+#include "contact/whole_blocks.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace csim {
+namespace {
+
+using pgs_local::Matrix;
+using pgs_local::Vector;
+using pgs_local::keep_in_cone;
+using pgs_local::solve_local;
+using pgs_local::status_of;
+using pgs_local::velocity_scale;
+
+// Sweeps between two polishes, and the sweep of the first one (as the dense path, pgs_solver.cpp).
+constexpr int kPolishInterval = 200;
+constexpr int kFirstPolish = 20;
+constexpr int kNewtonIterations = 30;
+
+// True if W is laid out as the sweeps and the Newton polish read it: compressed rows, sorted columns in
+// whole aligned d × d blocks, the d rows of a contact with the same columns, every diagonal block stored.
+bool has_block_layout(const SparseDelassus& W, int d) {
+  if (!W.isCompressed()) return false;
+  const int* outer = W.outerIndexPtr();
+  const int* inner = W.innerIndexPtr();
+  for (Eigen::Index n = 0; n < W.rows(); n += d) {
+    const int start = outer[n], length = outer[n + 1] - start;
+    if (length % d != 0) return false;
+    for (int k = 1; k < d; ++k) {
+      if (outer[n + k + 1] - outer[n + k] != length) return false;
+      if (!std::equal(inner + start, inner + start + length, inner + outer[n + k])) return false;
+    }
+    bool diagonal = false;
+    int previous = -1;
+    for (int pos = start; pos < start + length; pos += d) {
+      const int column = inner[pos];
+      if (column % d != 0 || column <= previous) return false;
+      for (int k = 1; k < d; ++k)
+        if (inner[pos + k] != column + k) return false;
+      diagonal = diagonal || column == n;
+      previous = column + d - 1;
+    }
+    if (!diagonal) return false;
+  }
+  return true;
+}
+
+// W's entries with every diagonal block added, completed to whole blocks.
+SparseDelassus completed_layout(const SparseDelassus& W, int d) {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(W.nonZeros() + W.rows()));
+  for (Eigen::Index i = 0; i < W.outerSize(); ++i)
+    for (SparseDelassus::InnerIterator it(W, i); it; ++it) entries.emplace_back(it.row(), it.col(), it.value());
+  for (Eigen::Index i = 0; i < W.rows(); ++i) entries.emplace_back(i, i, 0.0);
+  SparseDelassus result = whole_blocks(static_cast<int>(W.rows()), d, entries);
+  result.makeCompressed();
+  return result;
+}
+
+// W read by contact rows: its arrays, the diagonal blocks and where each contact's own block starts in
+// its rows (an offset from the row's start, the same for its d rows).
+template <int D>
+struct BlockRows {
+  const SparseDelassus& W;
+  const int* outer;
+  const int* inner;
+  const double* value;
+  std::vector<Matrix<D>> diagonal;
+  std::vector<int> own;
+
+  explicit BlockRows(const SparseDelassus& W_in)
+      : W(W_in), outer(W_in.outerIndexPtr()), inner(W_in.innerIndexPtr()), value(W_in.valuePtr()) {
+    const int contacts = static_cast<int>(W.rows()) / D;
+    diagonal.resize(static_cast<std::size_t>(contacts));
+    own.resize(static_cast<std::size_t>(contacts));
+    for (int c = 0; c < contacts; ++c) {
+      const int n = D * c;
+      int pos = outer[n];
+      while (inner[pos] != n) pos += D;
+      own[c] = pos - outer[n];
+      for (int i = 0; i < D; ++i)
+        for (int j = 0; j < D; ++j) diagonal[c](i, j) = value[outer[n + i] + own[c] + j];
+    }
+  }
+};
+
+// b_c + Σ_{d≠c} W_cd r_d (m/s), the own block skipped (so that a single contact sees b_c exactly).
+template <int D>
+Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const BlockRows<D>& W, const Eigen::VectorXd& r,
+                               int c) {
+  const int n = D * c;
+  Vector<D> b_c = problem.b.template segment<D>(n);
+  const double* x = r.data();
+  for (int k = 0; k < D; ++k) {
+    const int start = W.outer[n + k], end = W.outer[n + k + 1], own = start + W.own[c];
+    double sum = 0.0;
+    for (int pos = start; pos < own; ++pos) sum += W.value[pos] * x[W.inner[pos]];
+    for (int pos = own + D; pos < end; ++pos) sum += W.value[pos] * x[W.inner[pos]];
+    b_c(k) += sum;
+  }
+  return b_c;
+}
+
+template <int D>
+double product_squared(const FrictionContactProblem& problem, int c, const Vector<D>& frozen, const Matrix<D>& W_cc,
+                       const Vector<D>& r_c) {
+  return (frozen - problem.b.template segment<D>(D * c) + W_cc * r_c).squaredNorm();
+}
+
+struct SweepResult {
+  double increment_squared = 0.0;
+  double Wr_squared = 0.0;
+  int settled_from = 0;  // as pgs_solver.cpp's: the contacts from this one on have a zero law term
+};
+
+template <int D>
+SweepResult sweep(const FrictionContactProblem& problem, const BlockRows<D>& W, const PgsParameters& parameters,
+                  Eigen::VectorXd& r, int& rejected) {
+  SweepResult result;
+  for (int c = 0; c < problem.contacts; ++c) {
+    const int first = D * c;
+    const Vector<D> b_c = frozen_free_velocity<D>(problem, W, r, c);
+    const Matrix<D>& W_cc = W.diagonal[c];
+    const Eigen::Vector2d& mu = problem.mu[c];
+    Vector<D> r_local;
+    solve_local<D>(W_cc, b_c, mu, r_local);
+    const Vector<D> r_old = r.template segment<D>(first);
+    if (!r_local.allFinite()) {
+      ++rejected;
+      result.settled_from = c + 1;
+      result.Wr_squared += product_squared<D>(problem, c, b_c, W_cc, r_old);
+      continue;
+    }
+    Vector<D> r_new = r_local;
+    if (parameters.omega != 1.0) {
+      r_new = r_old + parameters.omega * (r_local - r_old);
+      if (parameters.omega > 1.0) keep_in_cone<D>(r_new, mu);
+    }
+    if (r_new != r_old || r_local != r_new) result.settled_from = r_local == r_new ? c : c + 1;
+    result.increment_squared += W_cc.diagonal().cwiseProduct(r_new - r_old).squaredNorm();
+    result.Wr_squared += product_squared<D>(problem, c, b_c, W_cc, r_new);
+    r.template segment<D>(first) = r_new;
+  }
+  return result;
+}
+
+// The full relative residual (pgs_solver.h); the contacts from settled_from on are known to add zero.
+template <int D>
+double relative_residual(const FrictionContactProblem& problem, const BlockRows<D>& W, const Eigen::VectorXd& r,
+                         int settled_from) {
+  double law = 0.0, product = 0.0;
+  for (int c = 0; c < problem.contacts; ++c) {
+    const Vector<D> b_c = frozen_free_velocity<D>(problem, W, r, c);
+    const Matrix<D>& W_cc = W.diagonal[c];
+    const Vector<D> r_c = r.template segment<D>(D * c);
+    product += product_squared<D>(problem, c, b_c, W_cc, r_c);
+    if (c >= settled_from) continue;
+    Vector<D> r_local;
+    solve_local<D>(W_cc, b_c, problem.mu[c], r_local);
+    if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
+    law += (W_cc * (r_c - r_local)).squaredNorm();
+  }
+  const double residual = std::sqrt(law) / velocity_scale(problem.b.norm(), std::sqrt(product));
+  return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
+}
+
+// Newton from the Gauss–Seidel iterate at ρ scales 1 and 1e3, within the budget; a result replaces r
+// only if its full residual is smaller. True if r was replaced.
+template <int D>
+bool polish(const FrictionContactProblem& problem, const BlockRows<D>& W, Eigen::VectorXd& r, double& residual,
+            double tolerance, PolishBudget& budget) {
+  const Eigen::VectorXd iterate = r;
+  const double residual_flops = 2.0 * static_cast<double>(W.W.nonZeros());
+  bool improved = false;
+  for (const double rho_scale : {1.0, 1e3}) {
+    if (residual <= tolerance || budget.exhausted) break;
+    Eigen::VectorXd candidate = iterate;
+    NewtonStatistics newton;
+    if (!sparse_alart_curnier_newton(problem, W.W, candidate, kNewtonIterations, 1e-3 * tolerance, rho_scale, budget,
+                                     &newton))
+      break;
+    if (newton.iterations == 0) continue;  // no step taken: the candidate is the iterate
+    const double candidate_residual = relative_residual<D>(problem, W, candidate, problem.contacts);
+    budget.spent += residual_flops;
+    if (candidate_residual < residual) {
+      r = candidate;
+      residual = candidate_residual;
+      improved = true;
+    }
+  }
+  return improved;
+}
+
+template <int D>
+PgsStatistics solve_dimension(const FrictionContactProblem& problem, const BlockRows<D>& W,
+                              const PgsParameters& parameters, Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+  PgsStatistics statistics;
+  const double sweep_flops = 2.0 * static_cast<double>(W.W.nonZeros());
+  int polished_after = -1;
+  const auto polish_now = [&] {
+    ++statistics.polishes;
+    polished_after = statistics.iterations;
+    PolishBudget budget;
+    budget.available =
+        parameters.polish_budget * statistics.sweep_work + parameters.polish_allowance - statistics.polish_work;
+    if (polish<D>(problem, W, r, statistics.residual, parameters.tolerance, budget)) statistics.polished = true;
+    statistics.polish_work += budget.spent;
+    statistics.polish_factorizations += budget.factorizations;
+    statistics.polish_cut = statistics.polish_cut || budget.exhausted;
+  };
+  const double norm_b = problem.b.norm();
+  bool residual_is_current = false;
+  for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
+    const SweepResult swept = sweep<D>(problem, W, parameters, r, statistics.rejected_local_solutions);
+    statistics.iterations = iteration;
+    statistics.sweep_work += sweep_flops;
+    residual_is_current = false;
+    if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish)) {
+      statistics.residual = relative_residual<D>(problem, W, r, swept.settled_from);
+      residual_is_current = true;
+      polish_now();
+      if (statistics.residual <= parameters.tolerance) {
+        statistics.converged = true;
+        break;
+      }
+      continue;
+    }
+    const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
+    if (swept.settled_from == 0 || std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
+      statistics.residual = relative_residual<D>(problem, W, r, swept.settled_from);
+      residual_is_current = true;
+      if (statistics.residual <= parameters.tolerance) {
+        statistics.converged = true;
+        break;
+      }
+    }
+  }
+  if (!residual_is_current) {
+    statistics.residual = relative_residual<D>(problem, W, r, problem.contacts);
+    statistics.converged = statistics.residual <= parameters.tolerance;
+  }
+  if (parameters.polish && !statistics.converged && polished_after != statistics.iterations) {
+    polish_now();
+    statistics.converged = statistics.residual <= parameters.tolerance;
+  }
+  if (status != nullptr) {
+    status->resize(static_cast<std::size_t>(problem.contacts));
+    for (int c = 0; c < problem.contacts; ++c) (*status)[c] = status_of<D>(r.template segment<D>(D * c), problem.mu[c]);
+  }
+  return statistics;
+}
+
+// W_sparse itself when its layout is the one read here, else a completed copy in `completed`.
+const SparseDelassus& laid_out(const FrictionContactProblem& problem, SparseDelassus& completed) {
+  if (problem.equalities > 0)
+    throw std::invalid_argument(
+        "PgsSolver: a sparse W with equality rows is not solved (their condensation is dense); store W dense "
+        "(storage dense) for a problem with equalities");
+  if (has_block_layout(problem.W_sparse, problem.dimension)) return problem.W_sparse;
+  completed = completed_layout(problem.W_sparse, problem.dimension);
+  return completed;
+}
+
+}  // namespace
+
+PgsStatistics solve_sparse(const FrictionContactProblem& problem, const PgsParameters& parameters, Eigen::VectorXd& r,
+                           std::vector<ContactStatus>* status, SparseDelassus& completed) {
+  const SparseDelassus& W = laid_out(problem, completed);
+  if (problem.contacts == 0) {
+    if (status != nullptr) status->clear();
+    PgsStatistics statistics;
+    statistics.converged = true;
+    return statistics;
+  }
+  if (problem.dimension == 2) return solve_dimension<2>(problem, BlockRows<2>(W), parameters, r, status);
+  return solve_dimension<3>(problem, BlockRows<3>(W), parameters, r, status);
+}
+
+double sparse_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
+  SparseDelassus completed;
+  const SparseDelassus& W = laid_out(problem, completed);
+  if (problem.contacts == 0) return 0.0;
+  if (problem.dimension == 2) return relative_residual<2>(problem, BlockRows<2>(W), r, problem.contacts);
+  return relative_residual<3>(problem, BlockRows<3>(W), r, problem.contacts);
+}
+
+SparseDelassus block_sparse(const Eigen::MatrixXd& W, int dimension) {
+  const Eigen::Index m = W.rows();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (Eigen::Index i = 0; i < m; ++i)
+      if (W(i, j) != 0.0 || i == j) entries.emplace_back(static_cast<int>(i), static_cast<int>(j), W(i, j));
+  SparseDelassus result = whole_blocks(static_cast<int>(m), dimension, entries);
+  result.makeCompressed();
+  return result;
+}
+
+}  // namespace csim

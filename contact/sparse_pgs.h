@@ -1,0 +1,43 @@
+// Projected Gauss–Seidel on a sparse Delassus operator (storage sparse, friction_contact_problem.h):
+// the sparse path of PgsSolver (pgs_solver.h states the method, the convergence test and the statuses;
+// this path follows them, with these differences).
+//
+//   - A sweep reads, for each contact, its D rows of W_sparse (compressed rows: contiguous), skipping
+//     its own diagonal block, so it costs O(stored entries); the diagonal blocks are copied out once
+//     per solve. No m × m matrix is formed anywhere on this path. Rows are what the law reads, so an
+//     unsymmetric W needs no transpose.
+//   - W_sparse is used as it is when its pattern is made of whole D × D blocks in sorted compressed
+//     rows and holds every diagonal block; otherwise a copy so completed (explicit zeros) is made once
+//     per solve.
+//   - The polish is the Alart–Curnier Newton method on W's sparse pattern (sparse_alart_curnier.h: a
+//     sparse LU, a proximal step on a rank-deficient W), with the same schedule as the dense path (after
+//     20 sweeps, every 200, at the end), tried with ρ scales 1 and 1e3 from the Gauss–Seidel iterate,
+//     each result kept only when its full residual is smaller. Its work (flops) is bounded:
+//     polish work ≤ PgsParameters::polish_budget × the sweeps' work so far + polish_allowance
+//     (PgsStatistics::sweep_work, polish_work); a polish that would exceed it is cut before the factorization that would.
+//     There is no active-set stage on this path (its systems are dense on the closed rows).
+//   - Allocation: each solve copies the diagonal blocks and their offsets (O(contacts)); a polish
+//     allocates J's values (W's size) and UMFPACK's factors. The dense path's no-allocation promise
+//     (pgs_solver.h) is not this path's.
+//   - Speed (bench/bench_pgs): on a W where every block is stored the dense path's sweep is 1.1 to 4
+//     times faster; on a block-tridiagonal chain this path's is as fast from 4 contacts and 3 to 30
+//     times faster from 100 to 1000. Which storage a problem gets is its maker's choice.
+//   - Equality rows are not condensed sparsely: a sparse problem with equalities throws
+//     std::invalid_argument (store W dense for such a problem).
+#pragma once
+
+#include "contact/pgs_solver.h"
+
+namespace csim {
+
+PgsStatistics solve_sparse(const FrictionContactProblem& problem, const PgsParameters& parameters, Eigen::VectorXd& r,
+                           std::vector<ContactStatus>* status, SparseDelassus& completed);
+
+// The full residual of pgs_solver.h on a sparse problem.
+double sparse_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r);
+
+// W as a block-sparse matrix of whole blocks (its nonzero D × D blocks and every diagonal block), for
+// the sparse path of a dense problem.
+SparseDelassus block_sparse(const Eigen::MatrixXd& W, int dimension);
+
+}  // namespace csim
