@@ -1,12 +1,12 @@
 // The forward columns y_c = L⁻¹ P h_cᵀ of a list of contact and equality rows (delassus_cache.h), stored
-// a second time by the factor's rows, so that a Moreau–Jean step's two uses of them are each one pass in
+// a second time by the factor's rows, so that the two halves' uses (forward_columns.h) of them are each one pass in
 // the factor's order:
 //   - the dots y_cᵀ z of every row (h A⁻¹ f seen by the row, z = D⁻¹ L⁻¹ P h f), before the contact solve;
 //   - w + Y r (the backward half's right-hand side), after it.
 // Why. Column by column, each dot gathers z at its column's rows and each column scatters into w: at 52k
 // DOFs 322 columns of about 900 rows each, mostly the same top separators, read from a 415 KB vector
-// that no longer stays in the 1 MB L2 with the rest of the step (docs/solver-measurements.md, thirteenth
-// round). By rows, z and w are read once, ascending, and the sums sit in a few KB.
+// that no longer stays in the 1 MB L2 with the rest of the step (measured: docs/solver-measurements.md).
+// By rows, z and w are read once, ascending, and the sums sit in a few KB.
 //
 // Bits. A dot sums its column's rows ascending from zero, and an entry of w + Y r adds its columns in the
 // list's order: the operations of SparseLdlt::dot and add_scaled column by column, in the same order, so
