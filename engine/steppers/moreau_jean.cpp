@@ -1,21 +1,14 @@
 #include "engine/steppers/moreau_jean.h"
 
 #include "engine/linear_algebra/same_bits.h"
-#include "fem/mesh.h"
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 
 namespace csim {
 
 namespace {
-
-constexpr int kNewtonBacktracks = 20;  // halvings of a Newton step that inverted an element, a time step
-constexpr int kNewtonDetections = 2;   // contact detections a time step
-
-constexpr double kActivationGamma = 0.5;  // γ of the predicted-gap activation rule g + γ h u_n ≤ 0
 
 // Two halves (moreau_jean.h): the margin's travel, as a multiple of the faster of v_k and the last v_θ.
 // A step's motion seldom doubles (a start from rest, a velocity through zero): those steps are taken
@@ -127,27 +120,6 @@ void MoreauJean::compute_free_velocity(const State& state) {
   check_free_velocity(v_free_, state.t + h);
 }
 
-// Newton's free velocity at the iterate v_j: v_free = v_j − A_j⁻¹ R(v_j), with A_j the iteration
-// matrix at q_j (refactored here) and
-//   R(v_j) = M (v_j − v_k) − h [f_loads + θ f(q_j) + (1−θ) f(q_k) − C v_θ],  v_θ = (1−θ)v_k + θv_j.
-// f(q_k) is in f_start_ (computed once a step).
-void MoreauJean::compute_newton_free_velocity(const State& state, const Vector& v_iterate) {
-  const double h = parameters_.step, theta = parameters_.theta;
-  v_theta_ = (1.0 - theta) * state.v + theta * v_iterate;
-  integrate_positions(state.q, v_theta_, q_iterate_);
-  operators_.update(q_iterate_, h, theta);
-  f_iterate_.setZero(state.v.size());
-  dynamics_.add_internal_forces(q_iterate_, f_iterate_);
-  f_total_ = f_loads_ + theta * f_iterate_ + (1.0 - theta) * f_start_;
-  dynamics_.add_damping_force(v_theta_, f_total_);
-  dv_ = v_iterate - state.v;
-  operators_.apply_mass(dv_, work_);
-  v_free_ = h * f_total_ - work_;  // −R(v_j)
-  operators_.solve_in_place(v_free_);
-  v_free_ += v_iterate;
-  check_free_velocity(v_free_, state.t + h);
-}
-
 bool MoreauJean::keeps_stiffness_velocity() const {
   return operators_.sparse() && operators_.has_stiffness() && dynamics_.constant_stiffness();
 }
@@ -222,16 +194,6 @@ double MoreauJean::detection_margin(const State& state) {
     if (reach_velocity_.size() > 0) reach = std::max(reach, detector.travel_bound(reach_velocity_, h));
   }
   return detection_margin_ = 2.0 * reach + 1e-12;
-}
-
-// The candidates that the converged motion would have activated (detect()'s rule with Newton's v_θ in
-// place of the free step's prediction) and the prediction left out: activated now, in candidate order.
-int MoreauJean::activate_missed_contacts(double h) {
-  std::vector<int> missed;
-  for (int k = 0; k < stage_.candidate_count(); ++k)
-    if (!stage_.is_active(k) && stage_.predicted_gap(k, v_theta_, kActivationGamma * h) <= 0.0) missed.push_back(k);
-  if (!missed.empty()) stage_.activate_more(missed);
-  return static_cast<int>(missed.size());
 }
 
 // Step 3: the rows, W by the stage, and b = H v_free + the impact law, gap closing and equality targets.
@@ -359,102 +321,6 @@ void MoreauJean::account_energy(State& state) {
   e.max_abs_residual = std::max(e.max_abs_residual, std::abs(e.residual()));
 }
 
-// One step with finite-strain bodies: Newton on v_{k+1}, the contact solve inside (see the header).
-// The contacts are detected at its first iteration, within a margin of the motion predicted then; a
-// converged step that moved a point farther than that margin is taken again, detected over its own
-// motion (at most kNewtonDetections detections).
-void MoreauJean::step_newton(State& state) {
-  const double h = parameters_.step;
-  compute_loads(state);
-  f_start_.setZero(state.v.size());
-  dynamics_.add_internal_forces(state.q, f_start_);
-  SolverCounters& c = state.counters;
-  reach_velocity_.resize(0);
-  int iterations = 0;
-  for (int detections = 1;; ++detections) {
-    iterations += newton_iterations(state);
-    const double travel = stage_.empty() ? 0.0 : stage_.detector().travel_bound(v_theta_, h);
-    if (travel <= detection_margin_) break;
-    if (detections == kNewtonDetections) {
-      std::ostringstream message;
-      message << "moreau-jean: Newton's step at t = " << state.t + h << " s moves a point by " << travel
-              << " m, farther than its contact detection reached (" << detection_margin_ << " m) after "
-              << detections << " detections (a smaller time.step)";
-      throw RunError(state.t + h, message.str());
-    }
-    ++c.newton_redetections;
-    reach_velocity_ = v_theta_;
-  }
-  c.newton_iterations += iterations;
-  c.max_newton_iterations = std::max(c.max_newton_iterations, iterations);
-  c.newton_regularized = operators_.regularizations();
-}
-
-// Newton's iterations from v_k to convergence, the contacts detected at the first; returns how many.
-// Along the way (secant_relaxation.h) a step may be lengthened or shortened by its secant model; a step
-// after which an element inverts is halved (at most kNewtonBacktracks times a step); at convergence,
-// the candidates that its motion would have activated and the prediction did not are activated and the
-// iterations go on (they would otherwise cross the surface unseen within the step).
-int MoreauJean::newton_iterations(State& state) {
-  const double h = parameters_.step;
-  SolverCounters& c = state.counters;
-  v_iterate_ = state.v;
-  relaxation_.reset();
-  double relaxation = 1.0;  // the last step's ω
-  int backtracks = 0;
-  for (int iteration = 1;; ++iteration) {
-    try {
-      compute_newton_free_velocity(state, v_iterate_);
-    } catch (const FemError& e) {
-      if (iteration > 1 && backtracks < kNewtonBacktracks) {  // the last step inverted an element: shorten it
-        const double shorter = relaxation > 1.0 ? 1.0 : 0.5 * relaxation;
-        v_iterate_ -= (relaxation - shorter) * newton_step_;
-        relaxation = shorter;
-        relaxation_.reset();
-        ++backtracks;
-        ++c.newton_backtracks;
-        --iteration;
-        continue;
-      }
-      throw RunError(state.t + h, "moreau-jean Newton iteration " + std::to_string(iteration) + ": " + e.what());
-    }
-    clock_.lap(state.timers.free_velocity);
-    if (iteration == 1) detect(state);
-    clock_.lap(state.timers.detection);
-    linearize_ties(state, v_iterate_);
-    assemble(state);
-    clock_.lap(state.timers.assembly);
-    // Newton's later iterations start from the last iteration's impulses (same contacts, same order).
-    stage_.solve(state.contacts, iteration == 1, parameters_.failure_residual, state.t + h, state.counters);
-    clock_.lap(state.timers.solve);
-    update(state);
-    clock_.lap(state.timers.update);
-    newton_step_ = v_next_ - v_iterate_;
-    const double increment = h * newton_step_.lpNorm<Eigen::Infinity>();
-    relaxation = 1.0;
-    if (increment <= parameters_.newton_tolerance * length_) {
-      const int missed = activate_missed_contacts(h);
-      if (missed == 0) return iteration;
-      c.newton_activated_contacts += missed;
-      relaxation_.reset();
-    } else if (iteration >= parameters_.newton_max_iterations || !std::isfinite(increment)) {
-      std::ostringstream message;
-      message << "moreau-jean: Newton did not converge at t = " << state.t + h << " s: h|dv| = " << increment
-              << " after " << iteration << " iterations (tolerance " << parameters_.newton_tolerance * length_
-              << "; integrator.newton_max_iterations, or a smaller time.step)";
-      throw RunError(state.t + h, message.str());
-    } else {
-      relaxation = relaxation_.next(newton_step_);
-    }
-    if (relaxation == 1.0) {
-      v_iterate_ = v_next_;  // exactly, not v_j + (v_{j+1} − v_j)
-    } else {
-      ++c.newton_relaxed;
-      v_iterate_ += relaxation * newton_step_;
-    }
-  }
-}
-
 // Steps 2 to 5 of a linear step, each phase timed.
 void MoreauJean::detect_solve_update(State& state) {
   detect(state);
@@ -493,28 +359,33 @@ void MoreauJean::step(State& state) {
   // A prescription released over this step: its row goes.
   if (world_.releases_prescription(state.t, state.t + parameters_.step)) build_equalities(state.t + parameters_.step);
   if (operators_.nonlinear()) {
-    step_newton(state);  // laps each phase of each iteration
-    state.factorization_seconds = operators_.factorization_seconds();
+    step_newton(state);  // steps 1–5 in each Newton iteration (moreau_jean_newton.cpp)
   } else {
-    compute_free_velocity(state);
-    state.factorization_seconds = operators_.factorization_seconds();
+    compute_free_velocity(state);                      // 1
     clock_.lap(state.timers.free_velocity);
-    if (two_halves_) step_in_two_halves(state);
+    if (two_halves_) step_in_two_halves(state);        // 2–5
     else detect_solve_update(state);
   }
-  account_energy(state);
+  state.factorization_seconds = operators_.factorization_seconds();
+  account_energy(state);                               // 6
+  finish_step(state);
+}
+
+// The new state: a non-finite check, the prescriptions' reactions, K v_{k+1} kept for the next step,
+// the counters and the contact set (the next step's warm start).
+void MoreauJean::finish_step(State& state) {
+  const double h = parameters_.step;
   if (!v_next_.allFinite() || !q_next_.allFinite()) {
     std::ostringstream message;
-    message << "non-finite state at t = " << state.t + parameters_.step
-            << " s (check the time step, stiffness and loads)";
-    throw RunError(state.t + parameters_.step, message.str());
+    message << "non-finite state at t = " << state.t + h << " s (check the time step, stiffness and loads)";
+    throw RunError(state.t + h, message.str());
   }
   if (!world_.prescribed.empty()) {  // the force each prescription exerted: its impulse / h
     state.reactions.setZero(world_.velocity_size);
     const int first = stage_.rows().contact_rows() + static_cast<int>(world_.constraints.size());
     for (std::size_t i = 0; i < equalities_.prescriptions.size(); ++i) {
       const PrescribedComponent& p = world_.prescribed[equalities_.prescriptions[i]];
-      state.reactions(world_.bodies[p.body].velocity_offset + p.component) = stage_.impulses()(first + i) / parameters_.step;
+      state.reactions(world_.bodies[p.body].velocity_offset + p.component) = stage_.impulses()(first + i) / h;
     }
   }
   if (keeps_stiffness_velocity()) {  // K v_{k+1} for the next step, while K stays
@@ -526,7 +397,7 @@ void MoreauJean::step(State& state) {
   state.v.swap(v_next_);
   SolverCounters& c = state.counters;
   ++c.steps;
-  state.t = static_cast<double>(c.steps) * parameters_.step;  // no accumulated round-off
+  state.t = static_cast<double>(c.steps) * h;  // no accumulated round-off
   stage_.hand_over(state.contacts);
   c.contact_points += static_cast<long>(state.contacts.size());
   c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));

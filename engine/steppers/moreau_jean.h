@@ -82,6 +82,8 @@ class MoreauJean final : public Stepper {
   void summarize_statistics(const State& state, SummaryEntries& out) const override;
 
  private:
+  static constexpr double kActivationGamma = 0.5;  // γ of step 2's rule g + γ h u_n ≤ 0
+
   std::unique_ptr<IterationOperator> make_iteration();
   void build_equalities(double t);
   void linearize_ties(const State& state, const Vector& v_iterate);
@@ -101,6 +103,7 @@ class MoreauJean final : public Stepper {
   void update(State& state);
   void integrate_positions(const Vector& q, const Vector& v_theta, Vector& out) const;
   void account_energy(State& state);
+  void finish_step(State& state);
   // A large World with a constant K: K v_{k+1}, which the energy balance forms, is the next step's
   // K v_k while v is the one this stepper left and K has not been refactored (one product with K a step
   // instead of two).
