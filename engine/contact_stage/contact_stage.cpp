@@ -16,15 +16,15 @@ void ContactStage::detect(const Vector& q, double margin) {
   active_.clear();
   active_candidates_.clear();
   detector_.detect(q, margin, candidates_, candidate_rows_);
-  candidate_keys_.resize(candidates_.size());
-  for (std::size_t k = 0; k < candidates_.size(); ++k) candidate_keys_[k] = candidates_[k].point.key;
-  active_flag_.assign(candidates_.size(), 0);
+}
+
+bool ContactStage::is_active(int k) const {
+  return std::binary_search(active_candidates_.begin(), active_candidates_.end(), k);
 }
 
 void ContactStage::activate(int k) {
   active_.push_back(candidates_[k]);
   active_candidates_.push_back(k);
-  active_flag_[k] = 1;
 }
 
 void ContactStage::activate_more(const std::vector<int>& more) {
@@ -32,10 +32,7 @@ void ContactStage::activate_more(const std::vector<int>& more) {
   std::merge(active_candidates_.begin(), active_candidates_.end(), more.begin(), more.end(), merged.begin());
   active_candidates_ = std::move(merged);
   active_.clear();
-  for (int k : active_candidates_) {
-    active_.push_back(candidates_[k]);
-    active_flag_[k] = 1;
-  }
+  for (int k : active_candidates_) active_.push_back(candidates_[k]);
 }
 
 void ContactStage::gather_rows(const Matrix* equalities, const std::vector<SparseRow>* ties, double t) {
@@ -56,12 +53,6 @@ void ContactStage::gather_rows(const Matrix* equalities, const std::vector<Spars
     rows_.contact_key[i] = active_[i].point.key;
     problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t);
   }
-}
-
-void ContactStage::free_term(const Vector& v_free) {
-  const int m = rows_.size();
-  problem_.b.resize(m);
-  for (int a = 0; a < m; ++a) problem_.b(a) = rows_.dot(a, v_free);
 }
 
 void ContactStage::solve(const std::vector<ActiveContact>& previous, bool warm_from_previous, double failure_residual,

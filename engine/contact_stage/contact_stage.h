@@ -41,13 +41,12 @@ class ContactStage {
   int candidate_count() const { return static_cast<int>(candidates_.size()); }
   const std::vector<ActiveContact>& candidates() const { return candidates_; }
   const std::vector<SparseRow>& candidate_rows() const { return candidate_rows_; }  // d a candidate
-  const std::vector<ContactKey>& candidate_keys() const { return candidate_keys_; }
   // Candidate k's gap after `time` (s) at velocities v: g + time · u_n(v) (m).
   double predicted_gap(int k, const Vector& v, double time) const {
     return candidates_[k].point.gap + time * candidate_rows_[dimension_ * k].dot(v);
   }
   void activate(int k);  // in increasing k
-  bool is_active(int k) const { return active_flag_[k] != 0; }
+  bool is_active(int k) const;
   // Activates these candidates too (not active yet, increasing k), keeping the candidates' order.
   void activate_more(const std::vector<int>& more);
   const std::vector<ActiveContact>& active() const { return active_; }
@@ -57,7 +56,8 @@ class ContactStage {
   void gather_rows(const Matrix* equalities, const std::vector<SparseRow>* ties, double t);
   const ProblemRows& rows() const { return rows_; }
   void form_delassus() { iteration_->delassus(rows_, problem_.W); }
-  void free_term(const Vector& v_free);  // b = H v_free
+  // b = H v_free, after form_delassus (an operator may apply the H it formed W with).
+  void free_term(const Vector& v_free) { iteration_->apply_rows(rows_, v_free, problem_.b); }
   FrictionContactProblem& problem() { return problem_; }
 
   // Solves with the warm start from `previous` (the last step's contacts) or, when warm_from_previous is
@@ -66,6 +66,11 @@ class ContactStage {
              double t_next, SolverCounters& counters);
   const Vector& impulses() const { return r_; }
   void add_response(Vector& v) { iteration_->add_response(rows_, r_, v); }  // v += A⁻¹ Hᵀ r
+  // rᵀ H v (J, for v in m/s: the impulses' work over a step at the velocities v).
+  double impulse_work(const Vector& v) {
+    iteration_->apply_rows(rows_, v, velocities_);
+    return r_.dot(velocities_);
+  }
   // The active contacts with their impulses and statuses, for State::contacts (swapped out: the stage's
   // list is then the caller's old one, cleared at the next detection).
   void hand_over(std::vector<ActiveContact>& contacts) { contacts.swap(active_); }
@@ -78,12 +83,10 @@ class ContactStage {
   std::unique_ptr<IterationOperator> iteration_;
   std::vector<ActiveContact> candidates_, active_;
   std::vector<SparseRow> candidate_rows_;
-  std::vector<ContactKey> candidate_keys_;
-  std::vector<int> active_candidates_;
-  std::vector<char> active_flag_;
+  std::vector<int> active_candidates_;  // increasing
   ProblemRows rows_;
   FrictionContactProblem problem_;
-  Vector r_;
+  Vector r_, velocities_;
   std::vector<ContactStatus> statuses_;
 };
 

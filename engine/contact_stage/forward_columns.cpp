@@ -62,10 +62,11 @@ void ForwardColumnsOperator::forward_half(const Vector& f) {
   operators_.sparse_factor().forward_substitute(f, free_forward_, free_scaled_);
 }
 
-void ForwardColumnsOperator::gather_candidates(const std::vector<SparseRow>& rows, const std::vector<ContactKey>& keys,
-                                               int dimension, const Matrix* equalities) {
+void ForwardColumnsOperator::gather_candidates(const std::vector<ActiveContact>& contacts,
+                                               const std::vector<SparseRow>& rows, int dimension,
+                                               const Matrix* equalities) {
   halves_ = true;
-  const int candidates = static_cast<int>(keys.size());
+  const int candidates = static_cast<int>(contacts.size());
   const int ne = equalities ? static_cast<int>(equalities->rows()) : 0;
   candidate_slots_.resize(dimension * candidates + ne);
   cache_.begin(operators_.sparse_factor());
@@ -73,7 +74,7 @@ void ForwardColumnsOperator::gather_candidates(const std::vector<SparseRow>& row
     for (int k = 0; k < dimension; ++k) {
       const SparseRow& row = rows[dimension * i + k];
       candidate_slots_[dimension * i + k] =
-          cache_.slot({kContactRow, keys[i], k}, row.index.data(), row.value.data(), row.count);
+          cache_.slot({kContactRow, contacts[i].point.key, k}, row.index.data(), row.value.data(), row.count);
     }
   for (int e = 0; e < ne; ++e) candidate_slots_[dimension * candidates + e] = equality_slot(*equalities, e);
   cache_.finish();

@@ -14,6 +14,7 @@
 #include "engine/contact_stage/delassus_cache.h"
 #include "engine/contact_stage/iteration_operator.h"
 #include "engine/linear_algebra/forward_rows.h"
+#include "engine/state.h"
 
 namespace csim {
 
@@ -26,11 +27,11 @@ class ForwardColumnsOperator final : public IterationOperator {
 
   // Two halves. The forward half of A⁻¹ f (f: N·s, the step's impulse of the smooth forces).
   void forward_half(const Vector& f);
-  // The forward columns of every candidate's rows (rows: d a candidate, keys: each candidate's), then of
-  // the equality rows; their dots y_cᵀ z. Until the next call, delassus() takes its rows' columns from
-  // these (ProblemRows::candidate_row).
-  void gather_candidates(const std::vector<SparseRow>& rows, const std::vector<ContactKey>& keys, int dimension,
-                         const Matrix* equalities);
+  // The forward columns of every candidate's rows (rows: d a candidate), then of the equality rows;
+  // their dots y_cᵀ z. Until the next call, delassus() takes its rows' columns from these
+  // (ProblemRows::candidate_row).
+  void gather_candidates(const std::vector<ActiveContact>& candidates, const std::vector<SparseRow>& rows,
+                         int dimension, const Matrix* equalities);
   // Candidate row c's h A⁻¹ f as the row sees it: y_cᵀ z (for a normal row, u_n(v_free − v_k)).
   double free_dot(int c) const { return candidate_dots_[c]; }
   const std::vector<double>& free_dots() const { return candidate_dots_; }

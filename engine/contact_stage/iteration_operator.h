@@ -28,6 +28,11 @@ class IterationOperator {
   virtual void delassus(const ProblemRows& rows, Matrix& W) = 0;
   // v += A⁻¹ Hᵀ r, H the rows of the last delassus() (r: one impulse a row, N·s; v in m/s).
   virtual void add_response(const ProblemRows& rows, const Vector& r, Vector& v) = 0;
+  // u = H v, H the rows of the last delassus() (an operator that holds H dense applies it so).
+  virtual void apply_rows(const ProblemRows& rows, const Vector& v, Vector& u) const {
+    u.resize(rows.size());
+    for (int a = 0; a < rows.size(); ++a) u(a) = rows.dot(a, v);
+  }
 };
 
 // The operator of A as `operators` stores it (read at each call: A may be refactored between steps).

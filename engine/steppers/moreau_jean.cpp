@@ -142,7 +142,7 @@ void MoreauJean::detect(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
   stage_.detect(state.q, detection_margin(state));
   if (two_halves_) {  // every candidate's forward column (the equalities' too, without contacts)
-    halves_->gather_candidates(stage_.candidate_rows(), stage_.candidate_keys(), stage_.dimension(), &equalities_.rows);
+    halves_->gather_candidates(stage_.candidates(), stage_.candidate_rows(), stage_.dimension(), &equalities_.rows);
     if (stage_.empty()) return;
   }
   const int d = stage_.dimension();
@@ -281,8 +281,7 @@ void MoreauJean::account_energy(State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
   EnergyBalance& e = state.energy;
   e.work_of_loads += h * f_loads_.dot(v_theta_);
-  const Vector& r = stage_.impulses();
-  for (int a = 0; a < r.size(); ++a) e.contact_dissipation -= r(a) * stage_.rows().dot(a, v_theta_);
+  e.contact_dissipation -= stage_.impulse_work(v_theta_);
   // (θ−½)(|Δv|²_M + |Δq|²_K) is zero when θ = ½ whatever its factors: neither is formed then (the ±0
   // it would add leaves the sum as it is).
   if (theta != 0.5) dv_ = v_next_ - state.v;
