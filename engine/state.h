@@ -43,9 +43,6 @@ struct SolverCounters {
   long newton_redetections = 0;   // Moreau–Jean: steps whose Newton moved farther than their contact detection reached
   long newton_activated_contacts = 0;  // Moreau–Jean: contacts activated by Newton's motion, not the prediction
   long detections_retaken = 0;    // Moreau–Jean in two halves: steps whose motion outran their detection's margin
-  long detections_kept = 0;       // Moreau–Jean, lumped World: steps that kept the last detection (moreau_jean.h)
-  long delassus_kept = 0;         // Moreau–Jean, lumped World: steps with contacts that kept the last W (moreau_jean.h)
-  long solves_repeated = 0;       // Moreau–Jean, lumped World: contact solves taken from the last, the same problem
   long cutbacks = 0;              // quasi-static load steps taken again as two halves after Newton failed
 };
 

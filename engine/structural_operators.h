@@ -35,6 +35,7 @@ class StructuralOperators {
   bool has_stiffness() const { return has_stiffness_; }
   bool has_damping() const { return has_damping_; }
   bool sparse() const { return sparse_; }
+  int size() const { return world_.velocity_size; }  // n, the unknowns (velocity components)
   double factorization_seconds() const { return factorization_seconds_; }  // s, total
   long factorizations() const { return factorizations_; }  // how many times A was factored
   long regularizations() const { return regularizations_; }  // factorizations that needed ε I

@@ -119,14 +119,7 @@ ContactDetector::ContactDetector(const World& world)
       object_body_[object] = i;
       object_shape_[object] = -1;
       shape_at_origin_.resize(object + 1);
-      deformable_ = true;
       continue;
-    }
-    if (!b.body->fixed() && !b.shapes.empty()) {
-      for (int k = 0; k < b.body->position_size(); ++k) {
-        coordinate_index_.push_back(b.position_offset + k);
-        coordinate_scale_.push_back(k < b.body->translation_coordinates() ? b.body->bounding_radius : 1.0);
-      }
     }
     for (std::size_t s = 0; s < b.shapes.size(); ++s) {
       const int object = collision_->add_object(i, b.shapes[s].shape, b.body->fixed());
@@ -189,22 +182,6 @@ void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b
   }
 }
 
-void ContactDetector::remember_positions(const Vector& q) {
-  detected_positions_.resize(coordinate_index_.size());
-  for (std::size_t j = 0; j < coordinate_index_.size(); ++j) detected_positions_[j] = q(coordinate_index_[j]);
-  remembered_ = true;
-}
-
-bool ContactDetector::positions_within(const Vector& q, double ulps) const {
-  if (!remembered_ || deformable_) return false;
-  const double tolerance = ulps * std::numeric_limits<double>::epsilon();
-  for (std::size_t j = 0; j < detected_positions_.size(); ++j) {
-    const double then = detected_positions_[j];
-    if (!(std::abs(q(coordinate_index_[j]) - then) <= tolerance * (std::abs(then) + coordinate_scale_[j]))) return false;
-  }
-  return true;
-}
-
 double ContactDetector::travel_bound(const Vector& v, double h) const {
   double speed = 0.0;
   for (const BodyInstance& b : world_.bodies) {
@@ -228,7 +205,6 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   contacts.clear();
   rows.clear();
   if (!collision_) return;
-  remembered_ = false;
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
     const BodyInstance& b = world_.bodies[object_body_[o]];
     if (b.body->fixed()) continue;

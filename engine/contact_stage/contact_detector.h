@@ -27,17 +27,6 @@ class ContactDetector {
   // point with its frame), `rows` their H rows: contact i owns rows [dimension·i, dimension·(i+1)).
   void detect(const Vector& q, double margin, std::vector<ActiveContact>& contacts, std::vector<SparseRow>& rows);
 
-  // Keeps the coordinates q that the last detect() was made at, for positions_within (a detection whose
-  // positions are not remembered keeps nothing).
-  void remember_positions(const Vector& q);
-  // Whether every moving body that touches through shapes is where the last detect() put it, to `ulps`
-  // units of round-off (a fraction of one, for MoreauJean's kept detection): each coordinate x within
-  // ulps·ε·(|x| + s), s the body's bounding radius (m) for a length and 1 for an angle or a quaternion
-  // entry (ε the double's machine epsilon). A point of a shape then moved by at most a few times that
-  // fraction of its coordinates' round-off. False unless the last detect()'s positions were remembered,
-  // and for a World with a deformable surface.
-  bool positions_within(const Vector& q, double ulps) const;
-
   // The Jacobian of a contact's point on one side: on an elastic body its surface point (nodes and
   // weights), otherwise the body's material point under the world point.
   PointJacobian side_jacobian(const Vector& q, int object, const ContactPoint& c, const Eigen::Vector3d& world_point) const;
@@ -68,11 +57,6 @@ class ContactDetector {
   // Each deformable surface's node positions by collision object (its body's nodes; the surface's kept current).
   std::vector<std::vector<Eigen::Vector3d>> node_positions_;
   std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
-  // The coordinates of the bodies that touch through shapes and move: their indices in q, their scales
-  // (positions_within) and their values at the last detect().
-  std::vector<int> coordinate_index_;
-  std::vector<double> coordinate_scale_, detected_positions_;
-  bool remembered_ = false, deformable_ = false;
   std::vector<ContactPoint> points_;
 };
 

@@ -23,10 +23,9 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
 
 namespace {
 
-// Inlined into both callers (a lumped step's whole solve is about a microsecond).
-[[gnu::always_inline]] inline std::string account(const PgsStatistics& stats, int dimension, double failure_residual, double t_next,
-                           const Vector& r, const std::vector<ContactStatus>& status,
-                           std::vector<ActiveContact>& active, SolverCounters& c) {
+std::string account(const PgsStatistics& stats, int dimension, double failure_residual, double t_next,
+                    const Vector& r, const std::vector<ContactStatus>& status, std::vector<ActiveContact>& active,
+                    SolverCounters& c) {
   ++c.solves;
   c.total_iterations += stats.iterations;
   c.max_iterations = std::max(c.max_iterations, stats.iterations);
@@ -48,21 +47,14 @@ namespace {
 
 }  // namespace
 
-std::string account_contact_solve(const PgsStatistics& stats, int dimension, double failure_residual, double t_next,
-                                  const Vector& r, const std::vector<ContactStatus>& status,
-                                  std::vector<ActiveContact>& active, SolverCounters& c) {
-  return account(stats, dimension, failure_residual, t_next, r, status, active, c);
-}
-
 std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
                            double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c,
-                           std::vector<ContactStatus>* status_scratch, PgsStatistics* statistics) {
+                           std::vector<ContactStatus>* status_scratch) {
   if (problem.size() == 0) return "";
   std::vector<ContactStatus> own_status;
   std::vector<ContactStatus>& status = status_scratch ? *status_scratch : own_status;
   status.clear();
   const PgsStatistics stats = pgs.solve(problem, r, &status);
-  if (statistics) *statistics = stats;
   return account(stats, problem.dimension, failure_residual, t_next, r, status, active, c);
 }
 

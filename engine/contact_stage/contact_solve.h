@@ -20,18 +20,10 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
 // Returns "" or, for a solve left above the failure threshold, the message that stops the run; the
 // caller throws it (Moreau–Jean at once; the quasi-static stepper only if it is the solve of the
 // Newton iterate it accepts). t_next: the time the step reaches (s). status_scratch, when given,
-// holds the solver's statuses (a stepper's own, so that a step allocates nothing); statistics, when
-// given, gets the solve's.
+// holds the solver's statuses (a stepper's own, so that a step allocates nothing).
 [[nodiscard]] std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem,
                                          double failure_residual, double t_next, Vector& r,
                                          std::vector<ActiveContact>& active, SolverCounters& counters,
-                                         std::vector<ContactStatus>* status_scratch = nullptr,
-                                         PgsStatistics* statistics = nullptr);
-
-// solve_contacts' accounting of a solve already made (its statistics, impulses r and statuses), for a
-// stepper that repeats a solve it has kept (moreau_jean.h).
-[[nodiscard]] std::string account_contact_solve(const PgsStatistics& statistics, int dimension, double failure_residual,
-                                                double t_next, const Vector& r, const std::vector<ContactStatus>& status,
-                                                std::vector<ActiveContact>& active, SolverCounters& counters);
+                                         std::vector<ContactStatus>* status_scratch = nullptr);
 
 }  // namespace csim

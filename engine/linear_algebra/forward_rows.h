@@ -1,5 +1,5 @@
 // The forward columns y_c = L⁻¹ P h_cᵀ of a list of contact and equality rows (delassus_cache.h), stored
-// a second time by the factor's rows, so that a Moreau–Jean step's two uses of them are each one pass in
+// a second time by the factor's rows, so that the two halves' uses (forward_columns.h) of them are each one pass in
 // the factor's order:
 //   - the dots y_cᵀ z of every row (h A⁻¹ f seen by the row, z = D⁻¹ L⁻¹ P h f), before the contact solve;
 //   - w + Y r (the backward half's right-hand side), after it.

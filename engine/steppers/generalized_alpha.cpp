@@ -1,6 +1,5 @@
 #include "engine/steppers/generalized_alpha.h"
 
-#include "engine/contact_stage/contact_solve.h"
 
 #include <algorithm>
 #include <cmath>
@@ -57,12 +56,18 @@ GeneralizedAlpha::GeneralizedAlpha(const World& world, const GeneralizedAlphaPar
       dynamics_(world),
       operators_(dynamics_),
       mass_(make_mass_solver(dynamics_)),
-      pgs_(parameters.solver),
-      detector_(world),
-      contact_dimension_(detector_.dimension()) {
+      stage_(world, parameters.solver, make_response()) {
   if (const std::string refusal = unsupported(world); !refusal.empty()) throw RunError(0.0, refusal);
   if (!(parameters.rho_infinity >= 0.0 && parameters.rho_infinity <= 1.0))
     throw RunError(0.0, "generalized-alpha: rho_infinity must lie in [0, 1]");
+}
+
+// The stage's view of the step's contact response (generalized_alpha_response.h), which update() also
+// drives (the jumps of q and ẅ).
+std::unique_ptr<IterationOperator> GeneralizedAlpha::make_response() {
+  auto response = std::make_unique<GeneralizedAlphaResponse>(operators_, mass_, coefficients_, parameters_.step);
+  response_ = response.get();
+  return response;
 }
 
 void GeneralizedAlpha::summarize_settings(SummaryEntries& out) const {
@@ -114,115 +119,49 @@ void GeneralizedAlpha::free_step(const State& state) {
 }
 
 void GeneralizedAlpha::detect(const State& state) {
-  active_.clear();
-  active_rows_.clear();
-  if (detector_.empty()) return;
   const double h = parameters_.step;
   work_ = (q_free_ - state.q) / h;  // the free step's mean velocity
-  const double reach = std::max({detector_.travel_bound(state.v, h), detector_.travel_bound(v_free_, h),
-                                 detector_.travel_bound(work_, h)});
-  detector_.detect(state.q, 2.0 * reach + 1e-12, candidates_, candidate_rows_);
-  for (std::size_t i = 0; i < candidates_.size(); ++i) {
-    const double closing = candidate_rows_[contact_dimension_ * i].dot(work_);
-    if (candidates_[i].point.gap + kActivationFraction * h * closing > 0.0) continue;
-    active_.push_back(candidates_[i]);
-    active_rows_.push_back(static_cast<int>(i));
+  double margin = 0.0;
+  if (!stage_.empty()) {
+    const ContactDetector& detector = stage_.detector();
+    margin = 2.0 * std::max({detector.travel_bound(state.v, h), detector.travel_bound(v_free_, h),
+                             detector.travel_bound(work_, h)}) + 1e-12;
   }
+  stage_.detect(state.q, margin);
+  for (int k = 0; k < stage_.candidate_count(); ++k)
+    if (stage_.predicted_gap(k, work_, kActivationFraction * h) <= 0.0) stage_.activate(k);
 }
 
-// Z = M⁻¹ hᵀ and G = S⁻¹ (hᵀ + c K Z) of the row, kept while S and the row stay.
-const GeneralizedAlpha::RowColumns& GeneralizedAlpha::columns(const RowKey& key, const SparseRow& row) {
-  RowColumns& col = columns_[key];
-  col.used = true;
-  if (col.factorization == operators_.factorizations() && col.row == row) return col;
-  const int n = world_.velocity_size;
-  const double h = parameters_.step;
-  const GeneralizedAlphaCoefficients& k = coefficients_;
-  const double c = h * h * k.acceleration_weight() * (k.beta - 0.5 * k.gamma);
-  col.row = row;
-  col.factorization = operators_.factorizations();
-  col.Z.setZero(n);
-  row.scatter(1.0, col.Z);
-  col.G = col.Z;
-  mass_.solve_in_place(col.Z);
-  if (operators_.has_stiffness() && c > 0.0) {
-    operators_.apply_stiffness(col.Z, work2_);
-    col.G += c * work2_;
-  }
-  operators_.solve_in_place(col.G);
-  return col;
-}
-
+// The contact stage's rows, W (generalized_alpha_response.h) and b = H v_free, with Newton's impact
+// law and the closing of open gaps.
 void GeneralizedAlpha::assemble(const State& state) {
-  const int d = contact_dimension_;
-  const int nc = static_cast<int>(active_.size());
-  const int m = d * nc;
+  const int d = stage_.dimension();
   const double h = parameters_.step;
-
-  problem_.dimension = d;
-  problem_.contacts = nc;
-  problem_.equalities = 0;
-  problem_.mu.resize(nc);
-  rows_.resize(m);
-  row_columns_.resize(m);
-  for (auto& entry : columns_) entry.second.used = false;
-  for (int i = 0; i < nc; ++i) {
-    problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(state.t + h);
-    for (int r = 0; r < d; ++r) {
-      rows_[d * i + r] = candidate_rows_[d * active_rows_[i] + r];
-      row_columns_[d * i + r] = &columns({active_[i].point.key, r}, rows_[d * i + r]);
-    }
-  }
-  std::erase_if(columns_, [](const auto& entry) { return !entry.second.used; });
-  problem_.W.resize(m, m);
-  for (int a = 0; a < m; ++a)
-    for (int b = 0; b < m; ++b) problem_.W(a, b) = rows_[a].dot(row_columns_[b]->G);
-  // Symmetric in exact arithmetic (header); its two triangles differ by the solves' round-off.
-  for (int a = 0; a < m; ++a)
-    for (int b = 0; b < a; ++b) problem_.W(a, b) = problem_.W(b, a) = 0.5 * (problem_.W(a, b) + problem_.W(b, a));
-  problem_.b.resize(m);
-  for (int a = 0; a < m; ++a) problem_.b(a) = rows_[a].dot(v_free_);
+  stage_.gather_rows(nullptr, nullptr, state.t + h);
+  stage_.form_delassus();
+  stage_.free_term(v_free_);
+  Vector& b = stage_.problem().b;
+  const std::vector<ActiveContact>& active = stage_.active();
   work_ = q_free_ - state.q;  // the free step's displacement, for the open gaps below
-  for (int i = 0; i < nc; ++i) {
-    const double e = world_.contact_laws[active_[i].law].restitution;
-    const SparseRow& normal = rows_[d * i];
+  for (int i = 0; i < static_cast<int>(active.size()); ++i) {
+    const double e = world_.contact_laws[active[i].law].restitution;
+    const SparseRow& normal = *stage_.rows().contact[d * i];
     if (e > 0.0) {
-      problem_.b(d * i) += e * normal.dot(state.v);
+      b(d * i) += e * normal.dot(state.v);
       continue;
     }
     // An inelastic contact still open by g closes it within the step: g(q_{n+1}) ≥ 0 with
     // q_{n+1} − q_free ≈ ½ h (v_{n+1} − v_free) along its normal (header).
-    const double opening = active_[i].point.gap + normal.dot(work_) - 0.5 * h * normal.dot(v_free_);
-    if (opening > 0.0) problem_.b(d * i) += opening / (0.5 * h);
+    const double opening = active[i].point.gap + normal.dot(work_) - 0.5 * h * normal.dot(v_free_);
+    if (opening > 0.0) b(d * i) += opening / (0.5 * h);
   }
-}
-
-// A jump of impulse R along hᵀ (out of the recursion): v += R G, q += R [(hβ/γ) G + h(½ − β/γ) Z],
-// ẅ += R (G − Z)/(hγc_w).
-void GeneralizedAlpha::add_jump(const RowColumns& col, double impulse, Vector& v, Vector& q, Vector& w) const {
-  const double h = parameters_.step;
-  const GeneralizedAlphaCoefficients& k = coefficients_;
-  const double cw = k.acceleration_weight();
-  v += impulse * col.G;
-  q += (impulse * h * k.beta / k.gamma) * col.G + (impulse * h * (0.5 - k.beta / k.gamma)) * col.Z;
-  w += (impulse / (h * k.gamma * cw)) * (col.G - col.Z);
-}
-
-void GeneralizedAlpha::solve(State& state) {
-  warm_start(state.contacts, active_, contact_dimension_, problem_.size(), r_);
-  const double t_next = state.t + parameters_.step;
-  if (const std::string failure =
-          solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, state.counters, &statuses_);
-      !failure.empty())
-    throw RunError(t_next, failure);
 }
 
 void GeneralizedAlpha::update() {
   v_next_ = v_free_;
   q_next_ = q_free_;
   w_next_ = w_free_;
-  for (int a = 0; a < static_cast<int>(rows_.size()); ++a)
-    if (r_(a) != 0.0) add_jump(*row_columns_[a], r_(a), v_next_, q_next_, w_next_);
+  response_->add_jumps(stage_.impulses(), v_next_, q_next_, w_next_);
   const GeneralizedAlphaCoefficients& k = coefficients_;
   a_next_ = k.acceleration_weight() * w_next_ + a_star_;
 }
@@ -232,7 +171,8 @@ void GeneralizedAlpha::account_energy(State& state) {
   EnergyBalance& e = state.energy;
   work_ = q_next_ - state.q;  // Δq
   e.work_of_loads += 0.5 * (f_loads_start_ + f_loads_end_).dot(work_);
-  for (int a = 0; a < static_cast<int>(rows_.size()); ++a) e.contact_dissipation -= r_(a) * rows_[a].dot(work_) / h;
+  const Vector& r = stage_.impulses();
+  for (int a = 0; a < r.size(); ++a) e.contact_dissipation -= r(a) * stage_.rows().dot(a, work_) / h;
   if (operators_.has_damping()) {
     work2_ = 0.5 * (state.v + v_next_);
     operators_.apply_damping(work2_, v_hat_);  // v̂ is spent: a work vector here
@@ -253,7 +193,7 @@ void GeneralizedAlpha::step(State& state) {
   clock_.lap(state.timers.detection);
   assemble(state);
   clock_.lap(state.timers.assembly);
-  solve(state);
+  stage_.solve(state.contacts, true, parameters_.failure_residual, state.t + parameters_.step, state.counters);
   clock_.lap(state.timers.solve);
   update();
   account_energy(state);
@@ -270,7 +210,7 @@ void GeneralizedAlpha::step(State& state) {
   SolverCounters& counters = state.counters;
   ++counters.steps;
   state.t = static_cast<double>(counters.steps) * parameters_.step;
-  state.contacts.swap(active_);
+  stage_.hand_over(state.contacts);
   counters.contact_points += static_cast<long>(state.contacts.size());
   counters.max_contact_points = std::max(counters.max_contact_points, static_cast<int>(state.contacts.size()));
   state.factorization_seconds = operators_.factorization_seconds();

@@ -53,20 +53,18 @@
 // prescribed components, ties, and damping that does not share the modes of M and K.
 #pragma once
 
-#include "contact/pgs_solver.h"
-#include "engine/contact_stage/contact_detector.h"
+#include "engine/contact_stage/contact_stage.h"
 #include "engine/dynamics.h"
 #include "engine/mass_solver.h"
 #include "engine/structural_operators.h"
 #include "engine/steppers/generalized_alpha_parameters.h"
+#include "engine/steppers/generalized_alpha_response.h"
 #include "engine/steppers/phase_clock.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
 
-#include <map>
+#include <memory>
 #include <string>
-#include <utility>
-#include <vector>
 
 namespace csim {
 
@@ -82,21 +80,10 @@ class GeneralizedAlpha final : public Stepper {
   void summarize_settings(SummaryEntries& out) const override;
 
  private:
-  // The columns of one row h of H: Z = M⁻¹ hᵀ and G = S⁻¹ (hᵀ + c K Z).
-  struct RowColumns {
-    SparseRow row;
-    Vector Z, G;
-    long factorization = -1;
-    bool used = false;
-  };
-  using RowKey = std::pair<ContactKey, int>;
-
+  std::unique_ptr<IterationOperator> make_response();
   void free_step(const State& state);
   void detect(const State& state);
   void assemble(const State& state);
-  const RowColumns& columns(const RowKey& key, const SparseRow& row);
-  void add_jump(const RowColumns& col, double impulse, Vector& v, Vector& q, Vector& w) const;
-  void solve(State& state);
   void update();
   void account_energy(State& state);
 
@@ -106,21 +93,13 @@ class GeneralizedAlpha final : public Stepper {
   Dynamics dynamics_;
   StructuralOperators operators_;
   MassSolver mass_;
-  PgsSolver pgs_;
-  ContactDetector detector_;
-  int contact_dimension_;
+  GeneralizedAlphaResponse* response_ = nullptr;  // the stage's operator (the jumps of update())
+  ContactStage stage_;
   PhaseClock clock_;
 
   Vector acceleration_, recursion_;  // ẅ_n and a_n
   Vector a_star_, v_hat_, q_hat_, f_loads_start_, f_loads_end_, f_total_, work_, work2_;
-  Vector w_free_, v_free_, q_free_, w_next_, a_next_, v_next_, q_next_, r_;
-  std::vector<ActiveContact> candidates_, active_;
-  std::vector<SparseRow> candidate_rows_, rows_;
-  std::vector<int> active_rows_;
-  std::vector<ContactStatus> statuses_;
-  std::map<RowKey, RowColumns> columns_;
-  std::vector<const RowColumns*> row_columns_;  // the active rows' columns
-  FrictionContactProblem problem_;
+  Vector w_free_, v_free_, q_free_, w_next_, a_next_, v_next_, q_next_;
 };
 
 }  // namespace csim

@@ -96,43 +96,6 @@ TEST(ContactDetector, TravelBoundCoversTheFastestPoint) {
   EXPECT_GE(detector.travel_bound(v, 0.1), 0.1 * (3.0 + 2.0 * std::sqrt(0.5)) - 1e-12);
 }
 
-// positions_within: every moving body's coordinates against the last detection's, to a fraction of their
-// round-off (ε (|x| + radius) a length, ε (|x| + 1) a quaternion entry). A coordinate near zero may move
-// by far less than that (a cube at rest: 1e-25 m a step); a move the numbers can show may not.
-TEST(ContactDetector, PositionsWithinAFractionOfRoundOffOfTheLastDetection) {
-  const auto scene = flat_cube();
-  const World& world = scene->world;
-  ContactDetector detector(world);
-  const State state = initial_state(world);
-  constexpr double kFraction = 1.0 / 1024.0;
-  EXPECT_FALSE(detector.positions_within(state.q, kFraction));  // nothing detected yet
-  std::vector<ActiveContact> contacts;
-  std::vector<SparseRow> rows;
-  detector.detect(state.q, 1e-6, contacts, rows);
-  EXPECT_FALSE(detector.positions_within(state.q, kFraction));  // detected, its positions not remembered
-  detector.remember_positions(state.q);
-  EXPECT_TRUE(detector.positions_within(state.q, kFraction));
-  EXPECT_TRUE(detector.positions_within(state.q, 0.0));  // the same bits
-  const int offset = world.bodies[world.body_index("block")].position_offset;
-  const double radius = world.bodies[world.body_index("block")].body->bounding_radius;
-  ASSERT_GT(radius, 0.8);  // √3/2 for the unit cube
-  ASSERT_EQ(state.q(offset), 0.0);
-  const double unit = std::numeric_limits<double>::epsilon() * radius;  // x's round-off scale, m
-  struct Move {
-    int coordinate;
-    double by;
-    bool within;
-  };
-  for (const Move& m : {Move{0, 1e-25, true}, Move{0, 0.5 * kFraction * unit, true}, Move{0, 2.0 * kFraction * unit, false},
-                        Move{0, 1e-17, false}, Move{2, 1e-12, false}, Move{4, 1e-25, true}, Move{4, 1e-15, false}}) {
-    Vector q = state.q;
-    q(offset + m.coordinate) += m.by;
-    EXPECT_EQ(detector.positions_within(q, kFraction), m.within) << "coordinate " << m.coordinate << " moved by " << m.by;
-  }
-  detector.detect(state.q, 1e-6, contacts, rows);  // a new detection forgets the remembered positions
-  EXPECT_FALSE(detector.positions_within(state.q, kFraction));
-}
-
 // contact_rows appends a column of J at a time when no velocity component can appear twice (two
 // bodies, neither naming a component twice): the rows must be SparseRow::add's, entry for entry and
 // to the bit; a body on both sides, or a Jacobian naming a component twice, merges its entries.

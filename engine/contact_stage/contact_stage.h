@@ -1,0 +1,93 @@
+// The contact stage of a time step, the same for every stepper (Siconos' OneStepNSProblem / LinearOSNS,
+// Drake's contact_solvers): detect → the rows H → W = H A⁻¹ Hᵀ and b → solve → A⁻¹ Hᵀ r.
+//
+//   detect        ContactDetector (contact_detector.h): candidates within a margin (m) at q, sorted by
+//                 key, each with its d rows of H (normal, then tangents; d = 2 in plane scenes, 3 in
+//                 space); the stepper activates those its rule closes (a predicted gap ≤ 0);
+//   rows          the active contacts' rows, then the stepper's equality rows (linear constraints,
+//                 prescriptions) and ties (problem_rows.h); μ of each contact at t_{k+1};
+//   W             the Delassus operator H A⁻¹ Hᵀ, formed in one place (form_delassus) by the stepper's
+//                 iteration matrix (iteration_operator.h), which alone knows how A⁻¹ is stored;
+//   b             H v_free (free_term), to which the stepper adds its impact law, gap closing and the
+//                 equality targets: the problem u = W r + b of contact/friction_contact_problem.h;
+//   solve         warm start from the last step's impulses with the same key, projected Gauss–Seidel with
+//                 exact local solves (contact/pgs_solver.h); a solve left above failure_residual stops
+//                 the run (RunError);
+//   response      v += A⁻¹ Hᵀ r (add_response).
+// Units: impulses r in N·s, velocities in m/s (rad/s on rotations), gaps and margins in m, gap positive
+// when open, the normal from body A to body B.
+#pragma once
+
+#include "contact/pgs_solver.h"
+#include "engine/contact_stage/contact_detector.h"
+#include "engine/contact_stage/iteration_operator.h"
+#include "engine/state.h"
+
+#include <memory>
+#include <vector>
+
+namespace csim {
+
+class ContactStage {
+ public:
+  ContactStage(const World& world, const PgsParameters& solver, std::unique_ptr<IterationOperator> iteration);
+
+  bool empty() const { return detector_.empty(); }  // no body can touch another
+  int dimension() const { return dimension_; }
+  const ContactDetector& detector() const { return detector_; }
+
+  // Candidates with gap ≤ margin (m) at q; none active yet.
+  void detect(const Vector& q, double margin);
+  int candidate_count() const { return static_cast<int>(candidates_.size()); }
+  const std::vector<ActiveContact>& candidates() const { return candidates_; }
+  const std::vector<SparseRow>& candidate_rows() const { return candidate_rows_; }  // d a candidate
+  // Candidate k's gap after `time` (s) at velocities v: g + time · u_n(v) (m).
+  double predicted_gap(int k, const Vector& v, double time) const {
+    return candidates_[k].point.gap + time * candidate_rows_[dimension_ * k].dot(v);
+  }
+  void activate(int k);  // in increasing k
+  bool is_active(int k) const;
+  // Activates these candidates too (not active yet, increasing k), keeping the candidates' order.
+  void activate_more(const std::vector<int>& more);
+  const std::vector<ActiveContact>& active() const { return active_; }
+
+  // The rows of the problem: the active contacts', then these equalities (ne × n, or none) and ties;
+  // μ at t (s).
+  void gather_rows(const Matrix* equalities, const std::vector<SparseRow>* ties, double t);
+  const ProblemRows& rows() const { return rows_; }
+  void form_delassus() { iteration_->delassus(rows_, problem_.W); }
+  // b = H v_free, after form_delassus (an operator may apply the H it formed W with).
+  void free_term(const Vector& v_free) { iteration_->apply_rows(rows_, v_free, problem_.b); }
+  FrictionContactProblem& problem() { return problem_; }
+
+  // Solves with the warm start from `previous` (the last step's contacts) or, when warm_from_previous is
+  // false and the problem kept its size, from the last impulses; accounts in `counters`.
+  void solve(const std::vector<ActiveContact>& previous, bool warm_from_previous, double failure_residual,
+             double t_next, SolverCounters& counters);
+  const Vector& impulses() const { return r_; }
+  void add_response(Vector& v) { iteration_->add_response(rows_, r_, v); }  // v += A⁻¹ Hᵀ r
+  // rᵀ H v (J, for v in m/s: the impulses' work over a step at the velocities v).
+  double impulse_work(const Vector& v) {
+    iteration_->apply_rows(rows_, v, velocities_);
+    return r_.dot(velocities_);
+  }
+  // The active contacts with their impulses and statuses, for State::contacts (swapped out: the stage's
+  // list is then the caller's old one, cleared at the next detection).
+  void hand_over(std::vector<ActiveContact>& contacts) { contacts.swap(active_); }
+
+ private:
+  const World& world_;
+  ContactDetector detector_;
+  int dimension_;
+  PgsSolver pgs_;
+  std::unique_ptr<IterationOperator> iteration_;
+  std::vector<ActiveContact> candidates_, active_;
+  std::vector<SparseRow> candidate_rows_;
+  std::vector<int> active_candidates_;  // increasing
+  ProblemRows rows_;
+  FrictionContactProblem problem_;
+  Vector r_, velocities_;
+  std::vector<ContactStatus> statuses_;
+};
+
+}  // namespace csim

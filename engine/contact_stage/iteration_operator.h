@@ -1,0 +1,41 @@
+// The iteration matrix A of a stepper as its contact stage sees it (the role of Drake's LinearOperator
+// in multibody/contact_solvers, of Siconos' OSI W / Winverse in LinearOSNS): for the rows H of a contact
+// problem, the Delassus operator W = H A⁻¹ Hᵀ and the velocity response A⁻¹ Hᵀ r to impulses r. How A⁻¹
+// is stored and applied sits behind it; the stage and the stepper never ask which:
+//   - a lumped World keeps A⁻¹ itself (dense_inverse.h): G = A⁻¹ Hᵀ and W = H G by small products;
+//   - a small elastic World keeps A's dense LDLᵀ: a column A⁻¹ hᵀ a row, W(a, b) = h_a · A⁻¹ h_bᵀ;
+//   - a sparse World with a constant A (linear finite elements) keeps each row's forward column
+//     y = L⁻¹ P hᵀ by its identity while A stays (delassus_cache.h), W(a, b) = y_aᵀ D⁻¹ y_b, and
+//     A⁻¹ Hᵀ r = Pᵀ L⁻ᵀ D⁻¹ (Σ r_a y_a), one backward substitution;
+//   - a sparse World refactored at every Newton iterate (finite strain) takes W from the forward
+//     substitution alone (SparseLdlt::delassus) and A⁻¹ (Hᵀ r) by one solve.
+// A is the one StructuralOperators factors (structural_operators.h: M + c_C C + c_K K); a stepper whose
+// contact response is another operator of A (generalized_alpha.h) supplies its own.
+#pragma once
+
+#include "engine/contact_stage/problem_rows.h"
+
+#include <memory>
+
+namespace csim {
+
+class StructuralOperators;
+
+class IterationOperator {
+ public:
+  virtual ~IterationOperator() = default;
+  // W (m × m, symmetric) ← H A⁻¹ Hᵀ for these rows (A as factored now); keeps what add_response needs.
+  virtual void delassus(const ProblemRows& rows, Matrix& W) = 0;
+  // v += A⁻¹ Hᵀ r, H the rows of the last delassus() (r: one impulse a row, N·s; v in m/s).
+  virtual void add_response(const ProblemRows& rows, const Vector& r, Vector& v) = 0;
+  // u = H v, H the rows of the last delassus() (an operator that holds H dense applies it so).
+  virtual void apply_rows(const ProblemRows& rows, const Vector& v, Vector& u) const {
+    u.resize(rows.size());
+    for (int a = 0; a < rows.size(); ++a) u(a) = rows.dot(a, v);
+  }
+};
+
+// The operator of A as `operators` stores it (read at each call: A may be refactored between steps).
+std::unique_ptr<IterationOperator> make_iteration_operator(StructuralOperators& operators);
+
+}  // namespace csim
