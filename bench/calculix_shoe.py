@@ -21,28 +21,31 @@ Moreau-Jean stepper; what stands for each), in mm, N, s and tonnes:
     carries its tributary area and the penalty is a pressure), master = the strip's top faces. Node to
     surface because csim's contact is node to surface too (each bottom node against the plane); ccx's
     face-to-face (mortar-like) contact spreads each node's force over a face. Penalty *SURFACE BEHAVIOR,
-    PRESSURE-OVERCLOSURE=LINEAR, slope 1e11 Pa/m by default (--penalty): the penetration under 70 kPa
-    is 0.7 um, where csim enforces gap >= 0 exactly. The manual advises 5 to 50 E (1e12 to 1e13 Pa/m),
-    but then ccx's increment control in contact (checkimpacts.f: at most 100 periods of the stiffest
-    contact spring) cuts the increment below 0.01 s;
+    PRESSURE-OVERCLOSURE=LINEAR, slope 10 E = 2.1e12 Pa/m by default (--penalty; the manual advises 5
+    to 50 E): the penetration under 70 kPa is 0.03 um, where csim enforces gap >= 0 exactly;
   - friction: *FRICTION mu with a stick slope a tenth of the normal slope (the manual's advice): an
-    elastic stick of 0.2 um under the full friction force, where csim's Coulomb law has no stick slip;
+    elastic stick of 0.1 um under the full friction force, where csim's Coulomb law has no stick slip;
   - springs: four SPRING1 on the corner nodes (front and back), DOF 1, 6e3 N/m each;
   - loads: *DLOAD pressures on the top and left faces with a tabular *AMPLITUDE 0 -> 1 at 0.07 s -> 1;
-  - time: *DYNAMIC (ccx's alpha method, HHT, alpha = -0.05) with automatic incrementation from 0.01 s,
-    at most 0.01 s: *DYNAMIC, DIRECT (a fixed increment) stops at once, since ccx's energy rules for
-    contact (checkimpacts.f) ask for a smaller increment whatever DIRECT says. csim takes one linear
-    Moreau-Jean step (theta = 0.51, as the scene) with one frictional contact solve per step;
+  - time: *DYNAMIC, DIRECT with increment 0.01 s over 4 s: 400 fixed increments of ccx's alpha method
+    (HHT, alpha = -0.05), each a Newton iteration to ccx's default tolerances (2 iterations an increment
+    here). --automatic gives ccx automatic incrementation from 0.01 s (at most 0.01 s, at least
+    --minimum-increment) instead. csim takes one linear Moreau-Jean step (theta = 0.51, as the scene)
+    with one frictional contact solve per step;
   - output: the corner's displacement at every increment (*NODE PRINT to the .dat) and the field at the
     end (.frd); csim writes its probes every step and fields at output.rate = 1 s.
 
-What ccx 2.20 cannot do here: with friction (the scene's mu = 0.3) its implicit dynamics stops within
-the first 0.02 s ("too many cutbacks"), whatever the penalty and the minimum increment. Its energy
+What ccx 2.20 cannot do here: with friction (the scene's mu = 0.3) its implicit dynamics stops at the
+first increment with DIRECT ("solution seems to diverge; please try automatic incrementation"), and
+within the first 0.02 s with automatic incrementation ("too many cutbacks"), whatever the penalty (1e9 to
+2.1e12 Pa/m tried) and the minimum increment (1e-9 to 1e-3 s tried). Its energy
 balance (checkconvergence.c, checkimpacts.f) counts internal, kinetic, contact-spring and contact-damping
 energy against the work of the loads, but not the work dissipated by friction, so the sliding shoe's
 dissipation reads as an "impact" and every increment is cut until none is left. So this program compares
 the two programs at each coefficient in --mu (default: 0.3, where ccx's attempt is reported, and 0, the
 same problem without friction, which ccx solves at 0.01 s increments from start to end).
+With --automatic and the manual's penalty, ccx also cuts the frictionless problem's increments (to about
+0.007 s: checkimpacts.f allows at most 100 periods of the stiffest contact spring).
 
 Both runs are timed as whole processes (reading the input, solving, writing), alternately, N times each;
 ccx on one thread (OMP_NUM_THREADS=1, CCX_NPROC_STIFFNESS=1, CCX_NPROC_EQUATION_SOLVER=1,
@@ -79,60 +82,69 @@ def lines_of(ids, per_line=8):
     return [", ".join(str(i) for i in ids[k:k + per_line]) for k in range(0, len(ids), per_line)]
 
 
-def calculix_deck(n, normal_slope, increment, mu):
-    """The .inp text of the shoe meshed n x n, one layer of C3D8 1 m thick with uz = 0 at every node
-    (plane strain), in mm, N, s and tonnes. Node (i, j, k) at (i/n, j/n, k) m is 1 + i + j (n + 1) +
-    k (n + 1)^2."""
+def calculix_deck(n, element_type, normal_slope, minimum_increment, mu):
+    """The .inp text of the shoe meshed n x n, 1 m thick, in mm, N, s and tonnes: CPE4 (plane strain), or
+    one layer of C3D8 with uz = 0 at every node; a fixed increment (DIRECT) where minimum_increment is
+    None, else automatic incrementation. The shoe's node (i, j) at (i/n, j/n) m is 1 + i + j (n + 1),
+    its back node (C3D8) that plus (n + 1)^2."""
     mm, pa, n_per_m = 1e3, 1e-6, 1e-3        # m -> mm, Pa -> N/mm2, N/m -> N/mm
+    solid = element_type == "C3D8"
+    layers = 2 if solid else 1
     layer = (n + 1) ** 2
     node = lambda i, j, k=0: 1 + i + j * (n + 1) + k * layer
     element = lambda i, j: 1 + i + j * n
+    z = lambda k: f", {mm * k:g}" if solid else ""
+    # faces: bottom, top, left of a quadrilateral (CPE4: edges 1-2, 3-4, 4-1) or a brick (C3D8)
+    bottom, top, left = ("S3", "S5", "S6") if solid else ("S1", "S3", "S4")
+    cell = lambda a, b, c, d: [a, b, c, d] + ([x + layer for x in (a, b, c, d)] if solid else [])
     deck = ["** SDNV104 elastic shoe, written by bench/calculix_shoe.py (mm, N, s, t)", "*NODE, NSET=NSHOE"]
-    deck += [f"{node(i, j, k)}, {mm * i / n:.12g}, {mm * j / n:.12g}, {mm * k:g}"
-             for k in range(2) for j in range(n + 1) for i in range(n + 1)]
-    brick = lambda a, b, c, d: [a, b, c, d] + [x + layer for x in (a, b, c, d)]
-    deck.append("*ELEMENT, TYPE=C3D8, ELSET=SHOE")
-    deck += [", ".join(str(x) for x in [element(i, j)] + brick(node(i, j), node(i + 1, j), node(i + 1, j + 1),
-                                                               node(i, j + 1)))
+    deck += [f"{node(i, j, k)}, {mm * i / n:.12g}, {mm * j / n:.12g}{z(k)}"
+             for k in range(layers) for j in range(n + 1) for i in range(n + 1)]
+    deck.append(f"*ELEMENT, TYPE={element_type}, ELSET=SHOE")
+    deck += [", ".join(str(x) for x in [element(i, j)] + cell(node(i, j), node(i + 1, j), node(i + 1, j + 1),
+                                                              node(i, j + 1)))
              for j in range(n) for i in range(n)]
-    # The rigid plane: one row of fixed C3D8 under y = 0; their top faces (S5) are the master surface.
-    first_node, first_element = 2 * layer + 1, n * n + 1
+    # The rigid plane: one row of fixed elements under y = 0; their top faces are the master surface.
+    first_node, first_element = layers * layer + 1, n * n + 1
     x0, x1, count = STRIP
     row = count + 1
-    plane_node = lambda k, top, z: first_node + k + top * row + z * 2 * row
+    plane_node = lambda k, upper, back=0: first_node + k + upper * row + back * 2 * row
     deck.append("*NODE, NSET=NPLANE")
-    for z in range(2):
-        for top in range(2):
-            deck += [f"{plane_node(k, top, z)}, {mm * (x0 + (x1 - x0) * k / count):.12g}, {-mm * (1 - top):g}, "
-                     f"{mm * z:g}" for k in range(row)]
-    deck.append("*ELEMENT, TYPE=C3D8, ELSET=PLANE")
+    for back in range(layers):
+        for upper in range(2):
+            deck += [f"{plane_node(k, upper, back)}, {mm * (x0 + (x1 - x0) * k / count):.12g}, "
+                     f"{-mm * (1 - upper):g}{z(back)}" for k in range(row)]
+    deck.append(f"*ELEMENT, TYPE={element_type}, ELSET=PLANE")
     for k in range(count):
-        corners = [plane_node(k, 0, 0), plane_node(k + 1, 0, 0), plane_node(k + 1, 1, 0), plane_node(k, 1, 0)]
-        deck.append(", ".join(str(x) for x in [first_element + k] + corners + [c + 2 * row for c in corners]))
+        corners = [plane_node(k, 0), plane_node(k + 1, 0), plane_node(k + 1, 1), plane_node(k, 1)]
+        deck.append(", ".join(str(x) for x in [first_element + k] + corners
+                              + ([c + 2 * row for c in corners] if solid else [])))
     spring_element = first_element + count
-    springs = [node(n, 0, 0), node(n, 0, 1), node(n, n, 0), node(n, n, 1)]
+    springs = [node(n, 0, k) for k in range(layers)] + [node(n, n, k) for k in range(layers)]
     deck += ["*ELEMENT, TYPE=SPRING1, ELSET=SPRINGS"] + [f"{spring_element + k}, {x}" for k, x in enumerate(springs)]
     deck += ["*NSET, NSET=CORNER", f"{node(0, 0)}",
-             "*SURFACE, NAME=SHOE_BOTTOM"] + [f"{element(i, 0)}, S3" for i in range(n)]
-    deck += ["*SURFACE, NAME=PLANE_TOP"] + [f"{first_element + k}, S5" for k in range(count)]
+             "*SURFACE, NAME=SHOE_BOTTOM"] + [f"{element(i, 0)}, {bottom}" for i in range(n)]
+    deck += ["*SURFACE, NAME=PLANE_TOP"] + [f"{first_element + k}, {top}" for k in range(count)]
+    thickness = [] if solid else [f"{mm:.1f}"]
     deck += ["*MATERIAL, NAME=STEEL", "*ELASTIC", f"{YOUNG * pa:.6e}, 0", "*DENSITY", f"{DENSITY * 1e-12:.6e}",
-             "*SOLID SECTION, ELSET=SHOE, MATERIAL=STEEL",
-             "*SOLID SECTION, ELSET=PLANE, MATERIAL=STEEL",
-             # each spring of the scene is two SPRING1, front and back, of half its stiffness;
-             # a decimal point marks a stiffness, not a DOF
-             "*SPRING, ELSET=SPRINGS", "1", f"{SPRING * n_per_m / 2:.6e}",
+             "*SOLID SECTION, ELSET=SHOE, MATERIAL=STEEL", *thickness,
+             "*SOLID SECTION, ELSET=PLANE, MATERIAL=STEEL", *thickness,
+             # each spring of the scene, split between the front and back nodes of a C3D8 layer; a
+             # decimal point marks a stiffness, not a DOF
+             "*SPRING, ELSET=SPRINGS", "1", f"{SPRING * n_per_m / layers:.6e}",
              "*SURFACE INTERACTION, NAME=SHOE_ON_PLANE",
              "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
              f"{normal_slope * 1e-9:.6e}, {TENSION_AT_CLEARANCE * pa:.6e}",
-                          *(["*FRICTION", f"{mu:g}, {normal_slope * STICK_FRACTION * 1e-9:.6e}"] if mu > 0 else []),
+             *(["*FRICTION", f"{mu:g}, {normal_slope * STICK_FRACTION * 1e-9:.6e}"] if mu > 0 else []),
              "*CONTACT PAIR, INTERACTION=SHOE_ON_PLANE, TYPE=NODE TO SURFACE", "SHOE_BOTTOM, PLANE_TOP",
-             "*BOUNDARY", "NPLANE, 1, 3", "NSHOE, 3, 3",
+             "*BOUNDARY", f"NPLANE, 1, {3 if solid else 2}", *(["NSHOE, 3, 3"] if solid else []),
              "*AMPLITUDE, NAME=RAMP", f"0., 0., {RAMP:g}, 1., {END * 10:g}, 1.",
              "*STEP, INC=1000000",
-             "*DYNAMIC", f"{STEP:g}, {END:g}, {increment:g}, {STEP:g}",
+             *(["*DYNAMIC, DIRECT", f"{STEP:g}, {END:g}"] if minimum_increment is None else
+               ["*DYNAMIC", f"{STEP:g}, {END:g}, {minimum_increment:g}, {STEP:g}"]),
              "*DLOAD, AMPLITUDE=RAMP"]
-    deck += [f"{element(i, n - 1)}, P5, {TOP_PRESSURE * pa:.6e}" for i in range(n)]
-    deck += [f"{element(0, j)}, P6, {SIDE_PRESSURE * pa:.6e}" for j in range(n)]
+    deck += [f"{element(i, n - 1)}, P{top[1]}, {TOP_PRESSURE * pa:.6e}" for i in range(n)]
+    deck += [f"{element(0, j)}, P{left[1]}, {SIDE_PRESSURE * pa:.6e}" for j in range(n)]
     deck += ["*NODE PRINT, NSET=CORNER, FREQUENCY=1", "U", "*NODE FILE", "U", "*END STEP"]
     return "\n".join(deck) + "\n"
 
@@ -183,8 +195,9 @@ def run_calculix(ccx, deck, work):
     times, ux = read_calculix_history(os.path.join(work, "shoe.dat"))
     stopped = None
     if process.returncode != 0 or abs(times[-1] - END) > 1e-6:
-        errors = [line.strip() for line in process.stdout.splitlines() if "*ERROR" in line]
-        stopped = f"stopped at t = {times[-1]:.4g} s: {errors[-1] if errors else f'exit {process.returncode}'}"
+        lines = process.stdout.splitlines()
+        errors = [" ".join(lines[k:k + 2]).split() for k, line in enumerate(lines) if "*ERROR" in line]
+        stopped = f"stopped at t = {times[-1]:.4g} s: {' '.join(errors[-1]) if errors else f'exit {process.returncode}'}"
     increments = sum(1 for line in open(os.path.join(work, "shoe.sta")) if re.match(r"\s+1\s+\d+\s+\d+\s", line))
     return wall, times, ux, stopped, increments
 
@@ -210,7 +223,8 @@ def spread(values):
 def compare(args, mu, scratch):
     """Runs ccx and csim alternately args.runs times on the problem with friction coefficient mu and
     prints its table."""
-    deck = calculix_deck(args.divisions, args.penalty, args.minimum_increment, mu)
+    deck = calculix_deck(args.divisions, args.element, args.penalty,
+                         args.minimum_increment if args.automatic else None, mu)
     ccx_walls, csim_walls, csim_inner = [], [], []
     for run in range(args.runs):  # alternate, so that the machine's load falls on both alike
         ccx_dir, csim_dir = (os.path.join(scratch, f"{name}-mu{mu:g}-{run}") for name in ("ccx", "csim"))
@@ -250,14 +264,19 @@ def main():
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--mu", type=float, nargs="+", default=[MU, 0.0],
                         help="friction coefficients to compare at (the scene's 0.3, and 0)")
-    parser.add_argument("--penalty", type=float, default=1e11, help="ccx's normal penalty slope (Pa/m)")
-    parser.add_argument("--minimum-increment", type=float, default=1e-5, help="ccx's smallest increment (s)")
+    parser.add_argument("--penalty", type=float, default=10 * YOUNG, help="ccx's normal penalty slope (Pa/m)")
+    parser.add_argument("--element", choices=["CPE4", "C3D8"], default="CPE4",
+                        help="ccx's element: CPE4, or a C3D8 layer with uz = 0 (needed by --automatic)")
+    parser.add_argument("--automatic", action="store_true", help="ccx's automatic incrementation, not DIRECT")
+    parser.add_argument("--minimum-increment", type=float, default=1e-5,
+                        help="ccx's smallest increment (s) under --automatic")
     parser.add_argument("--keep", help="a directory to keep the last run's files of each program in")
     args = parser.parse_args()
     if shutil.which(args.ccx) is None:
         raise SystemExit(f"{args.ccx} not found: apt-get install -y calculix-ccx")
     banner = subprocess.run([args.ccx, "-v"], capture_output=True, text=True).stdout.strip()
-    print(f"{banner}; penalty {args.penalty:g} Pa/m, stick slope {args.penalty * STICK_FRACTION:g} Pa/m")
+    print(f"{banner}; {args.element}, penalty {args.penalty:g} Pa/m, stick slope {args.penalty * STICK_FRACTION:g} Pa/m, "
+          + (f"automatic increments from {STEP:g} s" if args.automatic else f"fixed increments (DIRECT) of {STEP:g} s"))
     with tempfile.TemporaryDirectory() as scratch:
         for mu in args.mu:
             compare(args, mu, scratch)
