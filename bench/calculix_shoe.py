@@ -11,12 +11,14 @@ minimum, about 3.5 m); the ramped rigid-shoe solution gives 14.911 and 3.505 (SP
 
 The CalculiX deck this program writes (ccx has no rigid analytical surface, no nonsmooth contact and no
 Moreau-Jean stepper; what stands for each), in mm, N, s and tonnes:
-  - shoe: N x N C3D8 (full 2 x 2 x 2 integration), one layer 1 m thick, uz = 0 at every node: plane
-    strain exactly (and plane stress too: nu = 0). Not CPE4: ccx expands a CPE4 into the same C3D8 layer
-    but ties the expanded nodes by equations, and its contact-period estimate (storecontactprop.f) then
-    finds no mass at the slave nodes and forces every increment to the minimum. Consistent mass;
-  - rigid plane: a strip of fixed C3D8 under y = 0 (x from -3 m to 24 m); its top faces are the master
-    surface;
+  - shoe: N x N CPE4 (plane strain, thickness 1 m, consistent mass; nu = 0 makes plane stress the same
+    problem). ccx expands each CPE4 into a C3D8 layer whose nodes it ties to the plane nodes by
+    equations, so it solves 2 equations a node, as csim. --element C3D8 writes that layer explicitly
+    (uz = 0 at every node, 4 equations a plane node): needed by --automatic, since with CPE4 ccx's
+    contact-period estimate (storecontactprop.f) finds no mass at the tied slave nodes and forces every
+    automatic increment to the minimum;
+  - rigid plane: a strip of fixed elements under y = 0 (x from -3 m to 24 m); its top faces are the
+    master surface;
   - contact: *CONTACT PAIR, TYPE=NODE TO SURFACE, slave = the shoe's bottom faces (so each slave node
     carries its tributary area and the penalty is a pressure), master = the strip's top faces. Node to
     surface because csim's contact is node to surface too (each bottom node against the plane); ccx's
@@ -25,7 +27,7 @@ Moreau-Jean stepper; what stands for each), in mm, N, s and tonnes:
     to 50 E): the penetration under 70 kPa is 0.03 um, where csim enforces gap >= 0 exactly;
   - friction: *FRICTION mu with a stick slope a tenth of the normal slope (the manual's advice): an
     elastic stick of 0.1 um under the full friction force, where csim's Coulomb law has no stick slip;
-  - springs: four SPRING1 on the corner nodes (front and back), DOF 1, 6e3 N/m each;
+  - springs: SPRING1 on the two corner nodes, DOF 1, 12e3 N/m (C3D8: on front and back, half each);
   - loads: *DLOAD pressures on the top and left faces with a tabular *AMPLITUDE 0 -> 1 at 0.07 s -> 1;
   - time: *DYNAMIC, DIRECT with increment 0.01 s over 4 s: 400 fixed increments of ccx's alpha method
     (HHT, alpha = -0.05), each a Newton iteration to ccx's default tolerances (2 iterations an increment
@@ -47,7 +49,8 @@ same problem without friction, which ccx solves at 0.01 s increments from start 
 With --automatic and the manual's penalty, ccx also cuts the frictionless problem's increments (to about
 0.007 s: checkimpacts.f allows at most 100 periods of the stiffest contact spring).
 
-Both runs are timed as whole processes (reading the input, solving, writing), alternately, N times each;
+Both runs are timed as whole processes (reading the input, solving, writing: wall time, and the CPU time
+of the process, which the load of a shared machine disturbs less), alternately, N times each;
 ccx on one thread (OMP_NUM_THREADS=1, CCX_NPROC_STIFFNESS=1, CCX_NPROC_EQUATION_SOLVER=1,
 CCX_NPROC_RESULTS=1, OPENBLAS_NUM_THREADS=1; Debian's ccx solves with SPOOLES). csim's extrema are its
 own checks (from every step; docs/contract.md); ccx's are found here the same way (the first two turning
@@ -56,12 +59,13 @@ points, refined by the parabola through the turning sample and its two neighbour
 Requires CalculiX 2.20 (Debian bookworm: `apt-get install -y calculix-ccx`; not in tools/setup.sh: the
 bench is run by hand). Usage, from the repository's root:
     python3 bench/calculix_shoe.py build/tools/csim [--ccx ccx] [--divisions 40] [--runs 3] [--mu 0.3 0]
-        [--penalty 1e11] [--minimum-increment 1e-5] [--keep DIR]
+        [--element CPE4|C3D8] [--penalty 2.1e12] [--automatic [--minimum-increment 1e-5]] [--keep DIR]
 """
 import argparse
 import json
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -184,14 +188,20 @@ def read_calculix_history(dat):
     return times, ux
 
 
+def children_cpu():
+    """CPU seconds (user + system) of the finished child processes so far."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def run_calculix(ccx, deck, work):
-    """(wall s, times, ux, None) or, where ccx stops early, the same with the reason it gave."""
+    """(wall s, CPU s, times, ux, why it stopped early or None, increments done)."""
     with open(os.path.join(work, "shoe.inp"), "w") as out:
         out.write(deck)
     environment = dict(os.environ, **SINGLE_THREAD)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), children_cpu()
     process = subprocess.run([ccx, "-i", "shoe"], cwd=work, capture_output=True, text=True, env=environment)
-    wall = time.perf_counter() - start
+    wall, cpu = time.perf_counter() - start, children_cpu() - cpu
     times, ux = read_calculix_history(os.path.join(work, "shoe.dat"))
     stopped = None
     if process.returncode != 0 or abs(times[-1] - END) > 1e-6:
@@ -199,21 +209,21 @@ def run_calculix(ccx, deck, work):
         errors = [" ".join(lines[k:k + 2]).split() for k, line in enumerate(lines) if "*ERROR" in line]
         stopped = f"stopped at t = {times[-1]:.4g} s: {' '.join(errors[-1]) if errors else f'exit {process.returncode}'}"
     increments = sum(1 for line in open(os.path.join(work, "shoe.sta")) if re.match(r"\s+1\s+\d+\s+\d+\s", line))
-    return wall, times, ux, stopped, increments
+    return wall, cpu, times, ux, stopped, increments
 
 
 def run_csim(csim, divisions, mu, work):
     command = [csim, "run", "scenes/sdnv104-quad4", "--quiet", f"--set=parameters.divisions={divisions}",
                f"--set=parameters.mu={mu:g}", f"--set=time.step={STEP:g}", f"--set=time.end={END:g}",
                "--set=output.rate=1", "--out", work]
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), children_cpu()
     process = subprocess.run(command, capture_output=True, text=True)
-    wall = time.perf_counter() - start
+    wall, cpu = time.perf_counter() - start, children_cpu() - cpu
     if not os.path.exists(os.path.join(work, "summary.json")):
         raise SystemExit(f"csim failed (exit {process.returncode}): {(process.stderr or process.stdout).strip()}")
     summary = json.load(open(os.path.join(work, "summary.json")))
     checks = {c["name"]: c for c in summary["checks"]}
-    return wall, checks, summary["wall_time"], summary["steps"]
+    return wall, cpu, checks, summary["wall_time"], summary["steps"]
 
 
 def spread(values):
@@ -225,14 +235,16 @@ def compare(args, mu, scratch):
     prints its table."""
     deck = calculix_deck(args.divisions, args.element, args.penalty,
                          args.minimum_increment if args.automatic else None, mu)
-    ccx_walls, csim_walls, csim_inner = [], [], []
+    ccx_walls, csim_walls, csim_inner, ccx_cpus, csim_cpus = [], [], [], [], []
     for run in range(args.runs):  # alternate, so that the machine's load falls on both alike
         ccx_dir, csim_dir = (os.path.join(scratch, f"{name}-mu{mu:g}-{run}") for name in ("ccx", "csim"))
         os.makedirs(ccx_dir)
-        wall, ccx_t, ccx_x, stopped, increments = run_calculix(args.ccx, deck, ccx_dir)
+        wall, cpu, ccx_t, ccx_x, stopped, increments = run_calculix(args.ccx, deck, ccx_dir)
         ccx_walls.append(wall)
-        wall, checks, inner, steps = run_csim(args.csim, args.divisions, mu, csim_dir)
+        ccx_cpus.append(cpu)
+        wall, cpu, checks, inner, steps = run_csim(args.csim, args.divisions, mu, csim_dir)
         csim_walls.append(wall)
+        csim_cpus.append(cpu)
         csim_inner.append(inner)
         print(f"mu = {mu:g}, run {run + 1}: ccx {ccx_walls[-1]:.3f} s, csim {csim_walls[-1]:.3f} s", flush=True)
     if args.keep:
@@ -243,17 +255,18 @@ def compare(args, mu, scratch):
     ccx_cells = " | ".join(f"{v:.4f} at {t:.3f}" for t, v in extrema) if not stopped else f"{stopped} | "
     print(f"\nmu = {mu:g}: {args.divisions} x {args.divisions} quadrilaterals, 0 to {END:g} s, {args.runs} "
           f"alternating runs, wall time median (min–max)\n")
-    print("| program | steps | wall time (s) | x1 (m) at t (s) | x2 (m) at t (s) |")
-    print("|---|---|---|---|---|")
-    print(f"| CalculiX 2.20 (ccx, 1 thread) | {increments} | {spread(ccx_walls)} | {ccx_cells} |")
-    print(f"| csim (process) | {steps} | {spread(csim_walls)} | "
+    print("| program | steps | wall time (s) | CPU time (s) | x1 (m) at t (s) | x2 (m) at t (s) |")
+    print("|---|---|---|---|---|---|")
+    print(f"| CalculiX 2.20 (ccx, 1 thread) | {increments} | {spread(ccx_walls)} | {spread(ccx_cpus)} | {ccx_cells} |")
+    print(f"| csim (process) | {steps} | {spread(csim_walls)} | {spread(csim_cpus)} | "
           + " | ".join(f"{checks[n]['value']:.4f} at {checks[n]['time']:.3f}" for n in ("x1", "x2")) + " |")
-    print(f"| csim (its summary's wall_time) | | {spread(csim_inner)} | | |")
-    print(f"| ramped rigid shoe (exact) | | | {checks['x1']['reference']:.4f} | {checks['x2']['reference']:.4f} |")
-    ratios = [a / b for a, b in zip(ccx_walls, csim_walls)]
-    print(f"\nccx / csim wall time, run by run: {', '.join(f'{r:.0f}' for r in ratios)}"
-          + (" (ccx stopped early: no ratio for the whole run)" if stopped else
-             f"; ratio of the medians {statistics.median(ccx_walls) / statistics.median(csim_walls):.0f}"))
+    print(f"| csim (its summary's wall_time) | | {spread(csim_inner)} | | | |")
+    print(f"| ramped rigid shoe (exact) | | | | {checks['x1']['reference']:.4f} | {checks['x2']['reference']:.4f} |")
+    for what, ccx_times, csim_times in (("wall", ccx_walls, csim_walls), ("CPU", ccx_cpus, csim_cpus)):
+        ratios = [a / b for a, b in zip(ccx_times, csim_times)]
+        print(f"\nccx / csim {what} time, run by run: {', '.join(f'{r:.0f}' for r in ratios)}"
+              + (" (ccx stopped early: no ratio for the whole run)" if stopped else
+                 f"; ratio of the medians {statistics.median(ccx_times) / statistics.median(csim_times):.0f}"))
 
 
 def main():
