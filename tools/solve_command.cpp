@@ -111,11 +111,7 @@ int solve_command(const SolveArguments& arguments) {
     const auto start = std::chrono::steady_clock::now();
     try {
       statistics = solver.solve(problem, r);
-    } catch (const std::invalid_argument& e) {
-      if (problem.storage == DelassusStorage::sparse)
-        throw BadProblem(file + ": W is stored by blocks as the file gives it (" +
-                         std::to_string(problem.W_sparse.nonZeros()) + " nonzeros, " + std::to_string(problem.size()) +
-                         " rows), which this build's solver does not take: " + e.what());
+    } catch (const std::invalid_argument& e) {  // e.g. equality rows on a W stored by blocks
       throw BadProblem(file + ": " + e.what());
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

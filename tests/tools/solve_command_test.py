@@ -144,29 +144,21 @@ status, stdout, stderr = solve(os.path.join(SICONOS, "Rover4396.dat"), "--out", 
 check(status == 2 and "no-such-folder/r.txt" in stderr, f"--out in a missing folder: exit {status}, {stderr!r}")
 check(not os.path.exists(os.path.dirname(missing_folder)), "--out in a missing folder: a folder was created")
 
-# A sparse-block problem: solved and judged like the others, or refused in one line (exit 2) by a solver
-# that does not take W stored by blocks; never a crash.
+# A sparse-block problem (W stored by blocks, contact/sparse_pgs.h): solved and judged like the others.
 path = os.path.join(SICONOS, "FC3D_Example1_SBM.dat")
 out = os.path.join(WORK, "sbm.r")
 status, stdout, stderr = solve(path, "--tolerance", "1e-10", "--out", out)
-if status == 2:
-    check(re.match(r"^csim: .*FC3D_Example1_SBM\.dat: W is stored by blocks .*not solved yet", stderr) is not None,
-          f"sparse-block: stderr {stderr!r}")
-else:
-    check(status == 0 and LINE.match(stdout) is not None, f"sparse-block: exit {status}, {stdout!r} {stderr!r}")
+check(status == 0 and LINE.match(stdout) is not None, f"sparse-block: exit {status}, {stdout!r} {stderr!r}")
+if status == 0:
     d, W, q, mu = read_siconos_dense(os.path.join(SICONOS, "FC3D_Example1.dat"))  # the same problem, dense
     error = natural_map_error(d, W, q, mu, read_solution(out, len(q)))
     check(error <= 1e-8, f"sparse-block: natural-map error {error:.3e} > 1e-8")
 print(f"FC3D_Example1_SBM.dat: exit {status}: {(stdout or stderr).strip()}")
 
-# An FCLib HDF5 file (W by compressed rows, stored by blocks): solved, or refused as above.
+# An FCLib HDF5 file (W by compressed rows, stored by blocks): solved to its tolerance.
 path = os.path.join(SICONOS, "LMGC_100_PR_PerioBox-i00361-60-03000.hdf5")
 status, stdout, stderr = solve(path, "--tolerance", "1e-8")
-if status == 2:
-    check(re.match(r"^csim: .*PerioBox.*\.hdf5: W is stored by blocks .*not solved yet", stderr) is not None,
-          f"FCLib: stderr {stderr!r}")
-else:
-    check(status in (0, 1) and LINE.match(stdout) is not None, f"FCLib: exit {status}, {stdout!r} {stderr!r}")
+check(status == 0 and LINE.match(stdout) is not None, f"FCLib: exit {status}, {stdout!r} {stderr!r}")
 print(f"LMGC_100_PR_PerioBox-i00361-60-03000.hdf5: exit {status}: {(stdout or stderr).strip()}")
 
 for failure in failures:
