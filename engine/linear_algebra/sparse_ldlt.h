@@ -2,7 +2,7 @@
 // Debian's SuiteSparse, with the cheaper of its AMD and METIS orderings), with what the steppers ask of
 // it: whether A is positive definite, solves, and the Delassus operator of contact rows. One class for
 // the linear iteration matrix of finite elements, the finite-strain tangent and the quasi-static
-// stiffness; CHOLMOD's headers stay in the .cpp.
+// stiffness; CHOLMOD's headers stay in sparse_ldlt_storage.h, read by sparse_ldlt*.cpp alone.
 //
 // Refactorizations. A pattern's first factorization is CHOLMOD's; the later ones of the same pattern
 // (a Newton iteration's tangents) are numerically supernodal (supernodal_ldlt.h) into CHOLMOD's storage,
@@ -56,7 +56,7 @@
 #include <memory>
 #include <vector>
 
-struct cholmod_factor_struct;  // CHOLMOD's cholmod_factor (cholmod_core.h), whose header stays in the .cpp
+struct cholmod_factor_struct;  // CHOLMOD's cholmod_factor (cholmod_core.h), kept out of this header
 
 namespace csim {
 
@@ -182,7 +182,7 @@ class SparseLdlt {
   // CHOLMOD's routines where the layout is not ours to read (see above).
   void forward_by_cholmod(const int* index, const double* value, int count, ForwardColumn& y) const;
   void solve_by_cholmod(int system, double* x) const;  // x ← the solution of CHOLMOD's system at x
-  void cholmod_pivots(Vector& D, bool of_ldlt) const;  // D (see the .cpp)
+  void cholmod_pivots(Vector& D, bool of_ldlt) const;  // D (see sparse_ldlt_cholmod.cpp)
   void forward_sweep(const Vector& f, Vector& w) const;  // w ← L⁻¹ P f
   void inverse_block();  // gram_ for unknowns_
 };
