@@ -5,6 +5,7 @@
 #include "engine/bodies/rigid_body_3d.h"
 #include "engine/steppers/moreau_jean.h"
 #include "tests/engine/test_worlds.h"
+#include "tests/tools/reference/coulomb_oscillator_cases.h"
 #include "tools/reference/coulomb_oscillator.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
@@ -26,8 +27,42 @@ using test::start;
 // The lumped benchmark runs of bench/bench_bullet.cpp (20 000 steps each, at their steps) against their
 // analytical references, at every step. A refactor may move them at round-off; these tolerances are
 // what the scheme owes, far above round-off and far below what a wrong step would give.
-std::unique_ptr<Scene> benchmark_scene(const std::string& name, double step) {
-  return load_scene(CSIM_SOURCE_DIR "/scenes/" + name + "/scene.yaml", {"time.step=" + std::to_string(step)});
+// A benchmark's scene at step h (s), its scene's stepper and the state that stepper started.
+struct BenchmarkRun {
+  BenchmarkRun(const std::string& name, double step)
+      : scene(load_scene(CSIM_SOURCE_DIR "/scenes/" + name + "/scene.yaml", {"time.step=" + std::to_string(step)})),
+        stepper(make_stepper(scene->world, scene->run)), state(initial_state(scene->world)) {
+    stepper->initialize(state);
+  }
+  const BodyInstance& body(const std::string& name) const {
+    return scene->world.bodies[scene->world.body_index(name)];
+  }
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Stepper> stepper;
+  State state;
+};
+
+// A Moreau–Jean stepper on a test World (which must outlive it) and the state it started from rest.
+struct SteppedWorld {
+  SteppedWorld(const World& world, const MoreauJeanParameters& parameters)
+      : stepper(world, parameters), state(start(world)) {
+    stepper.initialize(state);
+  }
+  MoreauJean stepper;
+  State state;
+};
+
+// Moreau–Jean at step h (s) and θ, the other parameters their defaults.
+MoreauJeanParameters steps_of(double step, double theta = MoreauJeanParameters{}.theta) {
+  MoreauJeanParameters p;
+  p.step = step;
+  p.theta = theta;
+  return p;
+}
+
+// The FE shoe at 10 divisions: a small sparse World with sliding contacts.
+std::unique_ptr<Scene> small_fe_shoe() {
+  return load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml", {"parameters.divisions=10"});
 }
 
 // sdnv104-rigid, h = 1e-5 for 0.2 s: the shoe slides from rest (F = 200 kN > μN = 21 kN), its x the
@@ -36,22 +71,14 @@ std::unique_ptr<Scene> benchmark_scene(const std::string& name, double step) {
 // m of 0.5 m), its y and angle on the support, and the normal impulse N h at each step.
 TEST(MoreauJean, RigidShoeFollowsTheCoulombOscillator) {
   const double h = 1e-5;
-  const auto scene = benchmark_scene("sdnv104-rigid", h);
-  const World& world = scene->world;
-  CoulombOscillator model;
-  model.mass = 7000.0;
-  model.stiffness = 24000.0;
-  model.force = 200000.0;
-  model.normal_force = 70000.0;
-  model.mu = 0.3;
+  BenchmarkRun run("sdnv104-rigid", h);
+  const CoulombOscillator model = test::sdnv104(0.0);
   const CoulombOscillatorSolution reference(model, 0.3);
-  auto stepper = make_stepper(world, scene->run);
-  State state = initial_state(world);
-  stepper->initialize(state);
-  const BodyInstance& shoe = world.bodies[world.body_index("shoe")];
+  State& state = run.state;
+  const BodyInstance& shoe = run.body("shoe");
   double largest_error = 0.0;
   for (int k = 0; k < 20000; ++k) {
-    stepper->step(state);
+    run.stepper->step(state);
     const double x = state.q(shoe.position_offset) - shoe.reference_position(0);
     largest_error = std::max(largest_error, std::abs(x - reference.position(state.t)));
     ASSERT_LE(std::abs(state.q(shoe.position_offset + 1) - 0.5), 1e-12) << "step " << k;  // on the support
@@ -68,16 +95,13 @@ TEST(MoreauJean, RigidShoeFollowsTheCoulombOscillator) {
 // m g cos 20° and m g sin 20° together, each step's impulses m g h times those.
 TEST(MoreauJean, CubeOnInclineStaysAtRest) {
   const double h = 1e-5;
-  const auto scene = benchmark_scene("incline-3d", h);
-  const World& world = scene->world;
-  auto stepper = make_stepper(world, scene->run);
-  State state = initial_state(world);
-  stepper->initialize(state);
-  const BodyInstance& block = world.bodies[world.body_index("block")];
+  BenchmarkRun run("incline-3d", h);
+  State& state = run.state;
+  const BodyInstance& block = run.body("block");
   const double angle = 20.0 * M_PI / 180.0, weight = 10.0 * 9.81;
   double largest_move = 0.0, largest_speed = 0.0;
   for (int k = 0; k < 20000; ++k) {
-    stepper->step(state);
+    run.stepper->step(state);
     const Vector moved = state.q.segment(block.position_offset, 3) - block.reference_position.head(3);
     largest_move = std::max(largest_move, moved.lpNorm<Eigen::Infinity>());
     largest_speed = std::max(largest_speed, state.v.segment(block.velocity_offset, 6).lpNorm<Eigen::Infinity>());
@@ -103,23 +127,14 @@ TEST(MoreauJean, CubeOnInclineStaysAtRest) {
 // (0.0314 s, at −0.65 mm, from which it slides back); to 1e-3 of the release offset, the scene's own
 // tolerance on its extrema.
 TEST(MoreauJean, FrictionPadFollowsTheCoulombOscillator) {
-  const double h = 2e-6;
-  const auto scene = benchmark_scene("sdnd100-a", h);
-  const World& world = scene->world;
-  CoulombOscillator model;
-  model.mass = 1.0;
-  model.stiffness = 1.0e4;
-  model.normal_force = 10.0;
-  model.mu = 0.1;
-  model.x0 = 0.85e-3;
+  BenchmarkRun run("sdnd100-a", 2e-6);
+  const CoulombOscillator model = test::sdnd100(0.1);
   const CoulombOscillatorSolution reference(model, 0.05);
-  auto stepper = make_stepper(world, scene->run);
-  State state = initial_state(world);
-  stepper->initialize(state);
-  const BodyInstance& pad = world.bodies[world.body_index("pad")];
+  State& state = run.state;
+  const BodyInstance& pad = run.body("pad");
   double largest_error = 0.0;
   for (int k = 0; k < 20000; ++k) {
-    stepper->step(state);
+    run.stepper->step(state);
     const Eigen::Vector3d at = state.q.segment(pad.position_offset, 3) - pad.reference_position.head(3);
     const double along = (at(0) + at(1)) / std::sqrt(2.0);
     largest_error = std::max(largest_error, std::abs(along - reference.position(state.t)));
@@ -130,16 +145,12 @@ TEST(MoreauJean, FrictionPadFollowsTheCoulombOscillator) {
 
 TEST(MoreauJean, HalfThetaConservesEnergyOfAFreeOscillator) {
   const World world = oscillator();
-  MoreauJeanParameters p;
-  p.step = 1e-3;
-  p.theta = 0.5;
-  MoreauJean stepper(world, p);
-  State s = start(world);
-  stepper.initialize(s);
+  SteppedWorld run(world, steps_of(1e-3, 0.5));
+  State& s = run.state;
   const double e0 = s.energy.kinetic + s.energy.elastic;
   ASSERT_NEAR(e0, 0.5 * 800.0 * 1e-4, 1e-15);
   for (int k = 0; k < 20000; ++k) {
-    stepper.step(s);
+    run.stepper.step(s);
     ASSERT_NEAR(s.energy.kinetic + s.energy.elastic, e0, 1e-10 * e0) << "step " << k;
   }
   EXPECT_LE(s.energy.max_abs_residual, 1e-12 * e0);
@@ -148,15 +159,11 @@ TEST(MoreauJean, HalfThetaConservesEnergyOfAFreeOscillator) {
 
 TEST(MoreauJean, ThetaAboveHalfDissipatesAndTheBalanceCloses) {
   const World world = oscillator();
-  MoreauJeanParameters p;
-  p.step = 1e-3;
-  p.theta = 0.7;
-  MoreauJean stepper(world, p);
-  State s = start(world);
-  stepper.initialize(s);
+  SteppedWorld run(world, steps_of(1e-3, 0.7));
+  State& s = run.state;
   double previous = s.energy.kinetic + s.energy.elastic;
   for (int k = 0; k < 5000; ++k) {
-    stepper.step(s);
+    run.stepper.step(s);
     const double energy = s.energy.kinetic + s.energy.elastic;
     ASSERT_LE(energy, previous * (1 + 1e-14)) << "step " << k;
     previous = energy;
@@ -168,13 +175,10 @@ TEST(MoreauJean, ThetaAboveHalfDissipatesAndTheBalanceCloses) {
 
 TEST(MoreauJean, LinearConstraintHoldsInPositionEveryStep) {
   const World world = constrained_point();
-  MoreauJeanParameters p;
-  p.step = 1e-2;
-  MoreauJean stepper(world, p);
-  State s = start(world);
-  stepper.initialize(s);
+  SteppedWorld run(world, steps_of(1e-2));
+  State& s = run.state;
   for (int k = 0; k < 300; ++k) {
-    stepper.step(s);
+    run.stepper.step(s);
     ASSERT_NEAR(s.q(0) - 2.0 * s.q(1), 0.01, 1e-13) << "step " << k;
   }
   // Along the line (2, 1)/√5 the acceleration is (F·e)/m; across it none; z is free.
@@ -203,12 +207,9 @@ World rigid_body_3d_world() {
 TEST(MoreauJean, RigidBodySpinningAboutAPrincipalAxisRotatesExactly) {
   World world = rigid_body_3d_world();
   world.bodies[0].initial_velocity(5) = 4.0;  // rad/s about the body z axis
-  MoreauJeanParameters p;
-  p.step = 1e-3;
-  MoreauJean stepper(world, p);
-  State s = start(world);
-  stepper.initialize(s);
-  for (int k = 0; k < 1000; ++k) stepper.step(s);
+  SteppedWorld run(world, steps_of(1e-3));
+  State& s = run.state;
+  for (int k = 0; k < 1000; ++k) run.stepper.step(s);
   const Eigen::Quaterniond q(s.q(3), s.q(4), s.q(5), s.q(6));
   const Eigen::Quaterniond expected(Eigen::AngleAxisd(4.0 * s.t, Eigen::Vector3d::UnitZ()));
   EXPECT_NEAR(q.angularDistance(expected), 0.0, 1e-12);
@@ -225,14 +226,11 @@ TEST(MoreauJean, PrescribedRotationOfA3dRigidBodyTurnsItExactly) {
   spin.component = 5;  // rz
   spin.value.table = {{0.0, 0.0}, {1.0, 1.0}, {2.0, 3.0}};  // 1 rad/s, then 2 rad/s
   world.prescribed.push_back(spin);
-  MoreauJeanParameters p;
-  p.step = 1e-2;
-  p.theta = 1.0;
-  MoreauJean stepper(world, p);
-  State s = start(world);
-  stepper.initialize(s);
+  const MoreauJeanParameters p = steps_of(1e-2, 1.0);
+  SteppedWorld run(world, p);
+  State& s = run.state;
   for (int k = 0; k < 200; ++k) {
-    stepper.step(s);
+    run.stepper.step(s);
     const Eigen::Quaterniond q(s.q(3), s.q(4), s.q(5), s.q(6));
     const Eigen::Quaterniond expected(Eigen::AngleAxisd(spin.value(s.t), Eigen::Vector3d::UnitZ()));
     ASSERT_NEAR(q.angularDistance(expected), 0.0, 1e-12) << "t = " << s.t;
@@ -267,12 +265,9 @@ World two_disks(double e) {
 TEST(MoreauJean, TwoBodyImpactFollowsNewtonsLaw) {
   for (const double e : {0.0, 0.4, 1.0}) {
     const World world = two_disks(e);
-    MoreauJeanParameters p;
-    p.step = 1e-4;
-    MoreauJean stepper(world, p);
-    State s = start(world);
-    stepper.initialize(s);
-    for (int k = 0; k < 500; ++k) stepper.step(s);
+    SteppedWorld run(world, steps_of(1e-4));
+    State& s = run.state;
+    for (int k = 0; k < 500; ++k) run.stepper.step(s);
     const double va = s.v(0), vb = s.v(2);
     EXPECT_NEAR(1.0 * va + 3.0 * vb, 1.0 * 2 - 3.0 * 1, 1e-12) << "e = " << e;
     EXPECT_NEAR(vb - va, e * 3.0, 1e-10) << "e = " << e;
@@ -288,18 +283,15 @@ TEST(MoreauJean, TwoBodyImpactFollowsNewtonsLaw) {
 TEST(MoreauJean, InelasticContactClosesItsOpenGapWithinTheStep) {
   for (const bool close_gaps : {true, false}) {
     const World world = two_disks(0.0);
-    MoreauJeanParameters p;
-    p.step = 0.007;
-    p.theta = 1.0;
+    MoreauJeanParameters p = steps_of(0.007, 1.0);
     p.close_gaps = close_gaps;
-    MoreauJean stepper(world, p);
-    State s = start(world);
-    stepper.initialize(s);
+    SteppedWorld run(world, p);
+    State& s = run.state;
     const double kinetic = s.energy.kinetic;
-    for (int k = 0; k < 2; ++k) stepper.step(s);
+    for (int k = 0; k < 2; ++k) run.stepper.step(s);
     ASSERT_NEAR(s.q(2) - s.q(0) - 0.2, 0.008, 1e-15);
     ASSERT_TRUE(s.contacts.empty());
-    for (int k = 0; k < 10; ++k) stepper.step(s);
+    for (int k = 0; k < 10; ++k) run.stepper.step(s);
     EXPECT_NEAR(s.q(2) - s.q(0) - 0.2, close_gaps ? 0.0 : 0.008, 1e-14) << "close_gaps " << close_gaps;
     EXPECT_NEAR(1.0 * s.v(0) + 3.0 * s.v(2), 1.0 * 2 - 3.0 * 1, 1e-12);
     EXPECT_NEAR(s.v(2) - s.v(0), 0.0, 1e-12);
@@ -313,12 +305,10 @@ TEST(MoreauJean, InelasticContactClosesItsOpenGapWithinTheStep) {
 TEST(MoreauJean, NonFiniteStateStopsWithTheTime) {
   World world = oscillator();
   world.springs[0].stiffness = std::numeric_limits<double>::infinity();
-  MoreauJeanParameters p;
-  MoreauJean stepper(world, p);
-  State s = start(world);
-  stepper.initialize(s);
+  const MoreauJeanParameters p{};
+  SteppedWorld run(world, p);
   try {
-    stepper.step(s);
+    run.stepper.step(run.state);
     FAIL() << "expected a RunError";
   } catch (const RunError& error) {
     EXPECT_NEAR(error.time, p.step, 1e-15);
@@ -330,7 +320,7 @@ TEST(MoreauJean, NonFiniteStateStopsWithTheTime) {
 // (moreau_jean.h). From the same state, the stepper that kept it and a fresh one take the same step to
 // the bit, also when the velocity was changed between two steps (the kept product is then stale).
 TEST(MoreauJean, KeptStiffnessProductGivesAFreshSteppersStep) {
-  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml", {"parameters.divisions=10"});
+  const auto scene = small_fe_shoe();
   const MoreauJeanParameters p = moreau_jean_parameters(scene->run);
   for (const bool change_velocity : {false, true}) {
     MoreauJean kept(scene->world, p);
@@ -375,7 +365,7 @@ struct HalvesAndWhole {
 // relative here), with the same contacts at every step; the start from rest (v_k = 0, a margin of
 // round-off) is a step taken again.
 TEST(MoreauJean, TwoHalvesTakeTheStepsOfTheWholeFreeVelocity) {
-  const auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml", {"parameters.divisions=10"});
+  const auto scene = small_fe_shoe();
   HalvesAndWhole run(scene->world, scene->run);
   const State &a = run.halves, &b = run.reference;
   double velocity_gap = 0.0, position_gap = 0.0;
@@ -399,7 +389,7 @@ TEST(MoreauJean, TwoHalvesTakeTheStepsOfTheWholeFreeVelocity) {
 // constraint on two nodes of a sparse World) hold in position at every step, and the steps are those of
 // the whole free velocity to the contact solver's tolerance.
 TEST(MoreauJean, TwoHalvesHoldALinearConstraintOfASparseWorld) {
-  auto scene = load_scene(CSIM_SOURCE_DIR "/scenes/sdnv104-quad4/scene.yaml", {"parameters.divisions=10"});
+  auto scene = small_fe_shoe();
   World& world = scene->world;
   const BodyInstance& shoe = world.bodies[0];
   ASSERT_TRUE(shoe.body->elastic());

@@ -42,12 +42,23 @@ std::vector<int> expect_delassus(DelassusCache& cache, const SparseLdlt& factor,
   return slots;
 }
 
-TEST(DelassusCache, KeepsTheEntriesOfRowsThatStayAndComputesThoseOfRowsThatEnter) {
-  const SparseMatrix A = grid_stencil(10, 0.1);
+// A grid stencil's matrix A (size × size nodes), its factor and an empty cache.
+struct FactoredGrid {
+  explicit FactoredGrid(int size) : A(grid_stencil(size, 0.1)) { positive_definite = factor.factor_positive_definite(A); }
+  SparseMatrix A;
   SparseLdlt factor;
-  ASSERT_TRUE(factor.factor_positive_definite(A));
   DelassusCache cache;
-  std::vector<Row> rows = {contact_row(3, 0, 0.2), contact_row(3, 1, 0.2), contact_row(40, 0, 0.5)};
+  bool positive_definite = false;
+};
+
+// Two rows of one node's contact and one row of another's.
+std::vector<Row> three_rows() { return {contact_row(3, 0, 0.2), contact_row(3, 1, 0.2), contact_row(40, 0, 0.5)}; }
+
+TEST(DelassusCache, KeepsTheEntriesOfRowsThatStayAndComputesThoseOfRowsThatEnter) {
+  FactoredGrid grid(10);
+  ASSERT_TRUE(grid.positive_definite);
+  auto& [A, factor, cache, positive_definite] = grid;
+  std::vector<Row> rows = three_rows();
   expect_delassus(cache, factor, A, rows);
   EXPECT_EQ(cache.computed_entries(), 6);  // the 3 × 3 triangle
   expect_delassus(cache, factor, A, rows);  // nothing new
@@ -66,10 +77,9 @@ TEST(DelassusCache, KeepsTheEntriesOfRowsThatStayAndComputesThoseOfRowsThatEnter
 }
 
 TEST(DelassusCache, DropsEverythingWhenTheFactorIsRefactored) {
-  SparseMatrix A = grid_stencil(6, 0.1);
-  SparseLdlt factor;
-  ASSERT_TRUE(factor.factor_positive_definite(A));
-  DelassusCache cache;
+  FactoredGrid grid(6);
+  ASSERT_TRUE(grid.positive_definite);
+  auto& [A, factor, cache, positive_definite] = grid;
   const std::vector<Row> rows = {contact_row(2, 0, 0.2), contact_row(20, 1, 0.4)};
   expect_delassus(cache, factor, A, rows);
   A = 2.0 * A;
@@ -80,11 +90,10 @@ TEST(DelassusCache, DropsEverythingWhenTheFactorIsRefactored) {
 
 // What a user took for a list of slots holds while the slots are the same and no row was computed again.
 TEST(DelassusCache, TakenSlotsHoldUntilTheListOrARowChanges) {
-  const SparseMatrix A = grid_stencil(8, 0.1);
-  SparseLdlt factor;
-  ASSERT_TRUE(factor.factor_positive_definite(A));
-  DelassusCache cache;
-  std::vector<Row> rows = {contact_row(3, 0, 0.2), contact_row(3, 1, 0.2), contact_row(40, 0, 0.5)};
+  FactoredGrid grid(8);
+  ASSERT_TRUE(grid.positive_definite);
+  auto& [A, factor, cache, positive_definite] = grid;
+  std::vector<Row> rows = three_rows();
   const std::vector<int> slots = expect_delassus(cache, factor, A, rows);
   DelassusCache::Taken taken;
   EXPECT_FALSE(cache.still_holds(taken, slots));  // nothing taken yet: taken now

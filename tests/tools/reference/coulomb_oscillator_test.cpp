@@ -1,5 +1,7 @@
 #include "tools/reference/coulomb_oscillator.h"
 
+#include "tests/tools/reference/coulomb_oscillator_cases.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +16,9 @@
 namespace csim {
 namespace {
 
+using test::sdnd100;
+using test::sdnv104;
+
 constexpr double pi = std::numbers::pi;
 
 // |actual − expected| ≤ tolerance·|expected|
@@ -22,29 +27,6 @@ constexpr double pi = std::numbers::pi;
   return ::testing::AssertionFailure() << "actual " << std::setprecision(17) << actual << " vs expected " << expected
                                        << ": relative difference " << std::abs(actual - expected) / std::abs(expected)
                                        << " > " << tolerance;
-}
-
-// SDNV104 lumped: m = 7000 kg, k = 2 × 12 kN/m, push 200 kN, pressure 70 kN, μ = 0.3.
-CoulombOscillator sdnv104(double ramp_time) {
-  CoulombOscillator model;
-  model.mass = 7000;
-  model.stiffness = 24000;
-  model.force = 200000;
-  model.normal_force = 70000;
-  model.mu = 0.3;
-  model.ramp_time = ramp_time;
-  return model;
-}
-
-// SDND100: m = 1 kg, k = 1e4 N/m, N = mg = 10 N, released from r0 = 0.85 mm.
-CoulombOscillator sdnd100(double mu_effective) {
-  CoulombOscillator model;
-  model.mass = 1;
-  model.stiffness = 1e4;
-  model.normal_force = 10;
-  model.mu = mu_effective;
-  model.x0 = 0.85e-3;
-  return model;
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -307,12 +289,8 @@ TEST(CoulombOscillator, FrictionlessIsTheHarmonicStepResponse) {
 
 TEST(CoulombOscillator, InitialVelocity) {
   // Free mass (F = 0) launched from x = 0: harmonic about −f/k while moving up.
-  CoulombOscillator model;
-  model.mass = 2;
-  model.stiffness = 8;  // ω = 2 rad/s
-  model.normal_force = 10;
-  model.mu = 0.2;  // f = 2 N, c = f/k = 0.25 m
-  model.v0 = 3;
+  // ω = 2 rad/s; f = μN = 2 N, c = f/k = 0.25 m
+  const CoulombOscillator model{.mass = 2, .stiffness = 8, .normal_force = 10, .mu = 0.2, .v0 = 3};
   const CoulombOscillatorSolution solution(model, 20.0);
   const double w = 2, c = 0.25;
   const double t = 0.3;
@@ -333,14 +311,8 @@ TEST(CoulombOscillator, InitialVelocity) {
 // A long ramp (several periods) with an initial offset: the mass slips, stops, sticks while the load
 // grows and slips again, all during the ramp. The exact solution must follow the integrator.
 TEST(CoulombOscillator, StickAndReleaseDuringALongRampAgreeWithRk4) {
-  CoulombOscillator model;
-  model.mass = 1;
-  model.stiffness = 1;
-  model.force = 1;
-  model.normal_force = 2;
-  model.mu = 0.4;  // f = 0.8 N
-  model.ramp_time = 20;
-  model.x0 = 0.3;
+  // f = μN = 0.8 N
+  const CoulombOscillator model{.mass = 1, .stiffness = 1, .force = 1, .normal_force = 2, .mu = 0.4, .ramp_time = 20, .x0 = 0.3};
   const double t_end = 40;
   const CoulombOscillatorSolution solution(model, t_end);
   const NumericalSolution numerical = integrate_rk4(model, t_end, 1e-5);
@@ -366,11 +338,8 @@ TEST(CoulombOscillator, StickAndReleaseDuringALongRampAgreeWithRk4) {
 // From rest under a ramp the slip velocity c1·(1 − cos ωt) only touches zero every period: the mass does
 // not stop there (acceleration and velocity vanish together), so there is no extremum during the ramp.
 TEST(CoulombOscillator, SlipFromRestUnderALongRampOnlyTouchesZeroVelocity) {
-  CoulombOscillator model;
-  model.force = 1;
-  model.normal_force = 1;
-  model.mu = 0.5;
-  model.ramp_time = 50;  // ω = 1: about 8 periods of the ramp
+  // ω = 1: about 8 periods of the ramp
+  const CoulombOscillator model{.force = 1, .normal_force = 1, .mu = 0.5, .ramp_time = 50};
   const CoulombOscillatorSolution solution(model, 60);
   const double c1 = (model.force - model.mu * model.normal_force) / model.ramp_time;  // m/s
   for (double t = 0; t < model.ramp_time; t += 0.37)
@@ -381,13 +350,7 @@ TEST(CoulombOscillator, SlipFromRestUnderALongRampOnlyTouchesZeroVelocity) {
 
 // F → −F, x0 → −x0, v0 → −v0 mirrors the motion.
 TEST(CoulombOscillator, MirrorSymmetry) {
-  CoulombOscillator model;
-  model.force = 1;
-  model.normal_force = 2;
-  model.mu = 0.4;
-  model.ramp_time = 20;
-  model.x0 = 0.3;
-  model.v0 = 0.1;
+  const CoulombOscillator model{.force = 1, .normal_force = 2, .mu = 0.4, .ramp_time = 20, .x0 = 0.3, .v0 = 0.1};
   CoulombOscillator mirrored = model;
   mirrored.force = -model.force;
   mirrored.x0 = -model.x0;
