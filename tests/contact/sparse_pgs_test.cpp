@@ -355,6 +355,28 @@ TEST(SparseActiveSet, FinishesAStackOfBoxes) {
   EXPECT_FALSE(budget.exhausted);
 }
 
+// A step of the packed 29-sphere box (bench/pile_scene.h: pile(29, 4, 4, 0.1), μ 0.5, steps of 1 ms):
+// 90 contacts on 29 spheres (270 rows, 174 freedoms), a hyperstatic set, dumped from a run with its warm
+// start (the previous step's impulses by contact key, zero for a new contact). Gauss–Seidel stalls (its
+// relative increments stay near 2e-3 from sweep 100 to 700); the polish finishes it.
+TEST(SparsePgs, SolvesAStepOfAPackedBoxOfSpheres) {
+  const FrictionContactProblem problem = from_file("packed_box_29_spheres_step_3d.txt");
+  ASSERT_EQ(problem.storage, DelassusStorage::sparse);
+  std::ifstream warm_file(CSIM_SOURCE_DIR "/tests/contact/data/packed_box_29_spheres_step_3d_warm_start.txt");
+  std::vector<double> warm;
+  for (double value; warm_file >> value;) warm.push_back(value);
+  ASSERT_EQ(static_cast<int>(warm.size()), problem.size());
+  Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(warm.data(), problem.size());
+  PgsParameters parameters;
+  parameters.tolerance = 1e-8;
+  parameters.max_iterations = 20000;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  ASSERT_TRUE(statistics.converged) << statistics.residual;
+  EXPECT_LE(natural_map_error(problem, r), 1e-8);
+  EXPECT_GE(statistics.polishes, 1);
+  EXPECT_LE(statistics.polish_work, parameters.polish_budget * statistics.sweep_work + parameters.polish_allowance);
+}
+
 TEST(SparsePgs, RefusesEqualityRowsByName) {
   FrictionContactProblem problem = as_sparse(from_file("box_on_four_vertices_3d.txt"));
   const Eigen::Index n = problem.size();
