@@ -53,6 +53,7 @@ void ContactStage::gather_rows(const Matrix* equalities, const std::vector<Spars
     rows_.contact_key[i] = active_[i].point.key;
     problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t);
   }
+  iteration_->gather(rows_);
 }
 
 void ContactStage::solve(const std::vector<ActiveContact>& previous, bool warm_from_previous, double failure_residual,
@@ -62,6 +63,14 @@ void ContactStage::solve(const std::vector<ActiveContact>& previous, bool warm_f
           solve_contacts(pgs_, problem_, failure_residual, t_next, r_, active_, counters, &statuses_);
       !failure.empty())
     throw RunError(t_next, failure);
+}
+
+void ContactStage::warm_start_from(const std::vector<ActiveContact>& previous, std::vector<ContactStatus>* statuses) {
+  warm_start(previous, active_, dimension_, problem_.size(), r_, statuses);
+}
+
+std::string ContactStage::solve_from_impulses(double failure_residual, double t_next, SolverCounters& counters) {
+  return solve_contacts(pgs_, problem_, failure_residual, t_next, r_, active_, counters, &statuses_);
 }
 
 }  // namespace csim

@@ -77,8 +77,8 @@ std::string QuasiStatic::unsupported(const World& world, const ReducedCoordinate
 }
 
 QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parameters)
-    : world_(world), parameters_(parameters), dynamics_(world), detector_(world), reduced_(reduce(world, 0.0)),
-      pgs_(parameters.solver), d_(detector_.dimension()) {
+    : world_(world), parameters_(parameters), dynamics_(world), reduced_(reduce(world, 0.0)),
+      stage_(world, parameters.solver, make_operator()), d_(stage_.dimension()) {
   if (!world.constraints.empty()) throw RunError(0.0, unsupported(world));
   if (const std::string refusal = unsupported(world, reduced_); !refusal.empty()) throw RunError(0.0, refusal);
   bool nonlinear = false;
@@ -87,6 +87,13 @@ QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parame
   linear_ = !nonlinear && world.ties.empty() && dynamics_.constant_spring_stiffness();
   length_ = world.length_scale();
   contact_distance_ = parameters.contact_distance > 0.0 ? parameters.contact_distance : 0.1 * length_;
+}
+
+// The stage's view of the stiffness (quasi_static_operator.h), whose two halves of a solve iterate() takes.
+std::unique_ptr<IterationOperator> QuasiStatic::make_operator() {
+  auto iteration = std::make_unique<QuasiStaticOperator>(factor_, T_);
+  operator_ = iteration.get();
+  return iteration;
 }
 
 void QuasiStatic::summarize_statistics(const State& state, SummaryEntries& out) const {
@@ -148,16 +155,8 @@ bool QuasiStatic::factor_stiffness() {
                        "springs, ties, prescribed components or fixed degrees of freedom)");
   const double largest = K_z_.diagonal().cwiseAbs().maxCoeff();
   Triplets augmented;
-  std::vector<int> nonzero;
-  for (int i = 0; i < problem_.contacts; ++i) {
-    for (int a = d_ * i; a < d_ * i + held_row_count(hold_[i], d_); ++a) {
-      nonzero.clear();
-      for (int k = 0; k < H_.cols(); ++k)
-        if (H_(a, k) != 0.0) nonzero.push_back(k);
-      for (int k : nonzero)
-        for (int l : nonzero) augmented.emplace_back(k, l, H_(a, k) * H_(a, l));
-    }
-  }
+  for (int i = 0; i < static_cast<int>(hold_.size()); ++i)
+    for (int a = d_ * i; a < d_ * i + held_row_count(hold_[i], d_); ++a) add_row_product(a, 1.0, augmented);
   // A hub needs a sticking contact to hold its spin; without, its proximal term.
   if (!augmented.empty() && rows_hold(held_rows(), hub)) {
     SparseMatrix HtH(K_z_.rows(), K_z_.cols());
@@ -256,15 +255,26 @@ std::string QuasiStatic::describe_unknown(int unknown) const {
 
 void QuasiStatic::update_contact_force() {
   contact_force_.setZero(f_.size());
-  for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), contact_force_);
+  const Vector& r = stage_.impulses();
+  for (int a = 0; a < r.size(); ++a) stage_.rows().scatter(a, r(a), contact_force_);
+}
+
+// scale · h_aᵀ h_a, h_a row a of H_z, into triplets (the held rows' ρ H_Aᵀ H_A).
+void QuasiStatic::add_row_product(int a, double scale, Triplets& triplets) {
+  const Matrix& H = operator_->reduced_rows();
+  row_unknowns_.clear();
+  for (int k = 0; k < H.cols(); ++k)
+    if (H(a, k) != 0.0) row_unknowns_.push_back(k);
+  for (int k : row_unknowns_)
+    for (int l : row_unknowns_) triplets.emplace_back(k, l, scale * H(a, k) * H(a, l));
 }
 
 // Drops from hold_ the rows the last solve let go (an opened contact, a sticking one that slips);
 // false when every held row stayed held, so that the step was Newton's own.
 bool QuasiStatic::release_let_go_rows() {
   bool released = false;
-  for (int i = 0; i < problem_.contacts; ++i) {
-    const ContactStatus status = active_[i].status;
+  for (int i = 0; i < static_cast<int>(hold_.size()); ++i) {
+    const ContactStatus status = stage_.active()[i].status;
     const Hold keep = status == ContactStatus::open ? Hold::none : status == ContactStatus::slip ? Hold::normal : Hold::stick;
     if (hold_[i] > keep) {
       hold_[i] = keep;
@@ -274,59 +284,42 @@ bool QuasiStatic::release_let_go_rows() {
   return released;
 }
 
-// The candidate contacts at q_j, their rows over z (H_z = H T) and offsets c (gap, slip since q_k).
+// The candidate contacts at q_j, all active, their rows over z (H_z = H T, the stage's operator) and
+// offsets c (gap, slip since q_k).
 void QuasiStatic::detect_contacts(const State& state, double t_next) {
-  detector_.detect(q_, contact_distance_, candidates_, rows_);
+  stage_.detect(q_, contact_distance_);
+  for (int k = 0; k < stage_.candidate_count(); ++k) stage_.activate(k);
+  stage_.gather_rows(nullptr, nullptr, t_next);
   q_detected_ = q_;
-  const int nc = static_cast<int>(candidates_.size());
-  active_ = candidates_;
-  const int m = d_ * nc, nz = reduced_.size();
-  // H_ is zero but for the entries the last detection wrote: those are cleared, not all m × nz.
-  if (H_.rows() == m && H_.cols() == nz)
-    for (Eigen::Index entry : H_written_) H_.data()[entry] = 0.0;
-  else
-    H_.setZero(m, nz);
-  H_written_.clear();
-  problem_.dimension = d_;
-  problem_.contacts = nc;
-  problem_.equalities = 0;
-  problem_.mu.resize(nc);
-  // H_z = H T, row by row through the rows of T.
-  for (int a = 0; a < m; ++a) {
-    const SparseRow& row = rows_[a];
-    for (int k = 0; k < row.count; ++k)
-      for (SparseRowMatrix::InnerIterator it(T_, row.index[k]); it; ++it) {
-        H_(a, it.col()) += row.value[k] * it.value();
-        H_written_.push_back(a + it.col() * m);  // column-major
-      }
-  }
-  for (int i = 0; i < nc; ++i) problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t_next);
+  const int m = stage_.problem().size();
   offset_.setZero(m);
   if (m == 0) return;
   world_.position_difference(q_, state.q, step_increment_);
-  for (int i = 0; i < nc; ++i) {
-    offset_(d_ * i) = active_[i].point.gap;
+  const std::vector<ActiveContact>& active = stage_.active();
+  for (int i = 0; i < static_cast<int>(active.size()); ++i) {
+    offset_(d_ * i) = active[i].point.gap;
     // The slip since the step start: the rows over q, before T.
-    for (int k = 1; k < d_; ++k) offset_(d_ * i + k) = rows_[d_ * i + k].dot(step_increment_);
+    for (int k = 1; k < d_; ++k) offset_(d_ * i + k) = stage_.rows().dot(d_ * i + k, step_increment_);
   }
 }
 
 // Penalty friction's offset −γ φ_k on the tangential rows and its compliance at the warm start's normal
 // forces (see the header).
 void QuasiStatic::soften_friction(const State& state) {
-  compliance_.setZero(problem_.size());
+  const std::vector<ActiveContact>& active = stage_.active();
+  compliance_.setZero(stage_.problem().size());
   if (!penalty_friction_) return;
-  compliance_normal_.setZero(problem_.contacts);
-  warm_start(state.contacts, active_, d_, problem_.size(), start_impulse_);
-  for (int i = 0; i < problem_.contacts; ++i) {
-    const ContactLaw& law = world_.contact_laws[active_[i].law];
+  compliance_normal_.setZero(active.size());
+  warm_start(state.contacts, active, d_, stage_.problem().size(), start_impulse_);
+  for (int i = 0; i < static_cast<int>(active.size()); ++i) {
+    const ContactLaw& law = world_.contact_laws[active[i].law];
     const double start_normal = start_impulse_(d_ * i);
     const Eigen::Vector2d start_mu = law.mu_at(state.t);
     for (int k = 1; k < d_; ++k)  // φ_k from impulses: the step's h cancels in the ratio
       if (law.elastic_slip > 0.0 && start_normal > 0.0 && start_mu(k - 1) > 0.0)
         offset_(d_ * i + k) -= law.elastic_slip * start_impulse_(d_ * i + k) / (start_mu(k - 1) * start_normal);
   }
-  set_compliance(r_);
+  set_compliance(stage_.impulses());
 }
 
 // compliance_ ← γ/(μ r_n) at the normal forces of r (m/N); a contact without a normal force there gets no
@@ -334,8 +327,9 @@ void QuasiStatic::soften_friction(const State& state) {
 // the compliance is exact for r).
 double QuasiStatic::set_compliance(const Vector& r) {
   double change = 0.0, largest = 0.0;
-  for (int i = 0; i < problem_.contacts; ++i) {
-    const ContactLaw& law = world_.contact_laws[active_[i].law];
+  FrictionContactProblem& problem = stage_.problem();
+  for (int i = 0; i < problem.contacts; ++i) {
+    const ContactLaw& law = world_.contact_laws[stage_.active()[i].law];
     const double gamma = law.elastic_slip, normal = r(d_ * i);
     if (gamma <= 0.0) continue;
     const Eigen::Vector2d mu = law.mu_at(t_);  // detect_contacts' μ, which this may have zeroed
@@ -343,23 +337,25 @@ double QuasiStatic::set_compliance(const Vector& r) {
     change = std::max(change, std::abs(normal - compliance_normal_(i)));
     compliance_normal_(i) = normal;
     for (int k = 1; k < d_; ++k) {
-      problem_.mu[i](k - 1) = normal > 0.0 ? mu(k - 1) : 0.0;
+      problem.mu[i](k - 1) = normal > 0.0 ? mu(k - 1) : 0.0;
       compliance_(d_ * i + k) = normal > 0.0 && mu(k - 1) > 0.0 ? gamma / (mu(k - 1) * normal) : 0.0;
     }
   }
   return largest > 0.0 ? change / largest : 0.0;
 }
 
-// u = W r + b with the factored stiffness: W = H_z K⁻¹ H_zᵀ, b = H_z K⁻¹ f_aug + c.
+// u = W r + b with the factored stiffness: W = H_z K⁻¹ H_zᵀ, b = H_z K⁻¹ f_aug + c (the stage's W, the
+// operator's first half of the solve).
 void QuasiStatic::assemble_problem() {
-  const int m = problem_.size();
-  problem_.W.resize(m, m);
-  problem_.b.resize(m);
+  FrictionContactProblem& problem = stage_.problem();
+  const int m = problem.size();
+  problem.W.resize(m, m);
+  problem.b.resize(m);
   if (m == 0) return;
-  factor_.delassus(H_, problem_.W);
-  factor_.solve_free(f_aug_, problem_.b);
-  problem_.b += offset_;
-  problem_.W.diagonal() += compliance_;
+  stage_.form_delassus();
+  operator_->load_term(f_aug_, problem.b);
+  problem.b += offset_;
+  problem.W.diagonal() += compliance_;
 }
 
 double QuasiStatic::iterate(const State& state, double t_next) {
@@ -371,11 +367,11 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   if (linear_ && iteration_ > 0) shift_contact_offsets(state);
   else detect_contacts(state, t_next);
   clock_.lap(timers_.detection);
-  warm_start(previous_, active_, d_, problem_.size(), r_, &warm_status_);
+  stage_.warm_start_from(previous_, &warm_status_);
   soften_friction(state);
-  hold_.assign(problem_.contacts, Hold::none);
-  for (int i = 0; i < problem_.contacts; ++i)
-    if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? Hold::stick : Hold::normal;
+  hold_.assign(stage_.active().size(), Hold::none);
+  for (int i = 0; i < static_cast<int>(hold_.size()); ++i)
+    if (stage_.impulses()(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? Hold::stick : Hold::normal;
   clock_.lap(timers_.assembly);
   // Modified Newton (see the header): the forces alone when an earlier iterate's factor is kept.
   bool keep = accelerated_ && parameters_.modified_newton && !linear_ &&
@@ -405,14 +401,14 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
     // gaps of −0.14) need not stop the run: the next iterate solves again. The accepted iterate's must
     // not fail (solve_increment).
-    contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+    contact_failure_ = stage_.solve_from_impulses(parameters_.failure_residual, t_next, *counters_);
     // Penalty friction's compliance at the normal forces just found, to its fixed point (a linear World
     // takes a single iterate: the warm start's, the last step's, would leave it a step behind).
     for (int pass = 0; penalty_friction_ && pass < kCompliancePasses; ++pass) {
       const Vector used = compliance_;
-      if (set_compliance(r_) <= kComplianceTolerance) break;
-      problem_.W.diagonal() += compliance_ - used;
-      contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+      if (set_compliance(stage_.impulses()) <= kComplianceTolerance) break;
+      stage_.problem().W.diagonal() += compliance_ - used;
+      contact_failure_ = stage_.solve_from_impulses(parameters_.failure_residual, t_next, *counters_);
     }
     // A failed solve is taken again with a stiffer hold of the rows or the hub (×100, up to max diag),
     // kept for the step's later iterates: each failed solve costs max_iterations sweeps.
@@ -440,7 +436,7 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     kept_.record({held ? KeptFactor::Kind::held : factor_kind_, held_rows(), held_weight_, hub_proximal_, held_rho_,
                   factor_regularized_});
   // Δz = K⁻¹ (f_aug + H_zᵀ r), the second half of assemble_problem's solve (f_aug_ unchanged since).
-  if (problem_.size() > 0) factor_.solve_with_reactions(r_, dz_);
+  if (stage_.problem().size() > 0) operator_->increment(stage_.impulses(), dz_);
   else dz_ = factor_.solve(f_aug_);
   // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
   update_contact_force();
@@ -454,7 +450,7 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   z_increment_ += relaxation * dz_;
   reduced_.expand(z_, t_next, q_);
   if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
-  previous_ = active_;  // forces, for the next iteration's warm start
+  previous_ = stage_.active();  // forces, for the next iteration's warm start
   clock_.lap(timers_.update);
   const double increment = dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
   kept_.observe(increment, keep, relaxation == 1.0);
@@ -464,12 +460,13 @@ double QuasiStatic::iterate(const State& state, double t_next) {
 // A linear World's later iterate: the step start's contacts and rows, their offsets at q_j (the gap
 // g_k + H_n (q_j ⊖ q_k), the slip H_t (q_j ⊖ q_k)), as detect_contacts would give them for a plane.
 void QuasiStatic::shift_contact_offsets(const State& state) {
-  const int m = problem_.size();
-  if (m == 0) return;
+  const std::vector<ActiveContact>& active = stage_.active();
+  if (active.empty()) return;
   world_.position_difference(q_, state.q, step_increment_);
-  for (int i = 0; i < problem_.contacts; ++i) {
-    offset_(d_ * i) = active_[i].point.gap + rows_[d_ * i].dot(step_increment_);
-    for (int k = 1; k < d_; ++k) offset_(d_ * i + k) = rows_[d_ * i + k].dot(step_increment_);
+  const ProblemRows& rows = stage_.rows();
+  for (int i = 0; i < static_cast<int>(active.size()); ++i) {
+    offset_(d_ * i) = active[i].point.gap + rows.dot(d_ * i, step_increment_);
+    for (int k = 1; k < d_; ++k) offset_(d_ * i + k) = rows.dot(d_ * i + k, step_increment_);
   }
 }
 
@@ -480,13 +477,14 @@ void QuasiStatic::shift_contact_offsets(const State& state) {
 void QuasiStatic::measure_complementarity() {
   complementarity_ = 0.0;
   complementarity_contact_ = -1;
-  const int m = problem_.size();
-  if (m == 0) return;
-  const Vector u = offset_ + H_ * dz_;
+  const int nc = static_cast<int>(stage_.active().size());
+  if (nc == 0) return;
+  const Vector u = offset_ + operator_->reduced_rows() * dz_;
+  const Vector& r = stage_.impulses();
   double largest = 0.0;
-  for (int i = 0; i < problem_.contacts; ++i) largest = std::max(largest, r_(d_ * i));
-  for (int i = 0; i < problem_.contacts; ++i) {
-    const double gap = u(d_ * i), force = r_(d_ * i);
+  for (int i = 0; i < nc; ++i) largest = std::max(largest, r(d_ * i));
+  for (int i = 0; i < nc; ++i) {
+    const double gap = u(d_ * i), force = r(d_ * i);
     double violation = std::max(0.0, -gap);
     if (gap > 0.0 && force > 0.0 && largest > 0.0) violation = std::min(gap, force / largest * length_);
     if (violation > complementarity_) {
@@ -500,8 +498,8 @@ void QuasiStatic::measure_complementarity() {
 
 HeldRows QuasiStatic::held_rows() const {
   HeldRows rows;
-  for (int i = 0; i < problem_.contacts; ++i)
-    if (hold_[i] != Hold::none) rows.emplace_back(active_[i].point.key, hold_[i]);
+  for (int i = 0; i < static_cast<int>(hold_.size()); ++i)
+    if (hold_[i] != Hold::none) rows.emplace_back(stage_.active()[i].point.key, hold_[i]);
   return rows;
 }
 
@@ -509,10 +507,12 @@ HeldRows QuasiStatic::held_rows() const {
 // load with the held matrix (see the header).
 Vector QuasiStatic::held_load() const {
   Vector load = Vector::Zero(f_z_.size());
-  for (int i = 0; i < problem_.contacts; ++i) {
+  const Matrix& H = operator_->reduced_rows();
+  const Vector& r = stage_.impulses();
+  for (int i = 0; i < static_cast<int>(hold_.size()); ++i) {
     for (int a = d_ * i; a < d_ * i + held_row_count(hold_[i], d_); ++a)
-      for (int k = 0; k < H_.cols(); ++k)
-        if (H_(a, k) != 0.0) load(k) += H_(a, k) * (offset_(a) + compliance_(a) * r_(a));
+      for (int k = 0; k < H.cols(); ++k)
+        if (H(a, k) != 0.0) load(k) += H(a, k) * (offset_(a) + compliance_(a) * r(a));
   }
   return load;
 }
@@ -561,7 +561,7 @@ void QuasiStatic::advance(State& state, double t_next, int halvings) {
   advance(state, t_next, halvings + 1);
 }
 
-// Newton's iterations from state to t_next into q_, active_ and reactions_; state is not touched. Returns
+// Newton's iterations from state to t_next into q_, the stage's contacts and reactions_; state is not touched. Returns
 // "" when they converged, else why not.
 std::string QuasiStatic::solve_increment(const State& state, double t_next, bool accelerated) {
   accelerated_ = accelerated;
@@ -634,7 +634,7 @@ std::string QuasiStatic::complementarity_failure(double t_next) {
   measure_complementarity();
   max_complementarity_ = std::max(max_complementarity_, complementarity_);
   if (complementarity_ <= parameters_.failure_residual * length_) return "";
-  const ActiveContact& contact = active_[complementarity_contact_];
+  const ActiveContact& contact = stage_.active()[complementarity_contact_];
   std::ostringstream message;
   message << "quasi-static: the contact solution at t = " << t_next << " s violates complementarity by "
           << complementarity_ << " m (tolerance contact_solver.failure_residual x L = "
@@ -653,17 +653,11 @@ std::string QuasiStatic::unheld_directions(double t_next) {
   if (soft_unknowns_.empty()) return "";
   const double rho = K_z_.diagonal().cwiseAbs().maxCoeff();
   Triplets held;
-  std::vector<int> nonzero;
-  for (int i = 0; i < problem_.contacts; ++i) {
-    if (!(r_(d_ * i) > 0.0)) continue;
-    const int rows = active_[i].status == ContactStatus::stick ? d_ : 1;
-    for (int a = d_ * i; a < d_ * i + rows; ++a) {
-      nonzero.clear();
-      for (int k = 0; k < H_.cols(); ++k)
-        if (H_(a, k) != 0.0) nonzero.push_back(k);
-      for (int k : nonzero)
-        for (int l : nonzero) held.emplace_back(k, l, rho * H_(a, k) * H_(a, l));
-    }
+  const std::vector<ActiveContact>& active = stage_.active();
+  for (int i = 0; i < static_cast<int>(active.size()); ++i) {
+    if (!(stage_.impulses()(d_ * i) > 0.0)) continue;
+    const int rows = active[i].status == ContactStatus::stick ? d_ : 1;
+    for (int a = d_ * i; a < d_ * i + rows; ++a) add_row_product(a, rho, held);
   }
   SparseMatrix with_contacts(K_z_.rows(), K_z_.cols());
   with_contacts.setFromTriplets(held.begin(), held.end());
@@ -700,12 +694,12 @@ void QuasiStatic::accept(State& state, double t_next) {
   state.t = t_next;
   state.contacts.clear();
   Vector motion;
-  if (!active_.empty()) world_.position_difference(q_, q_detected_, motion);
-  for (ActiveContact& contact : active_) {
+  if (!stage_.active().empty()) world_.position_difference(q_, q_detected_, motion);
+  for (const ActiveContact& solved : stage_.active()) {
+    if (!(solved.impulse(0) > 0.0)) continue;  // open candidates are not contacts
+    ActiveContact& contact = state.contacts.emplace_back(solved);
     contact.impulse *= parameters_.step;
-    if (!(contact.impulse(0) > 0.0)) continue;  // open candidates are not contacts
-    detector_.move_contact(q_detected_, motion, contact.point);
-    state.contacts.push_back(contact);
+    stage_.detector().move_contact(q_detected_, motion, contact.point);
   }
 }
 
