@@ -161,6 +161,9 @@ class QuasiStatic final : public Stepper {
   void accept(State& state, double t_next);
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
+  // The iterate's contact problem on its factored stiffness, or on the kept factor while keep (which turns
+  // false when the kept factor cannot serve), solved in rounds; returns whether held rows were used.
+  bool solve_contact_problem(double t_next, bool& keep);
   void assemble_stiffness(const Vector& q, std::size_t world_from);
   bool factor_stiffness();
   bool hold_soft_directions();  // proximal terms on the directions K_z does not hold (see the header)
@@ -181,6 +184,9 @@ class QuasiStatic final : public Stepper {
   std::size_t generalized_force(const Vector& q, double t, Vector& f, bool tangent);
   std::unique_ptr<IterationOperator> make_operator();
   bool needs_tangent() const { return !(linear_ && factored_); }  // a linear World's is factored once
+
+  // A pivot D_j ≤ this × K_jj: a direction that K does not hold (see the header).
+  static constexpr double kSingularPivot = 1e-10;
 
   const World& world_;
   QuasiStaticParameters parameters_;
