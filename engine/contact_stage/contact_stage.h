@@ -1,5 +1,8 @@
 // The contact stage of a time step, the same for every stepper (Siconos' OneStepNSProblem / LinearOSNS,
-// Drake's contact_solvers): detect → the rows H → W = H A⁻¹ Hᵀ and b → solve → A⁻¹ Hᵀ r.
+// Drake's contact_solvers): detect → the rows H → W = H A⁻¹ Hᵀ and b → solve → A⁻¹ Hᵀ r. Moreau–Jean and
+// generalized-α at the velocity level; the quasi-static stepper at the position level, its rows mapped to
+// its reduced unknowns by its operator (quasi_static_operator.h), its b its own, and several solves over
+// one detection (warm_start_from, solve_from_impulses).
 //
 //   detect        ContactDetector (contact_detector.h): candidates within a margin (m) at q, sorted by
 //                 key, each with its d rows of H (normal, then tangents; d = 2 in plane scenes, 3 in

@@ -11,7 +11,8 @@
 // each iteration j being a linearized frictional contact problem at q_j:
 //   stiffness  K_z = Tᵀ K_T(q_j) T + ties' geometric term (held positive definite, see below);
 //   detect     contacts whose gap is ≤ integrator.contact_distance at q_j, their frames and rows H
-//              (H_z = H T);
+//              (H_z = H T), through the contact stage (contact_stage.h) with the stiffness as its
+//              iteration operator (quasi_static_operator.h);
 //   problem    u = W r + b,  W = H_z K_z⁻¹ H_zᵀ,  b = H_z K_z⁻¹ Tᵀ f + c:
 //              on the normal row c = g_j, so that u_n = g_j + H_n Δq is the gap at the end of the
 //              iteration (Signorini at the position level); on the tangential rows c = H_t (q_j − q_k),
