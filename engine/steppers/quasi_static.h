@@ -74,7 +74,7 @@
 // the contact solves ill-conditioned and one that slows Newton (docs/quasi-static-history.md). A
 // contact solve that fails with it raises it ×100 (up
 // to max diag) for the rest of the step: with a nearly free spin the problem can have no solution
-// (quasi_static.cpp, iterate). Without the held rows, the frame's geometric stiffness
+// (quasi_static.cpp, solve_contact_problem). Without the held rows, the frame's geometric stiffness
 // takes the loads and internal forces only: with the contact forces, the rigid rotation of a pressed
 // wheel gets −N (R − δ) (its nodes leave the ground), which nothing then balances.
 //
