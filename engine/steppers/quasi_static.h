@@ -199,7 +199,7 @@ class QuasiStatic final : public Stepper {
   SparseLdlt factor_;
   SparseRowMatrix T_;
   // The contact stage (contact_stage.h) over the stiffness: detection, rows H_z = H T, W, the solves.
-  QuasiStaticOperator* operator_;  // the stage's, which it owns
+  QuasiStaticOperator* operator_ = nullptr;  // the stage's, which it owns (set by make_operator)
   ContactStage stage_;
   SparseMatrix K_z_;
   SparseMatrix held_matrix_;   // K_z + G + ρ HᵀH, on K_z's pattern when it holds them (factor_stiffness)
