@@ -35,6 +35,14 @@ void ContactStage::activate_more(const std::vector<int>& more) {
   for (int k : active_candidates_) active_.push_back(candidates_[k]);
 }
 
+void ContactStage::warm_start_from(const std::vector<ActiveContact>& previous, std::vector<ContactStatus>* statuses) {
+  warm_start(previous, active_, dimension_, problem_.size(), r_, statuses);
+}
+
+std::string ContactStage::solve_from_impulses(double failure_residual, double t_next, SolverCounters& counters) {
+  return solve_contacts(pgs_, problem_, failure_residual, t_next, r_, active_, counters, &statuses_);
+}
+
 void ContactStage::gather_rows(const Matrix* equalities, const std::vector<SparseRow>* ties, double t) {
   const int d = dimension_;
   const int nc = static_cast<int>(active_.size());
@@ -53,6 +61,7 @@ void ContactStage::gather_rows(const Matrix* equalities, const std::vector<Spars
     rows_.contact_key[i] = active_[i].point.key;
     problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t);
   }
+  iteration_->gather(rows_);
 }
 
 void ContactStage::solve(const std::vector<ActiveContact>& previous, bool warm_from_previous, double failure_residual,

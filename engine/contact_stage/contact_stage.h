@@ -1,5 +1,8 @@
 // The contact stage of a time step, the same for every stepper (Siconos' OneStepNSProblem / LinearOSNS,
-// Drake's contact_solvers): detect → the rows H → W = H A⁻¹ Hᵀ and b → solve → A⁻¹ Hᵀ r.
+// Drake's contact_solvers): detect → the rows H → W = H A⁻¹ Hᵀ and b → solve → A⁻¹ Hᵀ r. Moreau–Jean and
+// generalized-α at the velocity level; the quasi-static stepper at the position level, its rows mapped to
+// its reduced unknowns by its operator (quasi_static_operator.h), its b its own, and several solves over
+// one detection (warm_start_from, solve_from_impulses).
 //
 //   detect        ContactDetector (contact_detector.h): candidates within a margin (m) at q, sorted by
 //                 key, each with its d rows of H (normal, then tangents; d = 2 in plane scenes, 3 in
@@ -24,6 +27,7 @@
 #include "engine/state.h"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace csim {
@@ -64,6 +68,13 @@ class ContactStage {
   // false and the problem kept its size, from the last impulses; accounts in `counters`.
   void solve(const std::vector<ActiveContact>& previous, bool warm_from_previous, double failure_residual,
              double t_next, SolverCounters& counters);
+  // The same solve in two parts, for a stepper that solves several times over one detection (the
+  // quasi-static stepper's Newton iterates and their passes): r from `previous`' impulses of the same key
+  // (statuses, when given, get their statuses, open for a new contact); then a solve from r as it stands,
+  // which returns the failure message instead of throwing it (an iterate the stepper does not accept may
+  // fail).
+  void warm_start_from(const std::vector<ActiveContact>& previous, std::vector<ContactStatus>* statuses = nullptr);
+  [[nodiscard]] std::string solve_from_impulses(double failure_residual, double t_next, SolverCounters& counters);
   const Vector& impulses() const { return r_; }
   void add_response(Vector& v) { iteration_->add_response(rows_, r_, v); }  // v += A⁻¹ Hᵀ r
   // rᵀ H v (J, for v in m/s: the impulses' work over a step at the velocities v).

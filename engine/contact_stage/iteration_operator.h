@@ -33,6 +33,9 @@ class IterationOperator {
     u.resize(rows.size());
     for (int a = 0; a < rows.size(); ++a) u(a) = rows.dot(a, v);
   }
+  // Called when the stage has gathered new rows, before W: an operator that holds the rows in its own
+  // coordinates (the quasi-static stepper's, over its reduced unknowns) forms them here.
+  virtual void gather(const ProblemRows&) {}
 };
 
 // The operator of A as `operators` stores it (read at each call: A may be refactored between steps).

@@ -1,8 +1,5 @@
 #include "engine/steppers/quasi_static.h"
 
-#include "engine/linear_algebra/sparse_assembly.h"
-#include "engine/contact_stage/contact_solve.h"
-#include "engine/steppers/proximal.h"
 #include "fem/mesh.h"
 
 #include <algorithm>
@@ -19,25 +16,6 @@ constexpr double kFirstHeld = 1e-4;    // the held rows' first ρ / max diag(K_z
 constexpr int kHeldRounds = 4;         // solves again after dropping let-go rows, at most
 constexpr int kCompliancePasses = 20;  // penalty friction: solves again at the new normal forces, at most
 constexpr double kComplianceTolerance = 1e-8;  // … until they change by less (over the largest)
-constexpr double kSingularPivot = 1e-10;  // a pivot D_j ≤ this × K_jj: a direction K does not hold (see the header)
-constexpr double kSoftProximal = 1e-6;    // ε / K_jj on such a direction's unknown
-constexpr int kSoftRounds = 8;            // refactorizations that may find further such directions
-
-// values ← S's entries at their places in pattern's values array (zero elsewhere); false when an entry
-// of S falls outside pattern (compressed, rows sorted in each column, as setFromTriplets leaves them).
-bool values_in_pattern(const SparseMatrix& pattern, const SparseMatrix& S, Vector& values) {
-  values.setZero(pattern.nonZeros());
-  const int* inner = pattern.innerIndexPtr();
-  for (int j = 0; j < S.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(S, j); it; ++it) {
-      const int* first = inner + pattern.outerIndexPtr()[j];
-      const int* last = inner + pattern.outerIndexPtr()[j + 1];
-      const int* found = std::lower_bound(first, last, static_cast<int>(it.row()));
-      if (found == last || *found != it.row()) return false;
-      values(found - inner) = it.value();
-    }
-  return true;
-}
 
 ReducedCoordinates reduce(const World& world, double t) {
   try {
@@ -77,8 +55,8 @@ std::string QuasiStatic::unsupported(const World& world, const ReducedCoordinate
 }
 
 QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parameters)
-    : world_(world), parameters_(parameters), dynamics_(world), detector_(world), reduced_(reduce(world, 0.0)),
-      pgs_(parameters.solver), d_(detector_.dimension()) {
+    : world_(world), parameters_(parameters), dynamics_(world), reduced_(reduce(world, 0.0)),
+      stage_(world, parameters.solver, make_operator()), d_(stage_.dimension()) {
   if (!world.constraints.empty()) throw RunError(0.0, unsupported(world));
   if (const std::string refusal = unsupported(world, reduced_); !refusal.empty()) throw RunError(0.0, refusal);
   bool nonlinear = false;
@@ -87,6 +65,13 @@ QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parame
   linear_ = !nonlinear && world.ties.empty() && dynamics_.constant_spring_stiffness();
   length_ = world.length_scale();
   contact_distance_ = parameters.contact_distance > 0.0 ? parameters.contact_distance : 0.1 * length_;
+}
+
+// The stage's view of the stiffness (quasi_static_operator.h), whose two halves of a solve iterate() takes.
+std::unique_ptr<IterationOperator> QuasiStatic::make_operator() {
+  auto iteration = std::make_unique<QuasiStaticOperator>(factor_, T_);
+  operator_ = iteration.get();
+  return iteration;
 }
 
 void QuasiStatic::summarize_statistics(const State& state, SummaryEntries& out) const {
@@ -122,246 +107,6 @@ void QuasiStatic::assemble_stiffness(const Vector& q, std::size_t world_from) {
   reduced_.reduce_stiffness(q, f_, triplets_, world_from, K_z_);
 }
 
-// Factors K_z, made positive definite when it is not or, with a hub, cannot be (see the header): by the
-// held rows (hold_; ρ from held_weight_ · max diag), else by proximal terms (first hub_proximal_ · max diag
-// on the hub's unknowns). Sets f_aug_, the load that goes with the factored matrix (Tᵀ f, less ρ H_Aᵀ c_A
-// with held rows). Returns whether held rows were used.
-bool QuasiStatic::factor_stiffness() {
-  f_aug_ = f_z_;
-  factor_kind_ = KeptFactor::Kind::stiffness;
-  factor_regularized_ = false;
-  if (!needs_tangent()) {  // a linear World's factor, made once
-    if (!soft_unknowns_.empty()) ++counters_->newton_regularized;
-    return false;
-  }
-  factored_ = true;
-  soft_unknowns_.clear();
-  const bool hub = !reduced_.hub_unknowns().empty();
-  if (!hub) {
-    const bool positive = factor_.factor_positive_definite(K_z_);
-    // An indefinite tangent of a nonlinear body (a material instability, a compressed ring's sway) is
-    // held below; a linear World's K is positive semidefinite, so that a pivot ≤ 0 is a mechanism.
-    if ((positive || linear_) && hold_soft_directions()) return false;
-  }
-  if (linear_)
-    throw RunError(t_, "quasi-static: the stiffness is singular (a free body or a rigid-body mode is not held by "
-                       "springs, ties, prescribed components or fixed degrees of freedom)");
-  const double largest = K_z_.diagonal().cwiseAbs().maxCoeff();
-  Triplets augmented;
-  std::vector<int> nonzero;
-  for (int i = 0; i < problem_.contacts; ++i) {
-    for (int a = d_ * i; a < d_ * i + held_row_count(hold_[i], d_); ++a) {
-      nonzero.clear();
-      for (int k = 0; k < H_.cols(); ++k)
-        if (H_(a, k) != 0.0) nonzero.push_back(k);
-      for (int k : nonzero)
-        for (int l : nonzero) augmented.emplace_back(k, l, H_(a, k) * H_(a, l));
-    }
-  }
-  // A hub needs a sticking contact to hold its spin; without, its proximal term.
-  if (!augmented.empty() && rows_hold(held_rows(), hub)) {
-    SparseMatrix HtH(K_z_.rows(), K_z_.cols());
-    HtH.setFromTriplets(augmented.begin(), augmented.end());
-    SparseMatrix G;
-    bool geometric = false;
-    if (hub) {
-      update_contact_force();  // the warm start's, or the last round's
-      geometric = reduced_.geometric_stiffness(q_, contact_force_, G);
-    }
-    // K_z + G + ρ HᵀH on K_z's own pattern, value by value, when G and HᵀH fall inside it (a node
-    // contact's rows sit in its node's block and the hub's columns): the same sums as the sparse ones
-    // below, without merging patterns at every ρ.
-    const bool in_pattern =
-        values_in_pattern(K_z_, HtH, held_values_) && (!geometric || values_in_pattern(K_z_, G, geometric_values_));
-    SparseMatrix base;  // K_z + G, summed sparse when G or HᵀH leave K_z's pattern
-    if (in_pattern) {
-      if (!same_pattern(held_matrix_, K_z_)) held_matrix_ = K_z_;
-      const Eigen::Map<const Vector> stiffness(K_z_.valuePtr(), K_z_.nonZeros());
-      base_values_ = geometric ? Vector(stiffness + geometric_values_) : Vector(stiffness);
-    } else {
-      base = K_z_;
-      if (geometric) base += G;
-    }
-    for (double rho = held_weight_ * largest; rho <= 10.0 * largest; rho *= 10.0) {
-      if (in_pattern) Eigen::Map<Vector>(held_matrix_.valuePtr(), held_matrix_.nonZeros()) = base_values_ + rho * held_values_;
-      else held_matrix_ = base + rho * HtH;
-      if (factor_.factor_positive_definite(held_matrix_)) {
-        f_aug_ = f_z_ - rho * held_load();
-        held_rho_ = rho;
-        return true;
-      }
-    }
-  }
-  factor_kind_ = KeptFactor::Kind::proximal;
-  SparseMatrix proximal = K_z_;
-  for (int i : reduced_.hub_unknowns()) proximal.coeffRef(i, i) += hub_proximal_ * largest;
-  if (factor_.factor_positive_definite(proximal)) return false;
-  double added = 0.0;
-  const bool held = grow_proximal_term(largest, [&](double epsilon) {
-    for (int i = 0; i < proximal.rows(); ++i) proximal.coeffRef(i, i) += epsilon - added;
-    added = epsilon;
-    return factor_.factor_positive_definite(proximal);
-  });
-  if (!held)
-    throw RunError(t_, "quasi-static: the tangent stiffness stays indefinite (a rigid-body mode not held, or a "
-                       "material instability)");
-  ++counters_->newton_regularized;
-  factor_regularized_ = true;
-  return false;
-}
-
-// After factor_ of K_z_: the directions K_z holds by at most kSingularPivot of their own stiffness (their
-// pivot, SparseLdlt::small_pivots: a rigid-body mode held by a spring that round-off cannot tell from
-// none, or by none) get proximal terms ε = kSoftProximal · K_jj on their pivot's unknown, factored again
-// until no pivot is small (see the header). Returns false when K_z stays singular (a direction that ε
-// cannot reach in kSoftRounds rounds).
-bool QuasiStatic::hold_soft_directions() {
-  const Vector diagonal = K_z_.diagonal();
-  std::vector<int> soft = factor_.small_pivots(diagonal, kSingularPivot);
-  if (soft.empty()) return true;
-  const double largest = diagonal.cwiseAbs().maxCoeff();
-  SparseMatrix held = K_z_;
-  for (int round = 0; round < kSoftRounds && !soft.empty(); ++round) {
-    for (int j : soft) {
-      held.coeffRef(j, j) += kSoftProximal * (diagonal(j) > 0.0 ? diagonal(j) : largest);
-      soft_unknowns_.push_back(j);
-    }
-    factor_.factor_positive_definite(held);
-    soft = factor_.small_pivots(held.diagonal(), kSingularPivot);
-  }
-  if (!soft.empty()) {
-    soft_unknowns_.clear();
-    return false;
-  }
-  factor_regularized_ = true;
-  ++counters_->newton_regularized;
-  return true;
-}
-
-// "body 'NAME' (its pivot at node N y)" (or a rigid body's component) for an unknown of z, for messages: a
-// small pivot's unknown is the last of its mode in the factor's order, not the component the mode moves.
-std::string QuasiStatic::describe_unknown(int unknown) const {
-  static const char* const axes[] = {"x", "y", "z"};
-  for (const BodyInstance& b : world_.bodies)
-    for (int c = 0; c < b.body->velocity_size(); ++c) {
-      if (reduced_.unknown(b.velocity_offset + c) != unknown) continue;
-      std::ostringstream name;
-      name << "body '" << b.name << "' ";
-      if (b.body->elastic()) name << "(its pivot at node " << c / d_ << " " << axes[c % d_] << ")";
-      else name << "(its pivot at component " << c << ")";
-      return name.str();
-    }
-  return "unknown " + std::to_string(unknown);
-}
-
-void QuasiStatic::update_contact_force() {
-  contact_force_.setZero(f_.size());
-  for (int a = 0; a < static_cast<int>(r_.size()); ++a) rows_[a].scatter(r_(a), contact_force_);
-}
-
-// Drops from hold_ the rows the last solve let go (an opened contact, a sticking one that slips);
-// false when every held row stayed held, so that the step was Newton's own.
-bool QuasiStatic::release_let_go_rows() {
-  bool released = false;
-  for (int i = 0; i < problem_.contacts; ++i) {
-    const ContactStatus status = active_[i].status;
-    const Hold keep = status == ContactStatus::open ? Hold::none : status == ContactStatus::slip ? Hold::normal : Hold::stick;
-    if (hold_[i] > keep) {
-      hold_[i] = keep;
-      released = true;
-    }
-  }
-  return released;
-}
-
-// The candidate contacts at q_j, their rows over z (H_z = H T) and offsets c (gap, slip since q_k).
-void QuasiStatic::detect_contacts(const State& state, double t_next) {
-  detector_.detect(q_, contact_distance_, candidates_, rows_);
-  q_detected_ = q_;
-  const int nc = static_cast<int>(candidates_.size());
-  active_ = candidates_;
-  const int m = d_ * nc, nz = reduced_.size();
-  // H_ is zero but for the entries the last detection wrote: those are cleared, not all m × nz.
-  if (H_.rows() == m && H_.cols() == nz)
-    for (Eigen::Index entry : H_written_) H_.data()[entry] = 0.0;
-  else
-    H_.setZero(m, nz);
-  H_written_.clear();
-  problem_.dimension = d_;
-  problem_.contacts = nc;
-  problem_.equalities = 0;
-  problem_.mu.resize(nc);
-  // H_z = H T, row by row through the rows of T.
-  for (int a = 0; a < m; ++a) {
-    const SparseRow& row = rows_[a];
-    for (int k = 0; k < row.count; ++k)
-      for (SparseRowMatrix::InnerIterator it(T_, row.index[k]); it; ++it) {
-        H_(a, it.col()) += row.value[k] * it.value();
-        H_written_.push_back(a + it.col() * m);  // column-major
-      }
-  }
-  for (int i = 0; i < nc; ++i) problem_.mu[i] = world_.contact_laws[active_[i].law].mu_at(t_next);
-  offset_.setZero(m);
-  if (m == 0) return;
-  world_.position_difference(q_, state.q, step_increment_);
-  for (int i = 0; i < nc; ++i) {
-    offset_(d_ * i) = active_[i].point.gap;
-    // The slip since the step start: the rows over q, before T.
-    for (int k = 1; k < d_; ++k) offset_(d_ * i + k) = rows_[d_ * i + k].dot(step_increment_);
-  }
-}
-
-// Penalty friction's offset −γ φ_k on the tangential rows and its compliance at the warm start's normal
-// forces (see the header).
-void QuasiStatic::soften_friction(const State& state) {
-  compliance_.setZero(problem_.size());
-  if (!penalty_friction_) return;
-  compliance_normal_.setZero(problem_.contacts);
-  warm_start(state.contacts, active_, d_, problem_.size(), start_impulse_);
-  for (int i = 0; i < problem_.contacts; ++i) {
-    const ContactLaw& law = world_.contact_laws[active_[i].law];
-    const double start_normal = start_impulse_(d_ * i);
-    const Eigen::Vector2d start_mu = law.mu_at(state.t);
-    for (int k = 1; k < d_; ++k)  // φ_k from impulses: the step's h cancels in the ratio
-      if (law.elastic_slip > 0.0 && start_normal > 0.0 && start_mu(k - 1) > 0.0)
-        offset_(d_ * i + k) -= law.elastic_slip * start_impulse_(d_ * i + k) / (start_mu(k - 1) * start_normal);
-  }
-  set_compliance(r_);
-}
-
-// compliance_ ← γ/(μ r_n) at the normal forces of r (m/N); a contact without a normal force there gets no
-// friction. Returns the largest change of a normal force from the last call's, over the largest (0 when
-// the compliance is exact for r).
-double QuasiStatic::set_compliance(const Vector& r) {
-  double change = 0.0, largest = 0.0;
-  for (int i = 0; i < problem_.contacts; ++i) {
-    const ContactLaw& law = world_.contact_laws[active_[i].law];
-    const double gamma = law.elastic_slip, normal = r(d_ * i);
-    if (gamma <= 0.0) continue;
-    const Eigen::Vector2d mu = law.mu_at(t_);  // detect_contacts' μ, which this may have zeroed
-    largest = std::max(largest, normal);
-    change = std::max(change, std::abs(normal - compliance_normal_(i)));
-    compliance_normal_(i) = normal;
-    for (int k = 1; k < d_; ++k) {
-      problem_.mu[i](k - 1) = normal > 0.0 ? mu(k - 1) : 0.0;
-      compliance_(d_ * i + k) = normal > 0.0 && mu(k - 1) > 0.0 ? gamma / (mu(k - 1) * normal) : 0.0;
-    }
-  }
-  return largest > 0.0 ? change / largest : 0.0;
-}
-
-// u = W r + b with the factored stiffness: W = H_z K⁻¹ H_zᵀ, b = H_z K⁻¹ f_aug + c.
-void QuasiStatic::assemble_problem() {
-  const int m = problem_.size();
-  problem_.W.resize(m, m);
-  problem_.b.resize(m);
-  if (m == 0) return;
-  factor_.delassus(H_, problem_.W);
-  factor_.solve_free(f_aug_, problem_.b);
-  problem_.b += offset_;
-  problem_.W.diagonal() += compliance_;
-}
-
 double QuasiStatic::iterate(const State& state, double t_next) {
   t_ = t_next;
   if (needs_tangent()) reduced_.tangent(q_, T_);
@@ -371,19 +116,46 @@ double QuasiStatic::iterate(const State& state, double t_next) {
   if (linear_ && iteration_ > 0) shift_contact_offsets(state);
   else detect_contacts(state, t_next);
   clock_.lap(timers_.detection);
-  warm_start(previous_, active_, d_, problem_.size(), r_, &warm_status_);
+  stage_.warm_start_from(previous_, &warm_status_);
   soften_friction(state);
-  hold_.assign(problem_.contacts, Hold::none);
-  for (int i = 0; i < problem_.contacts; ++i)
-    if (r_(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? Hold::stick : Hold::normal;
+  hold_.assign(stage_.active().size(), Hold::none);
+  for (int i = 0; i < static_cast<int>(hold_.size()); ++i)
+    if (stage_.impulses()(d_ * i) > 0.0) hold_[i] = warm_status_[i] == ContactStatus::stick ? Hold::stick : Hold::normal;
   clock_.lap(timers_.assembly);
   // Modified Newton (see the header): the forces alone when an earlier iterate's factor is kept.
   bool keep = accelerated_ && parameters_.modified_newton && !linear_ &&
               kept_.fits(held_rows(), held_weight_, hub_proximal_, !reduced_.hub_unknowns().empty());
-  std::size_t world_from = generalized_force(q_, t_next, f_, !keep);
+  const std::size_t world_from = generalized_force(q_, t_next, f_, !keep);
   f_z_ = reduced_.identity() ? f_ : Vector(T_.transpose() * f_);
   if (!keep) assemble_stiffness(q_, world_from);
   clock_.lap(timers_.free_velocity);
+  const bool held = solve_contact_problem(t_next, keep);
+  if (!keep)
+    kept_.record({held ? KeptFactor::Kind::held : factor_kind_, held_rows(), held_weight_, hub_proximal_, held_rho_,
+                  factor_regularized_});
+  // Δz = K⁻¹ (f_aug + H_zᵀ r), the second half of assemble_problem's solve (f_aug_ unchanged since).
+  if (stage_.problem().size() > 0) operator_->increment(stage_.impulses(), dz_);
+  else dz_ = factor_.solve(f_aug_);
+  // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
+  update_contact_force();
+  reduced_.prescribed_forces(q_, f_ + contact_force_, reactions_);
+  reactions_ = -reactions_;
+  // Not in a linear World (one iteration): secant_relaxation.h
+  const double relaxation = linear_ ? 1.0 : relaxation_.next(dz_);
+  if (relaxation != 1.0) ++counters_->newton_relaxed;
+  reduced_.gather(q_, t_next, z_);  // at q_j, so that T is exact there (3D rotations: increments)
+  z_ += relaxation * dz_;
+  z_increment_ += relaxation * dz_;
+  reduced_.expand(z_, t_next, q_);
+  if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
+  previous_ = stage_.active();  // forces, for the next iteration's warm start
+  clock_.lap(timers_.update);
+  const double increment = dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
+  kept_.observe(increment, keep, relaxation == 1.0);
+  return increment;
+}
+
+bool QuasiStatic::solve_contact_problem(double t_next, bool& keep) {
   // Held rows that the solve lets go would make the step another than Newton's (see the header): the
   // rows are dropped and the problem solved again, a few times at most.
   bool held = false;
@@ -405,14 +177,14 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     // A contact solve that fails at an iterate far from equilibrium (the hub spun far in the spin-up:
     // gaps of −0.14) need not stop the run: the next iterate solves again. The accepted iterate's must
     // not fail (solve_increment).
-    contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+    contact_failure_ = stage_.solve_from_impulses(parameters_.failure_residual, t_next, *counters_);
     // Penalty friction's compliance at the normal forces just found, to its fixed point (a linear World
     // takes a single iterate: the warm start's, the last step's, would leave it a step behind).
     for (int pass = 0; penalty_friction_ && pass < kCompliancePasses; ++pass) {
       const Vector used = compliance_;
-      if (set_compliance(r_) <= kComplianceTolerance) break;
-      problem_.W.diagonal() += compliance_ - used;
-      contact_failure_ = solve_contacts(pgs_, problem_, parameters_.failure_residual, t_next, r_, active_, *counters_);
+      if (set_compliance(stage_.impulses()) <= kComplianceTolerance) break;
+      stage_.problem().W.diagonal() += compliance_ - used;
+      contact_failure_ = stage_.solve_from_impulses(parameters_.failure_residual, t_next, *counters_);
     }
     // A failed solve is taken again with a stiffer hold of the rows or the hub (×100, up to max diag),
     // kept for the step's later iterates: each failed solve costs max_iterations sweeps.
@@ -431,90 +203,11 @@ double QuasiStatic::iterate(const State& state, double t_next) {
     else if (!held || round == kHeldRounds || !release_let_go_rows()) break;
     if (keep) {  // the kept factor holds other rows, or with another weight: this iterate's own tangent
       keep = false;
-      world_from = generalized_force(q_, t_next, f_, true);
-      assemble_stiffness(q_, world_from);
+      assemble_stiffness(q_, generalized_force(q_, t_next, f_, true));
       clock_.lap(timers_.free_velocity);
     }
   }
-  if (!keep)
-    kept_.record({held ? KeptFactor::Kind::held : factor_kind_, held_rows(), held_weight_, hub_proximal_, held_rho_,
-                  factor_regularized_});
-  // Δz = K⁻¹ (f_aug + H_zᵀ r), the second half of assemble_problem's solve (f_aug_ unchanged since).
-  if (problem_.size() > 0) factor_.solve_with_reactions(r_, dz_);
-  else dz_ = factor_.solve(f_aug_);
-  // Reactions of the prescriptions at q_j: −(f + Hᵀ r) on their components.
-  update_contact_force();
-  reduced_.prescribed_forces(q_, f_ + contact_force_, reactions_);
-  reactions_ = -reactions_;
-  // Not in a linear World (one iteration): secant_relaxation.h
-  const double relaxation = linear_ ? 1.0 : relaxation_.next(dz_);
-  if (relaxation != 1.0) ++counters_->newton_relaxed;
-  reduced_.gather(q_, t_next, z_);  // at q_j, so that T is exact there (3D rotations: increments)
-  z_ += relaxation * dz_;
-  z_increment_ += relaxation * dz_;
-  reduced_.expand(z_, t_next, q_);
-  if (!q_.allFinite()) throw RunError(t_next, "quasi-static: non-finite displacement");
-  previous_ = active_;  // forces, for the next iteration's warm start
-  clock_.lap(timers_.update);
-  const double increment = dz_.size() > 0 ? dz_.lpNorm<Eigen::Infinity>() : 0.0;
-  kept_.observe(increment, keep, relaxation == 1.0);
-  return increment;
-}
-
-// A linear World's later iterate: the step start's contacts and rows, their offsets at q_j (the gap
-// g_k + H_n (q_j ⊖ q_k), the slip H_t (q_j ⊖ q_k)), as detect_contacts would give them for a plane.
-void QuasiStatic::shift_contact_offsets(const State& state) {
-  const int m = problem_.size();
-  if (m == 0) return;
-  world_.position_difference(q_, state.q, step_increment_);
-  for (int i = 0; i < problem_.contacts; ++i) {
-    offset_(d_ * i) = active_[i].point.gap + rows_[d_ * i].dot(step_increment_);
-    for (int k = 1; k < d_; ++k) offset_(d_ * i + k) = rows_[d_ * i + k].dot(step_increment_);
-  }
-}
-
-// complementarity_ ← the last iterate's violation of Signorini's law measured on the configuration it
-// reaches, u = c + H_z Δz computed from Δz (not through W, whose round-off it would share), in metres: a
-// penetration −u_n > 0, and an open gap u_n > 0 under a normal force r_n > 0, as min(u_n, r_n / max r_n · L)
-// (a force at round-off of the largest does not count). Zero for an exact solution whatever W's scaling.
-void QuasiStatic::measure_complementarity() {
-  complementarity_ = 0.0;
-  complementarity_contact_ = -1;
-  const int m = problem_.size();
-  if (m == 0) return;
-  const Vector u = offset_ + H_ * dz_;
-  double largest = 0.0;
-  for (int i = 0; i < problem_.contacts; ++i) largest = std::max(largest, r_(d_ * i));
-  for (int i = 0; i < problem_.contacts; ++i) {
-    const double gap = u(d_ * i), force = r_(d_ * i);
-    double violation = std::max(0.0, -gap);
-    if (gap > 0.0 && force > 0.0 && largest > 0.0) violation = std::min(gap, force / largest * length_);
-    if (violation > complementarity_) {
-      complementarity_ = violation;
-      complementarity_contact_ = i;
-      complementarity_gap_ = gap;
-      complementarity_force_ = force;
-    }
-  }
-}
-
-HeldRows QuasiStatic::held_rows() const {
-  HeldRows rows;
-  for (int i = 0; i < problem_.contacts; ++i)
-    if (hold_[i] != Hold::none) rows.emplace_back(active_[i].point.key, hold_[i]);
-  return rows;
-}
-
-// H_Aᵀ c̃_A over the held rows (hold_), c̃ the offset of ũ with penalty friction: ρ times it leaves the
-// load with the held matrix (see the header).
-Vector QuasiStatic::held_load() const {
-  Vector load = Vector::Zero(f_z_.size());
-  for (int i = 0; i < problem_.contacts; ++i) {
-    for (int a = d_ * i; a < d_ * i + held_row_count(hold_[i], d_); ++a)
-      for (int k = 0; k < H_.cols(); ++k)
-        if (H_(a, k) != 0.0) load(k) += H_(a, k) * (offset_(a) + compliance_(a) * r_(a));
-  }
-  return load;
+  return held;
 }
 
 void QuasiStatic::step(State& state) {
@@ -561,7 +254,7 @@ void QuasiStatic::advance(State& state, double t_next, int halvings) {
   advance(state, t_next, halvings + 1);
 }
 
-// Newton's iterations from state to t_next into q_, active_ and reactions_; state is not touched. Returns
+// Newton's iterations from state to t_next into q_, the stage's contacts and reactions_; state is not touched. Returns
 // "" when they converged, else why not.
 std::string QuasiStatic::solve_increment(const State& state, double t_next, bool accelerated) {
   accelerated_ = accelerated;
@@ -628,67 +321,6 @@ std::string QuasiStatic::solve_increment(const State& state, double t_next, bool
   return failure;
 }
 
-// "" when the accepted iterate's contacts meet Signorini's law to failure_residual · L on the
-// configuration it reaches (measure_complementarity), else the message that stops the step.
-std::string QuasiStatic::complementarity_failure(double t_next) {
-  measure_complementarity();
-  max_complementarity_ = std::max(max_complementarity_, complementarity_);
-  if (complementarity_ <= parameters_.failure_residual * length_) return "";
-  const ActiveContact& contact = active_[complementarity_contact_];
-  std::ostringstream message;
-  message << "quasi-static: the contact solution at t = " << t_next << " s violates complementarity by "
-          << complementarity_ << " m (tolerance contact_solver.failure_residual x L = "
-          << parameters_.failure_residual * length_ << " m): a contact point of '"
-          << world_.contact_laws[contact.law].name << "' ends with the gap " << complementarity_gap_
-          << " m under the normal force " << complementarity_force_ << " N";
-  if (!soft_unknowns_.empty()) message << " (the stiffness holds a mode of " << soft_directions() << " only by a proximal term)";
-  return message.str();
-}
-
-// "" when the soft directions (soft_unknowns_) are held at the accepted iterate by K_z with its closed
-// contacts' rows (the normal rows of contacts with a normal force, the tangential ones of those that
-// stick): K_z + ρ H_Aᵀ H_A, ρ = max diag(K_z), has no small pivot. Otherwise a mode that nothing holds,
-// whose position the proximal terms chose: the message that refuses it, naming where.
-std::string QuasiStatic::unheld_directions(double t_next) {
-  if (soft_unknowns_.empty()) return "";
-  const double rho = K_z_.diagonal().cwiseAbs().maxCoeff();
-  Triplets held;
-  std::vector<int> nonzero;
-  for (int i = 0; i < problem_.contacts; ++i) {
-    if (!(r_(d_ * i) > 0.0)) continue;
-    const int rows = active_[i].status == ContactStatus::stick ? d_ : 1;
-    for (int a = d_ * i; a < d_ * i + rows; ++a) {
-      nonzero.clear();
-      for (int k = 0; k < H_.cols(); ++k)
-        if (H_(a, k) != 0.0) nonzero.push_back(k);
-      for (int k : nonzero)
-        for (int l : nonzero) held.emplace_back(k, l, rho * H_(a, k) * H_(a, l));
-    }
-  }
-  SparseMatrix with_contacts(K_z_.rows(), K_z_.cols());
-  with_contacts.setFromTriplets(held.begin(), held.end());
-  with_contacts += K_z_;
-  hold_check_.factor_positive_definite(with_contacts);
-  std::vector<int> unheld = hold_check_.small_pivots(with_contacts.diagonal(), kSingularPivot);
-  if (unheld.empty()) return "";
-  soft_unknowns_ = unheld;
-  std::ostringstream message;
-  message << "quasi-static: at t = " << t_next << " s, a mode of " << soft_directions()
-          << " that neither the stiffness (its pivot is below " << kSingularPivot
-          << " of its diagonal: a rigid-body mode held by no spring, or by one too weak to count) nor the closed "
-             "contacts hold; fix or prescribe components of that body, give it a spring, or use moreau-jean";
-  return message.str();
-}
-
-// The soft directions' unknowns, named (at most three), for messages.
-std::string QuasiStatic::soft_directions() const {
-  std::ostringstream names;
-  for (std::size_t k = 0; k < soft_unknowns_.size() && k < 3; ++k)
-    names << (k > 0 ? ", " : "") << describe_unknown(soft_unknowns_[k]);
-  if (soft_unknowns_.size() > 3) names << " and " << soft_unknowns_.size() - 3 << " more";
-  return names.str();
-}
-
 // state ← the converged increment to t_next. Impulses are the forces × the whole step h, whatever the
 // increment's length, so that contact-force probes read forces (state.h); points and gaps are those of
 // the converged configuration, the last detection's carried by the last iterate's increment.
@@ -700,12 +332,12 @@ void QuasiStatic::accept(State& state, double t_next) {
   state.t = t_next;
   state.contacts.clear();
   Vector motion;
-  if (!active_.empty()) world_.position_difference(q_, q_detected_, motion);
-  for (ActiveContact& contact : active_) {
+  if (!stage_.active().empty()) world_.position_difference(q_, q_detected_, motion);
+  for (const ActiveContact& solved : stage_.active()) {
+    if (!(solved.impulse(0) > 0.0)) continue;  // open candidates are not contacts
+    ActiveContact& contact = state.contacts.emplace_back(solved);
     contact.impulse *= parameters_.step;
-    if (!(contact.impulse(0) > 0.0)) continue;  // open candidates are not contacts
-    detector_.move_contact(q_detected_, motion, contact.point);
-    state.contacts.push_back(contact);
+    stage_.detector().move_contact(q_detected_, motion, contact.point);
   }
 }
 

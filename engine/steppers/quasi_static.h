@@ -11,7 +11,8 @@
 // each iteration j being a linearized frictional contact problem at q_j:
 //   stiffness  K_z = Tᵀ K_T(q_j) T + ties' geometric term (held positive definite, see below);
 //   detect     contacts whose gap is ≤ integrator.contact_distance at q_j, their frames and rows H
-//              (H_z = H T);
+//              (H_z = H T), through the contact stage (contact_stage.h) with the stiffness as its
+//              iteration operator (quasi_static_operator.h);
 //   problem    u = W r + b,  W = H_z K_z⁻¹ H_zᵀ,  b = H_z K_z⁻¹ Tᵀ f + c:
 //              on the normal row c = g_j, so that u_n = g_j + H_n Δq is the gap at the end of the
 //              iteration (Signorini at the position level); on the tangential rows c = H_t (q_j − q_k),
@@ -73,7 +74,7 @@
 // the contact solves ill-conditioned and one that slows Newton (docs/quasi-static-history.md). A
 // contact solve that fails with it raises it ×100 (up
 // to max diag) for the rest of the step: with a nearly free spin the problem can have no solution
-// (quasi_static.cpp, iterate). Without the held rows, the frame's geometric stiffness
+// (quasi_static.cpp, solve_contact_problem). Without the held rows, the frame's geometric stiffness
 // takes the loads and internal forces only: with the contact forces, the rigid rotation of a pressed
 // wheel gets −N (R − δ) (its nodes leave the ground), which nothing then balances.
 //
@@ -124,13 +125,13 @@
 // Newton's counters.
 #pragma once
 
-#include "contact/pgs_solver.h"
-#include "engine/contact_stage/contact_detector.h"
+#include "engine/contact_stage/contact_stage.h"
 #include "engine/dynamics.h"
 #include "engine/linear_algebra/sparse_ldlt.h"
 #include "engine/reduced_coordinates.h"
 #include "engine/steppers/kept_factor.h"
 #include "engine/steppers/phase_clock.h"
+#include "engine/steppers/quasi_static_operator.h"
 #include "engine/steppers/quasi_static_parameters.h"
 #include "engine/steppers/secant_relaxation.h"
 #include "engine/steppers/stepper.h"
@@ -161,6 +162,9 @@ class QuasiStatic final : public Stepper {
   void accept(State& state, double t_next);
   // One Newton iteration at q_j (state.q at the step start is q_k); returns |Δz|∞.
   double iterate(const State& state, double t_next);
+  // The iterate's contact problem on its factored stiffness, or on the kept factor while keep (which turns
+  // false when the kept factor cannot serve), solved in rounds; returns whether held rows were used.
+  bool solve_contact_problem(double t_next, bool& keep);
   void assemble_stiffness(const Vector& q, std::size_t world_from);
   bool factor_stiffness();
   bool hold_soft_directions();  // proximal terms on the directions K_z does not hold (see the header)
@@ -171,26 +175,32 @@ class QuasiStatic final : public Stepper {
   std::string complementarity_failure(double t_next);  // of the accepted iterate (see the header)
   std::string unheld_directions(double t_next);  // soft directions the closed contacts do not hold either
   bool release_let_go_rows();
-  void update_contact_force();  // contact_force_ ← Hᵀ r_
+  void update_contact_force();  // contact_force_ ← Hᵀ r
+  void add_row_product(int a, double scale, Triplets& triplets);  // scale · h_aᵀ h_a, h_a row a of H_z
   void detect_contacts(const State& state, double t_next);
   void soften_friction(const State& state);  // penalty friction's terms (see the header)
   double set_compliance(const Vector& r);
   void assemble_problem();
   // f; with tangent, the bodies' tangent into triplets_ too (when needs_tangent()).
   std::size_t generalized_force(const Vector& q, double t, Vector& f, bool tangent);
+  std::unique_ptr<IterationOperator> make_operator();
   bool needs_tangent() const { return !(linear_ && factored_); }  // a linear World's is factored once
+
+  // A pivot D_j ≤ this × K_jj: a direction that K does not hold (see the header).
+  static constexpr double kSingularPivot = 1e-10;
 
   const World& world_;
   QuasiStaticParameters parameters_;
   Dynamics dynamics_;
-  ContactDetector detector_;
   ReducedCoordinates reduced_;
   double reduced_time_ = 0.0;  // s, the time whose prescriptions reduced_ holds
-  PgsSolver pgs_;
   bool linear_;                 // constant K, no ties: one iteration, one factorization
   bool factored_ = false;
   SparseLdlt factor_;
   SparseRowMatrix T_;
+  // The contact stage (contact_stage.h) over the stiffness: detection, rows H_z = H T, W, the solves.
+  QuasiStaticOperator* operator_ = nullptr;  // the stage's, which it owns (set by make_operator)
+  ContactStage stage_;
   SparseMatrix K_z_;
   SparseMatrix held_matrix_;   // K_z + G + ρ HᵀH, on K_z's pattern when it holds them (factor_stiffness)
   Vector held_values_, geometric_values_, base_values_;  // HᵀH, G and K_z + G over K_z's values
@@ -199,14 +209,14 @@ class QuasiStatic final : public Stepper {
   double t_ = 0.0;  // the time the current step reaches (s), for messages
   int d_;
 
-  Vector z_, q_, f_, f_z_, f_aug_, dz_, r_, reactions_;
-  Vector q_detected_;          // the iterate's q that active_ and rows_ were detected at
+  Vector z_, q_, f_, f_z_, f_aug_, dz_, reactions_;
+  Vector q_detected_;          // the iterate's q that the stage's contacts and rows were detected at
   Vector offset_;              // c: the contacts' gaps (normal rows) and slips since q_k (tangential rows)
   Vector compliance_;          // penalty friction: γ/(μ r_n) on tangential rows (m/N), else 0
   Vector start_impulse_;       // the contacts' impulses at the step start (penalty friction's φ_k)
   Vector compliance_normal_;   // the normal forces compliance_ was set at (N)
   bool penalty_friction_ = false;
-  Vector contact_force_;       // Hᵀ r_ (N, N·m), in velocity components
+  Vector contact_force_;       // Hᵀ r (N, N·m), in velocity components
   SecantRelaxation relaxation_;  // Newton's step length ω (secant_relaxation.h)
   // Phase times (phase_clock.h), every iteration of every step, failed ones included: free_velocity
   // holds the forces, tangent and its factorization (the free increment K⁻¹ f), assembly the Delassus
@@ -224,9 +234,9 @@ class QuasiStatic final : public Stepper {
   bool accelerated_ = true;    // this attempt's: predictor and modified Newton (solve_increment)
   double last_step_length_ = 0.0;
   SolverCounters* counters_ = nullptr;
-  std::vector<ActiveContact> candidates_, active_, previous_;
-  std::vector<ContactStatus> warm_status_;  // the warm start's statuses of active_
-  std::vector<Hold> hold_;     // per contact of active_, the rows held (kept_factor.h)
+  std::vector<ActiveContact> previous_;  // the last iterate's contacts with their forces (the warm start)
+  std::vector<ContactStatus> warm_status_;  // the warm start's statuses of the stage's contacts
+  std::vector<Hold> hold_;     // per contact of the stage, the rows held (kept_factor.h)
   // Modified Newton (see the header): the step's last factor, what it was made with.
   KeptFactor kept_;
   double held_rho_ = 0.0;      // the ρ of factor_stiffness' last held factor (N/m)
@@ -236,18 +246,15 @@ class QuasiStatic final : public Stepper {
   // terms; empty when it holds none.
   std::vector<int> soft_unknowns_;
   SparseLdlt hold_check_;  // K_z with the closed contacts' rows (unheld_directions)
+  std::vector<int> row_unknowns_;  // add_row_product's scratch
   int iteration_ = 0;  // of the current attempt (solve_increment)
   // The last iterate's violation of Signorini's law (measure_complementarity): m, the contact (index in
-  // active_, −1 for none), its gap (m) and normal force (N).
+  // the stage's, −1 for none), its gap (m) and normal force (N).
   double complementarity_ = 0.0, complementarity_gap_ = 0.0, complementarity_force_ = 0.0;
   int complementarity_contact_ = -1;
   double max_complementarity_ = 0.0;  // m, the largest complementarity_ of an accepted iterate (the summary's)
   HeldRows held_rows() const;  // hold_ with its contacts' keys
   Vector held_load() const;    // H_Aᵀ c̃_A over the held rows (ρ times it leaves the load with them)
-  std::vector<SparseRow> rows_;
-  Matrix H_;                   // the contact rows over z, H_z
-  std::vector<Eigen::Index> H_written_;  // the entries of H_ its last detection wrote (the others are zero)
-  FrictionContactProblem problem_;
 };
 
 }  // namespace csim
