@@ -54,7 +54,17 @@ std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& p
   std::vector<ContactStatus> own_status;
   std::vector<ContactStatus>& status = status_scratch ? *status_scratch : own_status;
   status.clear();
-  const PgsStatistics stats = pgs.solve(problem, r, &status);
+  PgsStatistics stats = pgs.solve(problem, r, &status);
+  if (!stats.converged && problem.storage == DelassusStorage::sparse && problem.size() <= kDenseFallbackRows) {
+    FrictionContactProblem dense = problem;
+    dense.storage = DelassusStorage::dense;
+    dense.W = Matrix(problem.W_sparse);
+    dense.W_sparse.resize(0, 0);
+    const int sparse_sweeps = stats.iterations;
+    stats = pgs.solve(dense, r, &status);  // warm: the sparse solve's last iterate
+    stats.iterations += sparse_sweeps;
+    ++c.dense_fallbacks;
+  }
   return account(stats, problem.dimension, failure_residual, t_next, r, status, active, c);
 }
 

@@ -55,7 +55,8 @@ class ContactStage {
   // μ at t (s).
   void gather_rows(const Matrix* equalities, const std::vector<SparseRow>* ties, double t);
   const ProblemRows& rows() const { return rows_; }
-  void form_delassus() { iteration_->delassus(rows_, problem_.W); }
+  // W in problem(): sparse by whole blocks where the operator finds it pays, dense otherwise.
+  void form_delassus();
   // b = H v_free, after form_delassus (an operator may apply the H it formed W with).
   void free_term(const Vector& v_free) { iteration_->apply_rows(rows_, v_free, problem_.b); }
   FrictionContactProblem& problem() { return problem_; }
