@@ -36,7 +36,7 @@ class DelassusCache {
   // Frees the rows not asked for since begin, and computes the entries of W of the new rows.
   void finish();
   // Computes the entries of W of the rows that entered or changed since their entries were last
-  // computed: before operator() or still_holds is asked. A user that takes only the forward columns
+  // computed: before operator() is asked. A user that takes only the forward columns
   // (a sparse W, block_gram.h) never pays for the dense entries.
   void compute_entries();
   double operator()(int slot_a, int slot_b) const { return delassus_(slot_a, slot_b); }

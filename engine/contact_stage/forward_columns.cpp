@@ -46,14 +46,17 @@ void ForwardColumnsOperator::take_slots(const ProblemRows& rows) {
   cache_.finish();
 }
 
-bool ForwardColumnsOperator::sparse_delassus(const ProblemRows& rows, SparseDelassus& W) {
+bool ForwardColumnsOperator::sparse_delassus(const ProblemRows& rows, SparseDelassus& W, bool forced) {
   const int m = rows.size();
-  if (m < kSparseRows || rows.equality_rows() + rows.tie_rows() > 0) return false;
+  if ((!forced && m < kSparseRows) || rows.equality_rows() + rows.tie_rows() > 0) return false;
   take_slots(rows);
+  // The same rows with the same forward columns as the W stored last (a pile at rest): W holds.
+  if (W.rows() == m && cache_.still_holds(sparse_taken_, slots_)) return true;
   columns_.resize(m);
   for (int a = 0; a < m; ++a) columns_[a] = &cache_.forward(slots_[a]);
   slots_taken_ = !block_gram(operators_.sparse_factor(), columns_, rows.dimension, rows.contact_rows() / rows.dimension,
-                             W, kSparseDensity);
+                             W, forced ? 1.0 : kSparseDensity);
+  if (slots_taken_) sparse_taken_ = {};  // declined: W_sparse was not formed from these slots
   return !slots_taken_;
 }
 

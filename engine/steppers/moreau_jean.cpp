@@ -29,6 +29,7 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
                   world_.prescribed.empty() && ties_.empty()),
       stage_(world, parameters.solver, make_iteration()),
       length_(world.length_scale()) {
+  stage_.set_delassus_choice(parameters_.delassus_storage);
   build_equalities(parameters_.step);
 }
 
