@@ -103,13 +103,18 @@ TEST(SparseContactStage, APackedPileStaysAtRestWithItsWeightOnTheFloor) {
     EXPECT_NEAR(report.state.q(7 * k + 1), spheres[k].y, 2e-4 * radius) << "sphere " << k;
     EXPECT_NEAR(report.state.q(7 * k + 2), spheres[k].z, 2e-4 * radius) << "sphere " << k;
   }
-  // The floor's normal impulses carry the pile's weight over the last step: Σ r_n = m g h (the walls'
-  // normals are horizontal, and the spheres do not accelerate).
-  double floor_impulse = 0.0;
-  for (const ActiveContact& contact : report.state.contacts)
-    if (std::abs(contact.point.normal.z()) > 0.5 && std::min(contact.point.point_a.z(), contact.point.point_b.z()) < 0.5 * radius)
-      floor_impulse += contact.impulse(0);
-  EXPECT_NEAR(floor_impulse, spheres.size() * 1.0 * g * h, 1e-6 * spheres.size() * g * h);
+  // The box (floor and walls, body spheres.size()) carries the pile's weight over the last step: the
+  // vertical components of its contacts' impulses on the spheres sum to m g h (the walls' friction takes
+  // part of it), within the spheres' change of momentum over the step (each below 2 · 0.01 m g h above).
+  const int box = static_cast<int>(spheres.size());
+  double box_impulse = 0.0;
+  for (const ActiveContact& contact : report.state.contacts) {
+    if (contact.body_a != box && contact.body_b != box) continue;
+    const ContactPoint& p = contact.point;
+    const double up = (contact.impulse(0) * p.normal + contact.impulse(1) * p.t1 + contact.impulse(2) * p.t2).z();
+    box_impulse += contact.body_b == box ? -up : up;  // the impulse pushes B along +n, A along −n
+  }
+  EXPECT_NEAR(box_impulse, spheres.size() * 1.0 * g * h, 0.02 * spheres.size() * g * h);
 }
 
 }  // namespace
