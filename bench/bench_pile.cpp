@@ -1,5 +1,5 @@
 // A settled pile of rigid spheres: the cost of a Moreau–Jean step with a few hundred frictional contacts
-// between many bodies (run by hand: build/bench/bench_pile [spheres] [steps] [repeats]).
+// between many bodies (run by hand: build/bench/bench_pile [spheres] [steps] [repeats] [auto|dense|sparse]).
 //
 // The pile (bench/pile_scene.h): spheres packed in a box, settled by construction; a 9 × 8 base gives
 // 72 + 56 + 42 + 30 = 200 spheres in four layers, other counts fill the layers in order. Each sphere
@@ -27,11 +27,12 @@ int main(int argc, char** argv) {
   const int count = argc > 1 ? std::atoi(argv[1]) : 200;
   const int steps = argc > 2 ? std::atoi(argv[2]) : 5;
   const int repeats = argc > 3 ? std::atoi(argv[3]) : 3;
+  const std::string storage = argc > 4 ? argv[4] : "auto";  // contact_solver.storage: auto, dense or sparse
   const double radius = 0.1;
   const std::vector<csim::bench::Sphere> spheres = csim::bench::pile(count, 9, 8, radius);
   const std::string file = "/tmp/bench_pile_" + std::to_string(getpid()) + ".yaml";
   std::ofstream(file) << csim::bench::scene_text(spheres, radius, steps, 9, 8);
-  const std::unique_ptr<csim::Scene> scene = csim::load_scene(file, {});
+  const std::unique_ptr<csim::Scene> scene = csim::load_scene(file, {"contact_solver.storage=" + storage});
   std::remove(file.c_str());
 
   std::vector<double> ms;
@@ -48,9 +49,13 @@ int main(int argc, char** argv) {
   std::sort(ms.begin(), ms.end());
   const csim::PhaseTimers& t = report.state.timers;
   const double per = 1e3 / static_cast<double>(report.state.counters.steps);
-  std::printf("spheres  contacts  steps  ms/step median (min-max)    free  detect  assemble  solve  update (ms/step)\n");
-  std::printf("%7zu  %8zu  %5ld  %10.3f (%.3f-%.3f)  %6.3f  %6.3f  %8.3f  %5.3f  %6.3f\n", spheres.size(),
-              report.state.contacts.size(), report.state.counters.steps, ms[ms.size() / 2], ms.front(), ms.back(),
-              per * t.free_velocity, per * t.detection, per * t.assembly, per * t.solve, per * t.update);
+  const csim::SolverCounters& c = report.state.counters;
+  std::printf("spheres  contacts  steps  ms/step median (min-max)    free  detect  assemble  solve  update (ms/step)"
+              "  sparse  fallbacks  sweeps/solve  unconverged  max residual\n");
+  std::printf("%7zu  %8zu  %5ld  %10.3f (%.3f-%.3f)  %6.3f  %6.3f  %8.3f  %5.3f  %6.3f  %6ld  %9ld  %12.1f  %11ld  %12.2e\n",
+              spheres.size(), report.state.contacts.size(), c.steps, ms[ms.size() / 2], ms.front(), ms.back(),
+              per * t.free_velocity, per * t.detection, per * t.assembly, per * t.solve, per * t.update, c.sparse_solves,
+              c.dense_fallbacks, c.solves > 0 ? static_cast<double>(c.total_iterations) / c.solves : 0.0, c.not_converged,
+              c.max_residual);
   return 0;
 }

@@ -54,7 +54,28 @@ std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& p
   std::vector<ContactStatus> own_status;
   std::vector<ContactStatus>& status = status_scratch ? *status_scratch : own_status;
   status.clear();
-  const PgsStatistics stats = pgs.solve(problem, r, &status);
+  const bool may_fall_back = problem.storage == DelassusStorage::sparse && problem.size() <= kDenseFallbackRows;
+  Vector start;
+  if (may_fall_back) start = r;
+  PgsStatistics stats = pgs.solve(problem, r, &status);
+  if (!stats.converged && may_fall_back) {
+    FrictionContactProblem dense = problem;
+    dense.storage = DelassusStorage::dense;
+    dense.W = Matrix(problem.W_sparse);
+    dense.W_sparse.resize(0, 0);
+    const PgsStatistics sparse_stats = stats;
+    Vector sparse_r = r;
+    std::vector<ContactStatus> sparse_status = status;
+    r = start;  // the dense solve from the warm start: from the sparse iterate it may stall too
+    stats = pgs.solve(dense, r, &status);
+    if (!stats.converged && sparse_stats.residual < stats.residual) {  // the better of two unconverged
+      stats.residual = sparse_stats.residual;
+      r = sparse_r;
+      status = sparse_status;
+    }
+    stats.iterations += sparse_stats.iterations;
+    ++c.dense_fallbacks;
+  }
   return account(stats, problem.dimension, failure_residual, t_next, r, status, active, c);
 }
 

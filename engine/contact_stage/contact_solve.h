@@ -21,6 +21,13 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
 // caller throws it (Moreau–Jean at once; the quasi-static stepper only if it is the solve of the
 // Newton iterate it accepts). t_next: the time the step reaches (s). status_scratch, when given,
 // holds the solver's statuses (a stepper's own, so that a step allocates nothing).
+// A problem stored sparse whose solve does not converge is solved again stored dense, from the same warm
+// start, when it has at most kDenseFallbackRows rows (W then takes 134 MB at most): the sparse solver's
+// polish (a bounded Newton without the dense one's active-set stage, pgs_solver.h) can stall on a
+// hyperstatic stack that the dense polish finishes (and the dense solve started from the sparse one's
+// stalled iterate stalls as well). If neither converges, the iterate of smaller residual is kept and
+// reported unconverged. SolverCounters::dense_fallbacks counts them.
+constexpr int kDenseFallbackRows = 4096;
 [[nodiscard]] std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem,
                                          double failure_residual, double t_next, Vector& r,
                                          std::vector<ActiveContact>& active, SolverCounters& counters,

@@ -67,10 +67,26 @@ void ContactStage::gather_rows(const Matrix* equalities, const std::vector<Spars
 void ContactStage::solve(const std::vector<ActiveContact>& previous, bool warm_from_previous, double failure_residual,
                          double t_next, SolverCounters& counters) {
   if (warm_from_previous || r_.size() != problem_.size()) warm_start(previous, active_, dimension_, problem_.size(), r_);
+  const long stored = problem_.storage == DelassusStorage::sparse ? static_cast<long>(problem_.W_sparse.nonZeros())
+                                                                   : static_cast<long>(problem_.W.size());
+  counters.max_delassus_entries = std::max(counters.max_delassus_entries, stored);
+  if (problem_.storage == DelassusStorage::sparse) ++counters.sparse_solves;
   if (const std::string failure =
           solve_contacts(pgs_, problem_, failure_residual, t_next, r_, active_, counters, &statuses_);
       !failure.empty())
     throw RunError(t_next, failure);
+}
+
+void ContactStage::form_delassus() {
+  if (choice_ != DelassusChoice::dense &&
+      iteration_->sparse_delassus(rows_, problem_.W_sparse, choice_ == DelassusChoice::sparse)) {
+    problem_.storage = DelassusStorage::sparse;
+    problem_.W.resize(0, 0);
+    return;
+  }
+  problem_.storage = DelassusStorage::dense;
+  problem_.W_sparse.resize(0, 0);
+  iteration_->delassus(rows_, problem_.W);
 }
 
 }  // namespace csim

@@ -59,7 +59,10 @@ class ContactStage {
   // μ at t (s).
   void gather_rows(const Matrix* equalities, const std::vector<SparseRow>* ties, double t);
   const ProblemRows& rows() const { return rows_; }
-  void form_delassus() { iteration_->delassus(rows_, problem_.W); }
+  // W in problem(): as the choice says (iteration_operator.h; automatic unless set), dense where the
+  // operator cannot store it sparse.
+  void set_delassus_choice(DelassusChoice choice) { choice_ = choice; }
+  void form_delassus();
   // b = H v_free, after form_delassus (an operator may apply the H it formed W with).
   void free_term(const Vector& v_free) { iteration_->apply_rows(rows_, v_free, problem_.b); }
   FrictionContactProblem& problem() { return problem_; }
@@ -92,6 +95,7 @@ class ContactStage {
   int dimension_;
   PgsSolver pgs_;
   std::unique_ptr<IterationOperator> iteration_;
+  DelassusChoice choice_ = DelassusChoice::automatic;
   std::vector<ActiveContact> candidates_, active_;
   std::vector<SparseRow> candidate_rows_;
   std::vector<int> active_candidates_;  // increasing

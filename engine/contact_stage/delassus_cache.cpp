@@ -5,9 +5,9 @@
 namespace csim {
 
 bool DelassusCache::still_holds(Taken& taken, const std::vector<int>& slots) const {
-  if (taken.slots == slots && taken.entries == computed_entries_) return true;
+  if (taken.slots == slots && taken.changes == changes_) return true;
   taken.slots = slots;
-  taken.entries = computed_entries_;
+  taken.changes = changes_;
   return false;
 }
 
@@ -20,7 +20,6 @@ void DelassusCache::begin(const SparseLdlt& factor) {
     factorization_ = factor.factorizations();
   }
   for (auto& [key, entry] : entries_) entry.used = false;
-  fresh_.clear();
 }
 
 int DelassusCache::slot(const Key& key, const int* index, const double* value, int count) {
@@ -33,6 +32,7 @@ int DelassusCache::slot(const Key& key, const int* index, const double* value, i
   entry.index.assign(index, index + count);
   entry.value.assign(value, value + count);
   factor_->forward(index, value, count, entry.forward);
+  ++changes_;
   if (entry.slot < 0) {
     if (free_slots_.empty()) {
       entry.slot = slot_count_++;
@@ -47,7 +47,7 @@ int DelassusCache::slot(const Key& key, const int* index, const double* value, i
   }
   if (static_cast<int>(by_slot_.size()) < slot_count_) by_slot_.resize(slot_count_);
   by_slot_[entry.slot] = &entry;
-  fresh_.push_back(&entry);
+  entry.stale = true;
   return entry.slot;
 }
 
@@ -60,6 +60,12 @@ void DelassusCache::finish() {
     if (it->second.slot >= 0) free_slots_.push_back(it->second.slot);
     it = entries_.erase(it);
   }
+}
+
+void DelassusCache::compute_entries() {
+  fresh_.clear();
+  for (auto& [key, entry] : entries_)
+    if (entry.stale) fresh_.push_back(&entry);
   if (fresh_.empty()) return;
   // Each fresh row against every row kept: its forward column scaled by D⁻¹ and scattered once, then
   // one sparse dot product per row, stored on both sides (W symmetric exactly). A pair of fresh rows is
@@ -80,6 +86,7 @@ void DelassusCache::finish() {
       ++computed_entries_;
     }
     for (int i : y.index) scattered_(i) = 0.0;
+    fresh->stale = false;
   }
 }
 

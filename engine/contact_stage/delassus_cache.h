@@ -35,6 +35,10 @@ class DelassusCache {
   int slot(const Key& key, const int* index, const double* value, int count);
   // Frees the rows not asked for since begin, and computes the entries of W of the new rows.
   void finish();
+  // Computes the entries of W of the rows that entered or changed since their entries were last
+  // computed: before operator() is asked. A user that takes only the forward columns
+  // (a sparse W, block_gram.h) never pays for the dense entries.
+  void compute_entries();
   double operator()(int slot_a, int slot_b) const { return delassus_(slot_a, slot_b); }
   // The forward column L⁻¹ P hᵀ of the row in this slot (asked for since begin).
   const SparseLdlt::ForwardColumn& forward(int slot) const { return by_slot_[slot]->forward; }
@@ -43,11 +47,12 @@ class DelassusCache {
   long computed_entries() const { return computed_entries_; }  // entries of W computed so far
 
   // What a user took from the cache for a list of slots (a copy of W, their forward columns stored
-  // elsewhere): the slots, and computed_entries() then. The same slots with no entry computed since
-  // (a row that changes is computed again) hold the same forward columns and entries.
+  // elsewhere): the slots, and how many forward columns had been computed then. The same slots with no
+  // forward column computed since (a row that changes is computed again) hold the same forward columns
+  // and, once compute_entries has run, the same entries.
   struct Taken {
     std::vector<int> slots;
-    long entries = -1;
+    long changes = -1;
   };
   // Whether `taken` still holds for these slots; when not, it is set to them (the caller then takes
   // them again).
@@ -60,17 +65,19 @@ class DelassusCache {
     SparseLdlt::ForwardColumn forward;
     int slot = -1;
     bool used = false;
+    bool stale = true;  // its entries of W are still to compute (compute_entries)
   };
   const SparseLdlt* factor_ = nullptr;
   long factorization_ = -1;
   std::map<Key, Entry> entries_;
-  std::vector<Entry*> fresh_;     // rows (re)computed since begin
+  std::vector<Entry*> fresh_;     // compute_entries' work list: the stale rows
   std::vector<const Entry*> by_slot_;
   std::vector<int> free_slots_;
   int slot_count_ = 0;
   Matrix delassus_;               // slots × slots
   Vector scattered_;              // a fresh row's forward column, dense (the factor's order)
   long computed_entries_ = 0;
+  long changes_ = 0;              // forward columns computed so far (still_holds)
 };
 
 }  // namespace csim

@@ -1,5 +1,6 @@
 #include "engine/contact_stage/forward_columns.h"
 
+#include "engine/linear_algebra/block_gram.h"
 #include "engine/structural_operators.h"
 
 namespace csim {
@@ -23,26 +24,47 @@ int ForwardColumnsOperator::equality_slot(const Matrix& equalities, int e) {
                      static_cast<int>(equality_index_.size()));
 }
 
-void ForwardColumnsOperator::delassus(const ProblemRows& rows, Matrix& W) {
+void ForwardColumnsOperator::take_slots(const ProblemRows& rows) {
   const int m = rows.size();
   const int d = rows.dimension;
   const int nc = rows.contact_rows(), ne = rows.equality_rows();
   slots_.resize(m);
   if (halves_) {  // the candidates' slots (gather_candidates), then the equalities'
     for (int a = 0; a < m; ++a) slots_[a] = candidate_slots_[rows.candidate_row(a)];
-  } else {
-    cache_.begin(operators_.sparse_factor());
-    for (int a = 0; a < nc; ++a) {
-      const SparseRow& row = *rows.contact[a];
-      slots_[a] = cache_.slot({kContactRow, rows.contact_key[a / d], a % d}, row.index.data(), row.value.data(), row.count);
-    }
-    for (int e = 0; e < ne; ++e) slots_[nc + e] = equality_slot(*rows.equalities, e);
-    for (int i = 0; i < rows.tie_rows(); ++i) {
-      const SparseRow& row = (*rows.ties)[i];
-      slots_[nc + ne + i] = cache_.slot({kTieRow, {}, i}, row.index.data(), row.value.data(), row.count);
-    }
-    cache_.finish();
+    return;
   }
+  cache_.begin(operators_.sparse_factor());
+  for (int a = 0; a < nc; ++a) {
+    const SparseRow& row = *rows.contact[a];
+    slots_[a] = cache_.slot({kContactRow, rows.contact_key[a / d], a % d}, row.index.data(), row.value.data(), row.count);
+  }
+  for (int e = 0; e < ne; ++e) slots_[nc + e] = equality_slot(*rows.equalities, e);
+  for (int i = 0; i < rows.tie_rows(); ++i) {
+    const SparseRow& row = (*rows.ties)[i];
+    slots_[nc + ne + i] = cache_.slot({kTieRow, {}, i}, row.index.data(), row.value.data(), row.count);
+  }
+  cache_.finish();
+}
+
+bool ForwardColumnsOperator::sparse_delassus(const ProblemRows& rows, SparseDelassus& W, bool forced) {
+  const int m = rows.size();
+  if ((!forced && m < kSparseRows) || rows.equality_rows() + rows.tie_rows() > 0) return false;
+  take_slots(rows);
+  // The same rows with the same forward columns as the W stored last (a pile at rest): W holds.
+  if (W.rows() == m && cache_.still_holds(sparse_taken_, slots_)) return true;
+  columns_.resize(m);
+  for (int a = 0; a < m; ++a) columns_[a] = &cache_.forward(slots_[a]);
+  slots_taken_ = !block_gram(operators_.sparse_factor(), columns_, rows.dimension, rows.contact_rows() / rows.dimension,
+                             W, forced ? 1.0 : kSparseDensity);
+  if (slots_taken_) sparse_taken_ = {};  // declined: W_sparse was not formed from these slots
+  return !slots_taken_;
+}
+
+void ForwardColumnsOperator::delassus(const ProblemRows& rows, Matrix& W) {
+  const int m = rows.size();
+  if (!slots_taken_) take_slots(rows);
+  slots_taken_ = false;
+  cache_.compute_entries();
   if (W.rows() == m && W.cols() == m && cache_.still_holds(copied_, slots_)) return;
   W.resize(m, m);
   for (int a = 0; a < m; ++a)

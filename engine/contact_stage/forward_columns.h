@@ -23,6 +23,13 @@ class ForwardColumnsOperator final : public IterationOperator {
   explicit ForwardColumnsOperator(const StructuralOperators& operators) : operators_(operators) {}
 
   void delassus(const ProblemRows& rows, Matrix& W) override;
+  // W = Yᵀ D⁻¹ Y by whole blocks (block_gram.h) from the rows' forward columns alone, the dense entries
+  // never computed: for no equality or tie row (the contact solver condenses those on a dense W only)
+  // and, unless forced, at least kSparseRows rows and no factor row reached by more than kSparseDensity
+  // of the blocks.
+  bool sparse_delassus(const ProblemRows& rows, SparseDelassus& W, bool forced) override;
+  static constexpr int kSparseRows = 48;
+  static constexpr double kSparseDensity = 0.25;
   void add_response(const ProblemRows& rows, const Vector& r, Vector& v) override;
 
   // Two halves. The forward half of A⁻¹ f (f: N·s, the step's impulse of the smooth forces).
@@ -42,11 +49,15 @@ class ForwardColumnsOperator final : public IterationOperator {
 
  private:
   int equality_slot(const Matrix& equalities, int e);
+  void take_slots(const ProblemRows& rows);  // slots_ of these rows (their forward columns up to date)
 
   const StructuralOperators& operators_;
   DelassusCache cache_;
   std::vector<int> slots_;              // each problem row's slot in the cache
+  bool slots_taken_ = false;            // sparse_delassus took slots_ and declined: delassus() uses them
+  std::vector<const SparseLdlt::ForwardColumn*> columns_;  // sparse_delassus' forward columns, by row
   DelassusCache::Taken copied_;         // the slots W was last copied from
+  DelassusCache::Taken sparse_taken_;   // the slots the sparse W was last formed from
   std::vector<int> equality_index_;     // an equality row's nonzeros (work space)
   std::vector<double> equality_value_;
   Vector sum_, work_;                   // Y r (the factor's order), and the backward pass's result

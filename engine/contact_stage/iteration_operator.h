@@ -13,6 +13,7 @@
 // contact response is another operator of A (generalized_alpha.h) supplies its own.
 #pragma once
 
+#include "contact/friction_contact_problem.h"
 #include "engine/contact_stage/problem_rows.h"
 
 #include <memory>
@@ -21,11 +22,20 @@ namespace csim {
 
 class StructuralOperators;
 
+// How the contact stage stores W (scene key contact_solver.storage): sparse by blocks where the operator
+// finds it pays (automatic), always dense, or sparse whenever the operator can form it so.
+enum class DelassusChoice { automatic, dense, sparse };
+
 class IterationOperator {
  public:
   virtual ~IterationOperator() = default;
   // W (m × m, symmetric) ← H A⁻¹ Hᵀ for these rows (A as factored now); keeps what add_response needs.
   virtual void delassus(const ProblemRows& rows, Matrix& W) = 0;
+  // The same W stored sparse by whole blocks (contact/friction_contact_problem.h), when this operator
+  // finds that it pays (many contacts between bodies that A does not couple) or, `forced`, whenever it
+  // can form it so; false otherwise, and the stage then asks delassus(). add_response answers for the
+  // rows of either.
+  virtual bool sparse_delassus(const ProblemRows&, SparseDelassus&, bool /*forced*/) { return false; }
   // v += A⁻¹ Hᵀ r, H the rows of the last delassus() (r: one impulse a row, N·s; v in m/s).
   virtual void add_response(const ProblemRows& rows, const Vector& r, Vector& v) = 0;
   // u = H v, H the rows of the last delassus() (an operator that holds H dense applies it so).

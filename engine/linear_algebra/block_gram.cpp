@@ -4,8 +4,9 @@
 
 namespace csim {
 
-void block_gram(const SparseLdlt& factor, const std::vector<const SparseLdlt::ForwardColumn*>& columns,
-                int dimension, int contacts, Eigen::SparseMatrix<double, Eigen::RowMajor>& W) {
+bool block_gram(const SparseLdlt& factor, const std::vector<const SparseLdlt::ForwardColumn*>& columns,
+                int dimension, int contacts, Eigen::SparseMatrix<double, Eigen::RowMajor>& W,
+                double max_density) {
   const int m = static_cast<int>(columns.size());
   const int contact_columns = dimension * contacts;
   const int blocks = contacts + (m - contact_columns);
@@ -14,6 +15,18 @@ void block_gram(const SparseLdlt& factor, const std::vector<const SparseLdlt::Fo
     return block < contacts ? dimension * block : contact_columns + (block - contacts);
   };
   auto width = [&](int block) { return block < contacts ? dimension : 1; };
+
+  // How many blocks reach each factor row (a block's columns are consecutive: last_block dedups them).
+  if (max_density < 1.0) {
+    const double limit = max_density * blocks;
+    std::vector<int> count(factor.size(), 0), last_block(factor.size(), -1);
+    for (int a = 0; a < m; ++a)
+      for (const int row : columns[a]->index)
+        if (last_block[row] != block_of(a)) {
+          last_block[row] = block_of(a);
+          if (++count[row] > limit) return false;
+        }
+  }
 
   // Each factor row reached, with the blocks reaching it (each block once per row).
   std::vector<std::pair<int, int>> reached;  // (factor row, block)
@@ -54,6 +67,7 @@ void block_gram(const SparseLdlt& factor, const std::vector<const SparseLdlt::Fo
           W.insertBack(a, b) = b < a ? W.coeff(b, a) : factor.delassus_entry(*columns[a], *columns[b]);
     }
   W.finalize();
+  return true;
 }
 
 }  // namespace csim

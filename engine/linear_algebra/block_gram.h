@@ -22,8 +22,12 @@
 namespace csim {
 
 // W (columns.size() square) from these forward columns of one factor's rows; dimension: 2 or 3;
-// contacts: how many leading blocks of `dimension` columns are contacts.
-void block_gram(const SparseLdlt& factor, const std::vector<const SparseLdlt::ForwardColumn*>& columns,
-                int dimension, int contacts, Eigen::SparseMatrix<double, Eigen::RowMajor>& W);
+// contacts: how many leading blocks of `dimension` columns are contacts. Returns false, W untouched,
+// when some factor row is reached by more than max_density × (number of blocks) blocks: W would then
+// be dense in at least that fraction of its block rows (the contacts of one elastic body), and the
+// dense storage is faster (the test costs O(Σ |y_a|) at most, and stops at the first such row).
+bool block_gram(const SparseLdlt& factor, const std::vector<const SparseLdlt::ForwardColumn*>& columns,
+                int dimension, int contacts, Eigen::SparseMatrix<double, Eigen::RowMajor>& W,
+                double max_density = 1.0);
 
 }  // namespace csim

@@ -29,6 +29,7 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
                   world_.prescribed.empty() && ties_.empty()),
       stage_(world, parameters.solver, make_iteration()),
       length_(world.length_scale()) {
+  stage_.set_delassus_choice(parameters_.delassus_storage);
   build_equalities(parameters_.step);
 }
 
@@ -74,7 +75,9 @@ void MoreauJean::summarize_settings(SummaryEntries& out) const {
 
 void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) const {
   if (state.counters.newton_iterations > 0) add_newton_group(state.counters, parameters_.newton_tolerance, out);
-  if (two_halves_) out.add("detections_retaken", state.counters.detections_retaken);
+  if (two_halves_)
+    out.add("detections_retaken", state.counters.detections_retaken).add("sparse_solves", state.counters.sparse_solves)
+        .add("dense_fallbacks", state.counters.dense_fallbacks);
 }
 
 void MoreauJean::initialize(State& state) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "contact/pgs_solver.h"
+#include "engine/contact_stage/iteration_operator.h"
 
 namespace csim {
 
@@ -16,6 +17,7 @@ struct MoreauJeanParameters : MoreauJeanOptions {
   double step = 1e-3;             // h, s
   PgsParameters solver;
   double failure_residual = 1e-6; // a solve left above this relative residual stops the run
+  DelassusChoice delassus_storage = DelassusChoice::automatic;  // contact_solver.storage
   double newton_tolerance = 1e-10;  // finite-strain bodies: on h |Δv|∞ / L
   int newton_max_iterations = 30;
   // A sparse linear World's solves in two halves around the contact solve (moreau_jean.h); false forms

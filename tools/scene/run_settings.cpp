@@ -21,6 +21,7 @@ MoreauJeanParameters moreau_jean_parameters(const RunSettings& run) {
   MoreauJeanParameters parameters;
   static_cast<MoreauJeanOptions&>(parameters) = run.moreau_jean;
   set_shared_settings(run, parameters);
+  parameters.delassus_storage = run.delassus_storage;
   return parameters;
 }
 

@@ -75,6 +75,7 @@ struct RunSettings {
   long steps = 0;               // end_time / step, exactly
   PgsParameters contact_solver;
   double failure_residual = 1e-6;  // contact_solver.failure_residual: a solve left above it stops the run
+  DelassusChoice delassus_storage = DelassusChoice::automatic;  // contact_solver.storage (iteration_operator.h)
   NewtonSettings newton;
   MoreauJeanOptions moreau_jean;   // integrator.theta, close_gaps
   GeneralizedAlphaOptions generalized_alpha;  // integrator.rho_infinity

@@ -118,12 +118,17 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
   }
 
   const SceneNode solver = root.section("contact_solver");
-  solver.allow_only({"tolerance", "max_iterations", "omega", "failure_residual"});
+  solver.allow_only({"tolerance", "max_iterations", "omega", "failure_residual", "storage"});
   run.contact_solver.tolerance = solver.number("tolerance", 1e-12);
   if (!(run.contact_solver.tolerance > 0.0)) solver.fail_at("tolerance", "must be > 0");
   run.contact_solver.max_iterations = static_cast<int>(solver.whole_number("max_iterations", 1000, 1));
   run.contact_solver.omega = solver.number("omega", 1.0);
   if (!(run.contact_solver.omega > 0.0 && run.contact_solver.omega < 2.0)) solver.fail_at("omega", "must lie in (0, 2)");
+  const std::string storage = solver.string("storage", "auto");
+  if (storage == "auto") run.delassus_storage = DelassusChoice::automatic;
+  else if (storage == "dense") run.delassus_storage = DelassusChoice::dense;
+  else if (storage == "sparse") run.delassus_storage = DelassusChoice::sparse;
+  else solver.fail_at("storage", "expected auto, dense or sparse");
   run.failure_residual = solver.number("failure_residual", 1e-6);
   if (!(run.failure_residual >= run.contact_solver.tolerance))
     solver.fail_at("failure_residual", "must be >= contact_solver.tolerance");

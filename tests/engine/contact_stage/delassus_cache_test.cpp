@@ -28,6 +28,7 @@ std::vector<int> expect_delassus(DelassusCache& cache, const SparseLdlt& factor,
   for (const Row& row : rows)
     slots.push_back(cache.slot(row.key, row.index.data(), row.value.data(), static_cast<int>(row.index.size())));
   cache.finish();
+  cache.compute_entries();
   const int m = static_cast<int>(rows.size()), n = static_cast<int>(A.rows());
   Matrix H = Matrix::Zero(m, n);
   for (int a = 0; a < m; ++a)
