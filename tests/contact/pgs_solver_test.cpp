@@ -419,7 +419,7 @@ TEST(PgsSolver, SmallSweepIncrementAloneIsNotConvergence) {
 }
 
 // Right after a sweep, the residual skips the contacts whose term it knows to be zero (those after
-// the last impulse that moved, pgs_solver.cpp's SweepResult): the residual reported must be the full
+// the last impulse that moved, dense_sweep.cpp's SweepResult): the residual reported must be the full
 // one to the bit, with coupled contacts, over-relaxed sweeps (where the last moved impulse is not its
 // local solution) and sweeps from nearly settled iterates alike.
 TEST(PgsSolver, ResidualAfterASweepIsTheFullResidualToTheBit) {
@@ -468,7 +468,7 @@ TEST(PgsSolver, ResidualAfterASweepIsTheFullResidualToTheBit) {
 }
 
 // A sweep's local problem at contact c sees b_c + Σ_{d≠c} W_cd r_d: the impulses of the contacts before
-// it from this sweep, those after it from the last (pgs_solver.cpp, frozen_free_velocity). With every
+// it from this sweep, those after it from the last (dense_sweep.cpp, frozen_free_velocity). With every
 // contact in stick (a wide cone, pressed), one sweep is block Gauss–Seidel written out here.
 TEST(PgsSolver, ASweepIsBlockGaussSeidelOnTheOtherContactsImpulses) {
   for (const int dimension : {2, 3}) {
