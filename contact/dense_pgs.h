@@ -1,5 +1,5 @@
 // The pieces of PgsSolver's dense path (pgs_solver.h states the method), one job a file:
-//   dense_sweep.cpp            a Gauss–Seidel sweep and the full residual on a dense W, read by rows;
+//   dense_sweep.h, .cpp        a Gauss–Seidel sweep and the full residual on a dense W, read by rows;
 //   active_set_polish.cpp      the active-set iteration on the statuses' linear systems;
 //   dense_polish.cpp           the polish: the active set, then Newton (alart_curnier.h), within a budget;
 //   equality_condensation.cpp  the bilateral rows condensed out before the sweeps;
@@ -34,7 +34,7 @@ struct SweepResult {
 };
 
 // One sweep over the contacts in row order (D the contact dimension); `rejected` counts the non-finite
-// local results filtered out. W_rows: rows_of(problem.W).
+// local results filtered out. W_rows: rows_of(problem.W). Defined in dense_sweep.h.
 template <int D>
 SweepResult sweep(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const PgsParameters& parameters,
                   Eigen::VectorXd& r, int& rejected);

@@ -1,6 +1,7 @@
 #include "contact/pgs_solver.h"
 
 #include "contact/dense_pgs.h"
+#include "contact/dense_sweep.h"
 #include "contact/pgs_local.h"
 #include "contact/sparse_pgs.h"
 
