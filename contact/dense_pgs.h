@@ -33,11 +33,7 @@ struct SweepResult {
   int settled_from = 0;
 };
 
-// One sweep over the contacts in row order (D the contact dimension); `rejected` counts the non-finite
-// local results filtered out. W_rows: rows_of(problem.W). Defined in dense_sweep.h.
-template <int D>
-SweepResult sweep(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const PgsParameters& parameters,
-                  Eigen::VectorXd& r, int& rejected);
+// sweep<D>: one Gauss–Seidel sweep, dense_sweep.h.
 
 // The full residual, relative (pgs_solver.h); the contacts from settled_from on may be known to
 // contribute zero (right after a sweep, SweepResult::settled_from). Flops: about one sweep's.

@@ -1,6 +1,7 @@
 // A Gauss–Seidel sweep of PgsSolver's dense path (pgs_solver.h, dense_pgs.h), in a header so that the
-// iteration (pgs_solver.cpp) inlines it: on a few contacts a sweep is a few hundred instructions, and a
-// call per sweep was 1 % of a lumped scene's step. Internal to contact/.
+// iteration (pgs_solver.cpp) inlines it: on a few contacts a sweep is a few hundred instructions, and
+// out of line it cost 1 % more instructions a step of a lumped scene (bench/step_instructions.sh).
+// Internal to contact/.
 #pragma once
 
 #include "contact/dense_pgs.h"
@@ -60,9 +61,11 @@ Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const Eige
   return b_c;
 }
 
+// One sweep over the contacts in row order (D the contact dimension); `rejected` counts the non-finite
+// local results filtered out. W_rows: rows_of(problem.W).
 template <int D>
-SweepResult sweep(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const PgsParameters& parameters,
-                  Eigen::VectorXd& r, int& rejected) {
+[[gnu::always_inline]] inline SweepResult sweep(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows,
+                                                const PgsParameters& parameters, Eigen::VectorXd& r, int& rejected) {
   SweepResult result;
   for (int c = 0; c < problem.contacts; ++c) {
     const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
