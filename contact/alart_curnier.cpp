@@ -1,5 +1,7 @@
 #include "contact/alart_curnier.h"
 
+#include "contact/sparse_alart_curnier.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -74,38 +76,73 @@ void evaluate(const FrictionContactProblem& problem, const Eigen::VectorXd& rho,
   }
 }
 
-// The Newton step J s = −F. A sticking contact whose W has an empty tangent row and column (the
-// direction of a node held by a support, as a 3D ring's axial direction under plane strain) leaves J
-// with the same row and column empty: that component of F (ρ b, which no impulse changes) is out of
-// Newton's reach, and no other component depends on that impulse. Its step is 0, what full pivoting
-// would choose, and the other rows are solved by partial pivoting, several times faster than full
-// pivoting at a hundred rows; full pivoting stays for any other rank deficiency.
-Eigen::VectorXd newton_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& F) {
+// The flops of the polish, counted into a budget when there is one (none: nothing counted or refused).
+class Spending {
+ public:
+  explicit Spending(PolishBudget* budget) : budget_(budget) {}
+  // False, the budget marked exhausted, if `flops` more would exceed it.
+  bool allows(double flops) {
+    if (budget_ == nullptr || budget_->spent + flops <= budget_->available) return true;
+    budget_->exhausted = true;
+    return false;
+  }
+  void spend(double flops) {
+    if (budget_ != nullptr) budget_->spent += flops;
+  }
+  void factorized(bool regularized) {
+    if (budget_ == nullptr) return;
+    ++budget_->factorizations;
+    if (regularized) ++budget_->regularized_steps;
+  }
+
+ private:
+  PolishBudget* budget_;
+};
+
+// Flops of a dense LU of size k with its solve and the check of its residual.
+double lu_flops(double k) { return 2.0 / 3.0 * k * k * k + 6.0 * k * k; }
+
+enum class StepOutcome { solved, unsolved, refused };
+
+// The Newton step (J + δ I) s = −F into `step`. A sticking contact whose W has an empty tangent row and
+// column (the direction of a node held by a support, as a 3D ring's axial direction under plane strain)
+// leaves J with the same row and column empty: that component of F (ρ b, which no impulse changes) is
+// out of Newton's reach, and no other component depends on that impulse. Its step is 0, and the other
+// rows are solved by partial pivoting. `unsolved`: the plain step (δ = 0) does not solve its system to
+// 1e-8 (J singular on a hyperstatic contact set); `refused`: the budget has no room for the
+// factorization, the solve and `reserve` flops after it.
+StepOutcome newton_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& F, double delta, double reserve,
+                        Spending& spending, Eigen::VectorXd& step) {
   const Eigen::Index m = J.rows();
   std::vector<Eigen::Index> kept;
   kept.reserve(static_cast<std::size_t>(m));
   for (Eigen::Index i = 0; i < m; ++i)
     if (!(J.row(i).isZero(0.0) && J.col(i).isZero(0.0))) kept.push_back(i);
   const auto k = static_cast<Eigen::Index>(kept.size());
+  step.setZero(m);
+  if (k == 0) return StepOutcome::solved;
+  const double flops = lu_flops(static_cast<double>(k));
+  if (!spending.allows(flops + reserve)) return StepOutcome::refused;
   Eigen::MatrixXd reduced(k, k);
   Eigen::VectorXd rhs(k);
   for (Eigen::Index j = 0; j < k; ++j) {
     rhs(j) = -F(kept[j]);
     for (Eigen::Index i = 0; i < k; ++i) reduced(i, j) = J(kept[i], kept[j]);
   }
-  Eigen::VectorXd step = Eigen::VectorXd::Zero(m);
-  if (k == 0) return step;
+  reduced.diagonal().array() += delta;
   const Eigen::VectorXd part = reduced.partialPivLu().solve(rhs);
-  if (!part.allFinite() || (reduced * part - rhs).norm() > 1e-8 * rhs.norm())
-    return J.fullPivLu().solve(-F);
+  spending.spend(flops);
+  spending.factorized(delta > 0.0);
+  if (!part.allFinite()) return StepOutcome::unsolved;
   for (Eigen::Index j = 0; j < k; ++j) step(kept[j]) = part(j);
-  return step;
+  if (delta > 0.0) return StepOutcome::solved;  // an approximation of Newton's by construction
+  return (reduced * part - rhs).norm() <= 1e-8 * rhs.norm() ? StepOutcome::solved : StepOutcome::unsolved;
 }
 
 }  // namespace
 
 bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd& r, int max_iterations,
-                          double tolerance, NewtonStatistics* statistics, double rho_scale) {
+                          double tolerance, NewtonStatistics* statistics, double rho_scale, PolishBudget* budget) {
   for (int c = 0; c < problem.contacts; ++c)
     if (problem.dimension == 3 && problem.mu[c](0) != problem.mu[c](1)) return false;
   const int d = problem.dimension;
@@ -123,22 +160,40 @@ bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd
   for (int c = 0; c < problem.contacts; ++c) rho_b.segment(static_cast<Eigen::Index>(d) * c, d) *= rho(c);
   for (int e = 0; e < problem.equalities; ++e) rho_b(static_cast<Eigen::Index>(d) * problem.contacts + e) *= rho(problem.contacts + e);
 
+  // F alone costs a product by W; F with J about twice that (J's rows are W's, scaled).
+  const double size = static_cast<double>(m), merit_flops = 2.0 * size * size, jacobian_flops = 2.0 * merit_flops;
+  Spending spending(budget);
+  if (statistics) *statistics = NewtonStatistics{};
+  if (!spending.allows(jacobian_flops)) return true;
   Eigen::VectorXd F, F_trial, step, trial;
   Eigen::MatrixXd J;
   evaluate(problem, rho, r, F, &J);
+  spending.spend(jacobian_flops);
   double merit = F.squaredNorm();
+  bool regularize = false;  // the plain step failed once: J is singular at these statuses, take the proximal one
   int iteration = 0;
+  // Room kept after a factorization: the line search's first trial, the next Jacobian, a caller's check.
+  const double reserve = 2.0 * merit_flops + jacobian_flops;
   for (; iteration < max_iterations; ++iteration) {
     const double scale = std::max(rho_b.norm(), r.norm());
     if (std::sqrt(merit) <= tolerance * scale) break;
-    step = newton_step(J, F);
+    StepOutcome outcome = StepOutcome::unsolved;
+    if (!regularize) outcome = newton_step(J, F, 0.0, reserve, spending, step);
+    if (outcome == StepOutcome::refused) break;
+    if (outcome == StepOutcome::unsolved) {
+      regularize = true;
+      const double delta = std::min(1e-2, std::max(1e-12, std::sqrt(merit) / std::max(scale, 1e-300)));
+      outcome = newton_step(J, F, delta, reserve, spending, step);
+      if (outcome != StepOutcome::solved) break;
+    }
     if (!step.allFinite()) break;
     // Backtracking (Armijo on ½‖F‖², with the Newton direction's model decrease ‖F‖²).
     double alpha = 1.0;
     bool accepted = false;
-    for (int halving = 0; halving < 30; ++halving, alpha *= 0.5) {
+    for (int halving = 0; halving < 30 && spending.allows(merit_flops + jacobian_flops); ++halving, alpha *= 0.5) {
       trial = r + alpha * step;
       evaluate(problem, rho, trial, F_trial, nullptr);
+      spending.spend(merit_flops);
       const double trial_merit = F_trial.squaredNorm();
       if (trial_merit <= (1.0 - 1e-4 * alpha) * merit) {
         r = trial;
@@ -149,6 +204,7 @@ bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd
     }
     if (!accepted) break;
     evaluate(problem, rho, r, F, &J);
+    spending.spend(jacobian_flops);
   }
   if (statistics) {
     statistics->iterations = iteration;

@@ -12,7 +12,13 @@
 // Where Gauss–Seidel converges linearly at a rate set by the Delassus's condition number (a rigid body
 // on two or four points of a stiff elastic one: eigenvalues 1e-5 of the others), Newton converges in
 // a few iterations once the contact statuses settle; its cost is one dense LU of the problem's size
-// per iteration, fine for the problems met here (up to a few hundred rows).
+// per iteration, bounded by a budget in flops when one is given (PolishBudget, sparse_alart_curnier.h:
+// before each factorization and each line-search trial, the method stops if the work would exceed it).
+//
+// On a hyperstatic contact set (a body on more points than it has freedoms) J is singular. When the
+// partial-pivot LU's step does not solve J s = −F to 1e-8, the proximal step (J + δ I) s = −F is taken
+// instead, δ = min(1e-2, max(1e-12, ‖F‖ / scale)) (J dimensionless: ρ scales W_cc's diagonal to one),
+// as in sparse_alart_curnier.h: no full pivoting, one more partial-pivot LU.
 //
 // The scaling matters: with rho_scale = 1, Newton stalled (line search steps of 1e-3) on a box on four
 // vertices of a stiff block, whose Delassus has a soft mode across contacts 1e4 below its diagonal;
@@ -29,15 +35,19 @@
 
 namespace csim {
 
+struct PolishBudget;  // sparse_alart_curnier.h
+
 struct NewtonStatistics {
   int iterations = 0;
   double merit = 0.0;  // ‖F(r)‖ at exit, in units of impulse (N·s)
 };
 
 // Improves r in place by at most max_iterations Newton steps, stopping when ‖F‖ ≤ tolerance·scale,
-// scale = max(‖ρ b‖, ‖r‖), or when the line search finds no decrease; ‖F‖ never increases. Returns
-// false, r untouched, for orthotropic friction or an r of the wrong size.
+// scale = max(‖ρ b‖, ‖r‖), when the line search finds no decrease, or when `budget` (if given) is
+// spent; ‖F‖ never increases. Returns false, r untouched, for orthotropic friction or an r of the
+// wrong size.
 bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd& r, int max_iterations,
-                          double tolerance, NewtonStatistics* statistics = nullptr, double rho_scale = 1.0);
+                          double tolerance, NewtonStatistics* statistics = nullptr, double rho_scale = 1.0,
+                          PolishBudget* budget = nullptr);
 
 }  // namespace csim

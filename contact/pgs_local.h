@@ -1,5 +1,6 @@
-// The per-contact pieces of projected Gauss–Seidel shared by its dense and sparse paths (pgs_solver.cpp,
-// sparse_pgs.cpp): the local solve, the cone and the status of an impulse. Internal to contact/.
+// The per-contact pieces of projected Gauss–Seidel shared by its dense and sparse paths (dense_sweep.cpp,
+// sparse_pgs.cpp): the local solve, the cone, the status of an impulse and one contact's Gauss–Seidel
+// update. Internal to contact/.
 #pragma once
 
 #include "contact/coulomb_local.h"
@@ -59,6 +60,35 @@ void keep_in_cone(Vector<D>& r, const Eigen::Vector2d& mu) {
     if (!(mu(k - 1) > 0)) r(k) = 0.0;
   const double ratio = cone_ratio<D>(r, mu);
   if (ratio > 1.0) r.template tail<D - 1>() *= r(0) > 0 ? 1.0 / ratio : 0.0;
+}
+
+// One contact's Gauss–Seidel update within a sweep: its local problem (W_cc, the frozen free velocity
+// `frozen` = b_c + Σ_{d≠c} W_cd r_d) solved exactly, the impulse r_c (D entries from r_c's start)
+// relaxed by omega, and the sweep's sums of a `Result` (fields increment_squared, Wr_squared,
+// settled_from, as the sweeps' SweepResult) updated; `b_c` is the contact's own free term, from which
+// (W r)_c = (frozen − b_c) + W_cc r_c. A non-finite local result is rejected (counted, r_c kept).
+template <int D, class Result>
+void update_contact(int c, const Matrix<D>& W_cc, const Vector<D>& frozen, const Vector<D>& b_c,
+                    const Eigen::Vector2d& mu, double omega, double* r_c, Result& result, int& rejected) {
+  Eigen::Map<Vector<D>> r_contact(r_c);
+  Vector<D> r_local;
+  solve_local<D>(W_cc, frozen, mu, r_local);
+  const Vector<D> r_old = r_contact;
+  if (!r_local.allFinite()) {
+    ++rejected;
+    result.settled_from = c + 1;
+    result.Wr_squared += (frozen - b_c + W_cc * r_old).squaredNorm();
+    return;
+  }
+  Vector<D> r_new = r_local;
+  if (omega != 1.0) {
+    r_new = r_old + omega * (r_local - r_old);
+    if (omega > 1.0) keep_in_cone<D>(r_new, mu);
+  }
+  if (r_new != r_old || r_local != r_new) result.settled_from = r_local == r_new ? c : c + 1;
+  result.increment_squared += W_cc.diagonal().cwiseProduct(r_new - r_old).squaredNorm();
+  result.Wr_squared += (frozen - b_c + W_cc * r_new).squaredNorm();
+  r_contact = r_new;
 }
 
 // Denominator of the relative residuals: the velocity scale of the problem.

@@ -13,7 +13,7 @@
 // block instead contracts by W_ce W_ee⁻¹ W_ec / W_cc a sweep, about 1 − 1e-5 for a light ring tied to a
 // hub (W_cc 1e7, condensed 270: the 3D Moreau–Jean ring on 68 × 10 ended at 2.7e-5 after 20000 sweeps,
 // and converges in 67 condensed). Condensed entries at round-off of the full ones are set to zero
-// (pgs_solver.cpp, condense). Convergence is decided on the full problem's residual, whose floor is
+// (equality_condensation.cpp). Convergence is decided on the full problem's residual, whose floor is
 // about 1e-16 · W_cc / (condensed W): the ties' cancellation.
 //
 // Convergence (Siconos-style: cheap test first, full residual to confirm):
@@ -29,11 +29,16 @@
 // came after the last sweep: never two polishes without a sweep between), the iterate is
 // finished by direct methods, each result kept only when its full residual is smaller:
 //   1. an active-set iteration: the statuses of the iterate (open, stick, slip with its current
-//      direction) turn the law into a square linear system solved directly (full-pivot LU, one step of
-//      refinement), the statuses are corrected from the solution and the solve repeated (8 passes at
-//      most); then the same from "every closed contact in stick";
+//      direction) turn the law into a square linear system solved directly (partial-pivot LU with a
+//      step of refinement; where the system is singular, as a hyperstatic contact set's stick rows
+//      are, the proximal point iteration on it), the statuses are corrected from the solution and the
+//      solve repeated (8 passes at most); then the same from "every closed contact in stick";
 //   2. a semismooth Newton method on the Alart–Curnier equations (alart_curnier.h), which also finds
-//      slip directions in 3D, with two scalings of its augmentation parameter.
+//      slip directions in 3D, with two scalings of its augmentation parameter (on a singular
+//      Jacobian, the proximal step (J + δ I) s = −F).
+// No full pivoting anywhere. The polish's work is bounded (PgsParameters::polish_budget): each of its
+// factorizations is refused when it would exceed the budget, and the polish then stops there.
+// The pieces of the dense path are listed in dense_pgs.h.
 // It rescues problems whose Delassus mixes very different scales, on which Gauss–Seidel stalls: a body
 // held by weak springs (SSNV503: 20000 sweeps and 1e-8 before, 20 sweeps and 1e-9 now), a rigid body
 // on two or four points of a stiff elastic one (box-on-block: no convergence in 2000 sweeps before).
@@ -75,9 +80,9 @@ struct PgsParameters {
   double tolerance = 1e-12;   // relative residual (see above), dimensionless
   double omega = 1.0;         // relaxation, (0, 2)
   bool polish = true;         // the direct polish (above)
-  // Sparse path (sparse_pgs.h): the polish's work is at most polish_budget times the sweeps' work so far
-  // plus polish_allowance (all in flops, PgsStatistics::polish_work and sweep_work): the allowance, about
-  // a millisecond, lets a small problem's few sweeps be finished. The dense path's polish is not bounded.
+  // Both paths: the polish's work is at most polish_budget times the sweeps' work so far plus
+  // polish_allowance (all in flops, PgsStatistics::polish_work and sweep_work): the allowance, about
+  // a millisecond, lets a small problem's few sweeps be finished.
   double polish_budget = 10.0;
   double polish_allowance = 1e6;
 };
@@ -90,12 +95,12 @@ struct PgsStatistics {
   bool polished = false;      // the polish improved the iterate
   int polishes = 0;           // polishes run (each: the active-set iteration and Newton, see above)
   double sweep_work = 0.0;    // flops of the sweeps' products by W (2 per stored entry and sweep)
-  double polish_work = 0.0;   // sparse path: flops of the polish (factorizations, solves, products)
-  int polish_factorizations = 0;  // sparse path: sparse LU factorizations of the polish
-  bool polish_cut = false;    // sparse path: a polish stopped at its budget
+  double polish_work = 0.0;   // flops of the polish (factorizations, solves, products)
+  int polish_factorizations = 0;  // LU factorizations of the polish (sparse path: sparse ones)
+  bool polish_cut = false;    // a polish stopped at its budget
 };
 
-// The work arrays of a solve with equality rows (their condensation, pgs_solver.cpp): a solver keeps
+// The work arrays of a solve with equality rows (their condensation, equality_condensation.cpp): a solver keeps
 // them, so that a stepper's solves allocate nothing once they have the problem's size.
 struct PgsCondensation {
   FrictionContactProblem contacts;  // the contact rows only, the equalities condensed out

@@ -14,9 +14,9 @@ namespace {
 
 using pgs_local::Matrix;
 using pgs_local::Vector;
-using pgs_local::keep_in_cone;
 using pgs_local::solve_local;
 using pgs_local::status_of;
+using pgs_local::update_contact;
 using pgs_local::velocity_scale;
 
 // Sweeps between two polishes, and the sweep of the first one (as the dense path, pgs_solver.cpp).
@@ -126,27 +126,8 @@ SweepResult sweep(const FrictionContactProblem& problem, const BlockRows<D>& W, 
   SweepResult result;
   for (int c = 0; c < problem.contacts; ++c) {
     const int first = D * c;
-    const Vector<D> b_c = frozen_free_velocity<D>(problem, W, r, c);
-    const Matrix<D>& W_cc = W.diagonal[c];
-    const Eigen::Vector2d& mu = problem.mu[c];
-    Vector<D> r_local;
-    solve_local<D>(W_cc, b_c, mu, r_local);
-    const Vector<D> r_old = r.template segment<D>(first);
-    if (!r_local.allFinite()) {
-      ++rejected;
-      result.settled_from = c + 1;
-      result.Wr_squared += product_squared<D>(problem, c, b_c, W_cc, r_old);
-      continue;
-    }
-    Vector<D> r_new = r_local;
-    if (parameters.omega != 1.0) {
-      r_new = r_old + parameters.omega * (r_local - r_old);
-      if (parameters.omega > 1.0) keep_in_cone<D>(r_new, mu);
-    }
-    if (r_new != r_old || r_local != r_new) result.settled_from = r_local == r_new ? c : c + 1;
-    result.increment_squared += W_cc.diagonal().cwiseProduct(r_new - r_old).squaredNorm();
-    result.Wr_squared += product_squared<D>(problem, c, b_c, W_cc, r_new);
-    r.template segment<D>(first) = r_new;
+    update_contact<D>(c, W.diagonal[c], frozen_free_velocity<D>(problem, W, r, c), problem.b.template segment<D>(first),
+                      problem.mu[c], parameters.omega, r.data() + first, result, rejected);
   }
   return result;
 }

@@ -419,7 +419,7 @@ TEST(PgsSolver, SmallSweepIncrementAloneIsNotConvergence) {
 }
 
 // Right after a sweep, the residual skips the contacts whose term it knows to be zero (those after
-// the last impulse that moved, pgs_solver.cpp's SweepResult): the residual reported must be the full
+// the last impulse that moved, dense_sweep.cpp's SweepResult): the residual reported must be the full
 // one to the bit, with coupled contacts, over-relaxed sweeps (where the last moved impulse is not its
 // local solution) and sweeps from nearly settled iterates alike.
 TEST(PgsSolver, ResidualAfterASweepIsTheFullResidualToTheBit) {
@@ -468,7 +468,7 @@ TEST(PgsSolver, ResidualAfterASweepIsTheFullResidualToTheBit) {
 }
 
 // A sweep's local problem at contact c sees b_c + Σ_{d≠c} W_cd r_d: the impulses of the contacts before
-// it from this sweep, those after it from the last (pgs_solver.cpp, frozen_free_velocity). With every
+// it from this sweep, those after it from the last (dense_sweep.cpp, frozen_free_velocity). With every
 // contact in stick (a wide cone, pressed), one sweep is block Gauss–Seidel written out here.
 TEST(PgsSolver, ASweepIsBlockGaussSeidelOnTheOtherContactsImpulses) {
   for (const int dimension : {2, 3}) {
@@ -828,6 +828,62 @@ TEST(PgsSolver, SolvesAnUnsymmetricProblemWithAnEqualityRow) {
   Eigen::VectorXd r_transposed;
   ASSERT_TRUE(PgsSolver().solve(transposed, r_transposed).converged);
   EXPECT_GT(PgsSolver::residual(problem, r_transposed), 1e-2);
+}
+
+// A 2D rigid box on three points of its bottom face (x = −a, 0, a): 6 rows for 3 freedoms, W of rank 3,
+// a hyperstatic contact set whose impulses are not unique but whose resultant is. Pushed below the
+// threshold it sticks: Σ r_n = m g h and Σ r_t = −F h. From one sweep the polish must finish it: its
+// status systems are singular (no full pivoting: the proximal iteration), and so is Newton's Jacobian.
+TEST(PgsSolver, PolishSolvesAHyperstaticBoxWithoutFullPivoting) {
+  const double m = 2.0, a = 1.0, b = 0.5, I = m * (4 * a * a + 4 * b * b) / 12.0, mu = 0.3;
+  Eigen::Matrix<double, 6, 3> H;
+  H << 0, 1, -a, 1, 0, b,  // x = −a
+      0, 1, 0, 1, 0, b,    // x = 0
+      0, 1, a, 1, 0, b;    // x = a
+  const Eigen::Matrix3d M_inverse = Eigen::Vector3d(1 / m, 1 / m, 1 / I).asDiagonal();
+  for (const double push : {0.5 * mu * m * kGravity, 2.0 * mu * m * kGravity}) {
+    FrictionContactProblem problem;
+    problem.dimension = 2;
+    problem.contacts = 3;
+    problem.W = H * M_inverse * H.transpose();
+    problem.b = H * Eigen::Vector3d(kStep * push / m, -kGravity * kStep, 0.0);
+    problem.mu.assign(3, Eigen::Vector2d(mu, mu));
+    PgsParameters parameters;
+    parameters.max_iterations = 1;
+    parameters.tolerance = 1e-12;
+    Eigen::VectorXd r;
+    const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+    ASSERT_TRUE(statistics.converged) << "push " << push << ": " << statistics.residual;
+    EXPECT_TRUE(statistics.polished);
+    EXPECT_GT(statistics.polish_factorizations, 0);
+    const double weight = m * kGravity * kStep;
+    EXPECT_NEAR(r(0) + r(2) + r(4), weight, 1e-10 * weight);
+    EXPECT_NEAR(r(1) + r(3) + r(5), push < mu * m * kGravity ? -push * kStep : -mu * weight, 1e-10 * weight);
+  }
+}
+
+// The box on four vertices of a stiff block needs the polish (Gauss–Seidel alone stays near 1e-6): its
+// work stays within polish_budget times the sweeps' (no allowance here), and with none it does nothing.
+TEST(PgsSolver, ThePolishStaysWithinItsBudget) {
+  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/box_on_four_vertices_3d.txt");
+  ASSERT_TRUE(file.good());
+  const FrictionContactProblem problem = read_problem(file);
+  for (const double budget : {0.0, 1.0, 10.0}) {
+    PgsParameters parameters;
+    parameters.tolerance = 1e-12;
+    parameters.polish_budget = budget;
+    parameters.polish_allowance = 0.0;
+    Eigen::VectorXd r;
+    const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+    EXPECT_LE(statistics.polish_work, budget * statistics.sweep_work) << budget;
+    EXPECT_GT(statistics.sweep_work, 0.0);
+    if (budget == 0.0) {
+      EXPECT_EQ(statistics.polish_factorizations, 0);
+      EXPECT_TRUE(statistics.polish_cut);
+      EXPECT_FALSE(statistics.converged);
+    }
+    if (budget == 10.0) EXPECT_TRUE(statistics.converged) << statistics.residual;
+  }
 }
 
 // Two frictionless contacts squeezing one freedom from both sides while both walls approach:

@@ -1,0 +1,65 @@
+// The pieces of PgsSolver's dense path (pgs_solver.h states the method), one job a file:
+//   dense_sweep.h, .cpp        a Gauss–Seidel sweep and the full residual on a dense W, read by rows;
+//   active_set_polish.cpp      the active-set iteration on the statuses' linear systems;
+//   dense_polish.cpp           the polish: the active set, then Newton (alart_curnier.h), within a budget;
+//   equality_condensation.cpp  the bilateral rows condensed out before the sweeps;
+//   pgs_solver.cpp             the iteration: sweeps, convergence tests and when to polish.
+// Internal to contact/.
+#pragma once
+
+#include "contact/pgs_solver.h"
+#include "contact/sparse_alart_curnier.h"
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace csim::dense_pgs {
+
+// True if W equals its transpose to the bit.
+bool is_symmetric(const Eigen::MatrixXd& W);
+
+// A matrix whose column i is W's row i: W itself when it is symmetric to the bit, else Wᵀ, written
+// into `transpose` (a solver's work array, its storage reused from solve to solve).
+const Eigen::MatrixXd& rows_of(const Eigen::MatrixXd& W, Eigen::MatrixXd& transpose);
+
+struct SweepResult {
+  double increment_squared = 0.0;  // Σ (W_ii Δr_i)², (m/s)²
+  double Wr_squared = 0.0;         // ≈ ‖W r‖², from the velocities seen during the sweep, (m/s)²
+  // The contacts from this one on have a zero term in the full residual at the sweep's result, known
+  // without solving them again: after the last contact whose impulse moved, no impulse changed, so
+  // each later contact (and that one, if its impulse is its local solution, omega = 1) sees at the end
+  // the frozen velocity it was solved with, and its local solution is its impulse bit for bit. 0 when
+  // every local solve returned the impulse it started from; a rejected contact is never settled.
+  int settled_from = 0;
+};
+
+// sweep<D>: one Gauss–Seidel sweep, dense_sweep.h.
+
+// The full residual, relative (pgs_solver.h); the contacts from settled_from on may be known to
+// contribute zero (right after a sweep, SweepResult::settled_from). Flops: about one sweep's.
+double relative_residual(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r,
+                         int settled_from);
+double relative_residual(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r);
+
+// The active-set iteration from the statuses of r (closed_stick: every closed contact in stick), within
+// `budget`; r and residual replaced by a result whose full residual is smaller. True if replaced.
+template <int D>
+bool active_set_polish(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, Eigen::VectorXd& r,
+                       double& residual, bool closed_stick, PolishBudget& budget);
+
+// The polish of the iterate r (the active set, then Newton), within `budget`; r and residual replaced by
+// a result whose full residual is smaller. True if replaced.
+template <int D>
+bool polish(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, Eigen::VectorXd& r, double& residual,
+            double tolerance, PolishBudget& budget);
+
+// PgsSolver's dense path on a problem without equality rows (transpose: the solver's work array).
+PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const PgsParameters& parameters,
+                                 Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose);
+
+// PgsSolver's dense path on a problem with equality rows, condensed out into `condensed`.
+PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const PgsParameters& parameters,
+                                    Eigen::VectorXd& r, std::vector<ContactStatus>* status, PgsCondensation& condensed,
+                                    Eigen::MatrixXd& transpose);
+
+}  // namespace csim::dense_pgs

@@ -1,0 +1,106 @@
+// A Gauss–Seidel sweep and the full residual of PgsSolver's dense path (pgs_solver.h, dense_pgs.h).
+#include "contact/dense_sweep.h"
+
+#include <cmath>
+#include <limits>
+
+// Implementation notes.
+// - The coupling of contact c with the others is W's rows c (u = W r + b), read as the contiguous
+//   columns of a matrix `W_rows` whose column i is W's row i (Eigen stores by column): W itself when W
+//   is symmetric to the bit (every Delassus the steppers form), else Wᵀ, copied once per solve
+//   (rows_of). A row read down a column-major W strides by its size, several times slower.
+// - Per-contact work is templated on the contact dimension and uses fixed-size Eigen objects: a solve
+//   without equality rows does not allocate at all; with equalities the condensed problem's arrays are
+//   the solver's (PgsCondensation), reused from solve to solve.
+
+namespace csim::dense_pgs {
+namespace {
+
+using pgs_local::Matrix;
+using pgs_local::Vector;
+using pgs_local::solve_local;
+using pgs_local::velocity_scale;
+
+// ‖(W r)_c‖², (m/s)², of the contact whose rows start at `first`, from its frozen velocity (above) and
+// its impulse r_c: (frozen − b_c) + W_cc r_c.
+template <int D>
+double product_squared(const FrictionContactProblem& problem, Eigen::Index first, const Vector<D>& frozen,
+                       const Matrix<D>& W_cc, const Vector<D>& r_c) {
+  return (frozen - problem.b.template segment<D>(first) + W_cc * r_c).squaredNorm();
+}
+
+// The sums a relative residual is made of, (m/s)².
+struct ResidualSums {
+  double law = 0.0;      // the law's terms: Σ_c ‖W_cc (r_c − local_c(r))‖² + ‖u_e‖²
+  double product = 0.0;  // ‖W r‖², the scale's
+};
+
+// The equality rows' terms: u_e = (W r)_e + b_e, (W r)_j = W_rows.col(j)·r.
+void add_equality_sums(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r,
+                       ResidualSums& sums) {
+  const Eigen::Index first = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
+  for (Eigen::Index j = first; j < problem.size(); ++j) {
+    const double Wr_j = W_rows.col(j).dot(r);
+    const double u_j = Wr_j + problem.b(j);
+    sums.law += u_j * u_j;
+    sums.product += Wr_j * Wr_j;
+  }
+}
+
+// The contacts' terms; the law's is infinite if a local solution is not finite. The law's terms of the
+// contacts from `settled_from` on are known to be zero (SweepResult) and not computed: adding them
+// would add +0 to the sum, which leaves it the same to the bit. (W r)_c comes from the frozen velocity
+// (product_squared), formed for every contact so that a skipped term leaves the scale the same to the
+// bit too: the subtraction's round-off, a fraction 1e-16 of ‖b‖, is below what a scale of
+// max(‖b‖, ‖W r‖) can see.
+template <int D>
+void add_contact_sums(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r,
+                      int settled_from, ResidualSums& sums) {
+  for (int c = 0; c < problem.contacts; ++c) {
+    const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
+    const Vector<D> b_c = frozen_free_velocity<D>(problem, W_rows, r, first);
+    const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
+    const Vector<D> r_c = r.template segment<D>(first);
+    sums.product += product_squared<D>(problem, first, b_c, W_cc, r_c);
+    if (c >= settled_from) continue;
+    Vector<D> r_local;
+    solve_local<D>(W_cc, b_c, problem.mu[c], r_local);
+    if (!r_local.allFinite()) {
+      sums.law = std::numeric_limits<double>::infinity();
+      return;
+    }
+    sums.law += (W_cc * (r_c - r_local)).squaredNorm();
+  }
+}
+
+}  // namespace
+
+bool is_symmetric(const Eigen::MatrixXd& W) {
+  const Eigen::Index m = W.rows();
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (Eigen::Index i = j + 1; i < m; ++i)
+      if (W(i, j) != W(j, i)) return false;
+  return true;
+}
+
+const Eigen::MatrixXd& rows_of(const Eigen::MatrixXd& W, Eigen::MatrixXd& transpose) {
+  if (is_symmetric(W)) return W;
+  transpose.noalias() = W.transpose();
+  return transpose;
+}
+
+double relative_residual(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r,
+                         int settled_from) {
+  ResidualSums sums;
+  add_equality_sums(problem, W_rows, r, sums);
+  if (problem.dimension == 2) add_contact_sums<2>(problem, W_rows, r, settled_from, sums);
+  else add_contact_sums<3>(problem, W_rows, r, settled_from, sums);
+  const double residual = std::sqrt(sums.law) / velocity_scale(problem.b.norm(), std::sqrt(sums.product));
+  return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
+}
+
+double relative_residual(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r) {
+  return relative_residual(problem, W_rows, r, problem.contacts);
+}
+
+}  // namespace csim::dense_pgs
