@@ -1,7 +1,8 @@
 // The solver's polish on frictional contact problems read from files (Siconos' text format or csim's):
 // each problem solved from r = 0 with PgsSolver's defaults but the tolerance, W stored dense (the dense
 // path: active set and Newton on dense LUs) and W stored by blocks (the sparse path: Newton on a sparse
-// LU), so that the two polishes compare on the same problem. Per solve: sweeps, polishes, the polish's
+// LU), so that the two polishes compare on the same problem; and W stored dense with the defaults, which
+// route a large, mostly zero W to the sparse path (row "routed", "kept" when not routed). Per solve: sweeps, polishes, the polish's
 // flops against the sweeps', its factorizations, whether it was cut at its budget, the relative residual
 // (pgs_solver.h) and the time, median of `--repeats` solves alternating between the two storages [min-max].
 //

@@ -3,6 +3,8 @@
 //
 // Two paths, by the problem's storage: dense W (what follows) and sparse W (sparse_pgs.h: sweeps in
 // O(stored entries), a sparse Newton polish whose work is bounded by the sweeps', equalities refused).
+// A dense-stored W that is large and mostly zero blocks is routed to the sparse path on a block-sparse
+// copy (PgsParameters::route_sparse).
 //
 // One sweep visits contacts in row order, solving each contact's local problem with the others'
 // impulses frozen (relaxed by omega).
