@@ -1,7 +1,8 @@
 // The solver's polish on frictional contact problems read from files (Siconos' text format or csim's):
 // each problem solved from r = 0 with PgsSolver's defaults but the tolerance, W stored dense (the dense
 // path: active set and Newton on dense LUs) and W stored by blocks (the sparse path: Newton on a sparse
-// LU), so that the two polishes compare on the same problem. Per solve: sweeps, polishes, the polish's
+// LU), so that the two polishes compare on the same problem; and W stored dense with the defaults, which
+// route a large, mostly zero W to the sparse path (row "routed", "kept" when not routed). Per solve: sweeps, polishes, the polish's
 // flops against the sweeps', its factorizations, whether it was cut at its budget, the relative residual
 // (pgs_solver.h) and the time, median of `--repeats` solves alternating between the two storages [min-max].
 //
@@ -90,12 +91,18 @@ int main(int argc, char** argv) {
     const bool dense = problem.size() <= 4096;
     const csim::FrictionContactProblem as_dense = dense ? stored(problem, csim::DelassusStorage::dense) : problem;
     const csim::FrictionContactProblem as_sparse = stored(problem, csim::DelassusStorage::sparse);
-    Run dense_run, sparse_run;
+    // dense: the dense path (route_sparse off); routed: W stored dense with the defaults, which route a
+    // large, mostly zero W to the sparse path (pgs_solver.h); sparse: W stored by blocks.
+    csim::PgsParameters dense_path = parameters;
+    dense_path.route_sparse = false;
+    Run dense_run, routed_run, sparse_run;
     for (int k = 0; k < repeats; ++k) {  // alternating, so that the machine's drift is shared
-      if (dense) solve(as_dense, parameters, dense_run);
+      if (dense) solve(as_dense, dense_path, dense_run);
+      if (dense) solve(as_dense, parameters, routed_run);
       solve(as_sparse, parameters, sparse_run);
     }
     if (dense) print(name.c_str(), "dense", problem.contacts, dense_run);
+    if (dense) print(name.c_str(), routed_run.statistics.routed_to_sparse ? "routed" : "kept", problem.contacts, routed_run);
     print(name.c_str(), "sparse", problem.contacts, sparse_run);
   }
   return 0;

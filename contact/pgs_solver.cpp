@@ -126,6 +126,47 @@ void check_problem(const FrictionContactProblem& problem) {
     throw std::invalid_argument("PgsSolver: " + problem_with_it);
 }
 
+// The route of a dense-stored W to the sparse path (pgs_solver.h): at least kSparseRouteRows rows and
+// at most kSparseRouteDensity of its D × D blocks nonzero. The row count is tested first, so a small
+// problem pays one comparison; the block count stops as soon as the limit is passed, so a full W pays
+// a few columns' reads.
+constexpr Eigen::Index kSparseRouteRows = 150;
+constexpr double kSparseRouteDensity = 0.25;
+
+bool sparse_enough(const FrictionContactProblem& problem) {
+  const Eigen::Index m = problem.W.rows();
+  if (problem.equalities > 0 || m < kSparseRouteRows) return false;
+  const int D = problem.dimension;
+  const double blocks = static_cast<double>(problem.contacts) * problem.contacts;
+  const double limit = kSparseRouteDensity * blocks;
+  double nonzero = 0.0;
+  for (int j = 0; j < problem.contacts; ++j)
+    for (int i = 0; i < problem.contacts; ++i)
+      if (problem.W.block(static_cast<Eigen::Index>(D) * i, static_cast<Eigen::Index>(D) * j, D, D)
+              .cwiseAbs().maxCoeff() != 0.0 && ++nonzero > limit)
+        return false;
+  return true;
+}
+
+}  // namespace
+
+PgsStatistics PgsSolver::solve_routed(const FrictionContactProblem& problem, Eigen::VectorXd& r,
+                                      std::vector<ContactStatus>* status) const {
+  FrictionContactProblem& routed = scratch_.routed;
+  routed.dimension = problem.dimension;
+  routed.contacts = problem.contacts;
+  routed.equalities = 0;
+  routed.storage = DelassusStorage::sparse;
+  routed.W_sparse = block_sparse(problem.W, problem.dimension);
+  routed.b = problem.b;
+  routed.mu = problem.mu;
+  PgsStatistics statistics = solve_sparse(routed, parameters_, r, status, scratch_.completed);
+  statistics.routed_to_sparse = true;
+  return statistics;
+}
+
+namespace {
+
 }  // namespace
 
 PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::VectorXd& r,
@@ -134,6 +175,7 @@ PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::Vec
   // A warm start of the wrong size, or one carrying NaN/inf from an earlier failure, is worthless.
   if (r.size() != problem.size() || !r.allFinite()) r = Eigen::VectorXd::Zero(problem.size());
   if (problem.storage == DelassusStorage::sparse) return solve_sparse(problem, parameters_, r, status, scratch_.completed);
+  if (parameters_.route_sparse && sparse_enough(problem)) return solve_routed(problem, r, status);
   if (problem.equalities > 0)
     return dense_pgs::solve_with_equalities(problem, parameters_, r, status, scratch_.condensation, scratch_.transpose);
   return dense_pgs::solve_contact_rows(problem, parameters_, r, status, scratch_.transpose);

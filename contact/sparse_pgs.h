@@ -31,7 +31,8 @@
 //     (pgs_solver.h) is not this path's.
 //   - Speed (bench/bench_pgs): on a W where every block is stored the dense path's sweep is 1.1 to 4
 //     times faster; on a block-tridiagonal chain this path's is as fast from 4 contacts and 3 to 30
-//     times faster from 100 to 1000. Which storage a problem gets is its maker's choice.
+//     times faster from 100 to 1000. A dense-stored W of at least 150 rows and at most 25 % nonzero
+//     blocks is routed here by PgsSolver (PgsParameters::route_sparse).
 //   - Equality rows are not condensed sparsely: a sparse problem with equalities throws
 //     std::invalid_argument (store W dense for such a problem).
 #pragma once

@@ -67,7 +67,9 @@ std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& p
     Vector sparse_r = r;
     std::vector<ContactStatus> sparse_status = status;
     r = start;  // the dense solve from the warm start: from the sparse iterate it may stall too
-    stats = pgs.solve(dense, r, &status);
+    PgsParameters dense_path = pgs.parameters();  // the dense path itself, not the route back to sparse
+    dense_path.route_sparse = false;
+    stats = PgsSolver(dense_path).solve(dense, r, &status);
     if (!stats.converged && sparse_stats.residual < stats.residual) {  // the better of two unconverged
       stats.residual = sparse_stats.residual;
       r = sparse_r;

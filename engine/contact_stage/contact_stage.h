@@ -61,7 +61,13 @@ class ContactStage {
   const ProblemRows& rows() const { return rows_; }
   // W in problem(): as the choice says (iteration_operator.h; automatic unless set), dense where the
   // operator cannot store it sparse.
-  void set_delassus_choice(DelassusChoice choice) { choice_ = choice; }
+  // dense: W stored dense and solved on the dense path (PgsParameters::route_sparse off).
+  void set_delassus_choice(DelassusChoice choice) {
+    choice_ = choice;
+    PgsParameters parameters = pgs_.parameters();
+    parameters.route_sparse = choice != DelassusChoice::dense;
+    pgs_ = PgsSolver(parameters);
+  }
   void form_delassus();
   // b = H v_free, after form_delassus (an operator may apply the H it formed W with).
   void free_term(const Vector& v_free) { iteration_->apply_rows(rows_, v_free, problem_.b); }

@@ -355,6 +355,41 @@ TEST(SparseActiveSet, FinishesAStackOfBoxes) {
   EXPECT_FALSE(budget.exhausted);
 }
 
+// A W stored dense but mostly zero blocks is solved on its block-sparse copy (PgsParameters::route_sparse):
+// BoxesStack1 (52 contacts, 156 rows, 22 % of its 3 × 3 blocks nonzero) loaded dense takes the sparse
+// path, and reaches the tolerance of the same residual (PgsSolver::residual on the dense problem) and the
+// same natural-map error as the dense path (route_sparse false). A small dense problem keeps the dense path.
+TEST(SparsePgs, RoutesADenseStoredBlockSparseProblem) {
+  const FrictionContactProblem sparse = from_siconos("BoxesStack1-i100000-32.hdf5.dat");
+  FrictionContactProblem dense = sparse;
+  dense.storage = DelassusStorage::dense;
+  dense.W = Eigen::MatrixXd(sparse.W_sparse);
+  dense.W_sparse = SparseDelassus();
+  PgsParameters parameters;
+  parameters.tolerance = 1e-8;
+  parameters.max_iterations = 1000;
+  Eigen::VectorXd r_routed;
+  const PgsStatistics routed = PgsSolver(parameters).solve(dense, r_routed);
+  EXPECT_TRUE(routed.routed_to_sparse);
+  ASSERT_TRUE(routed.converged) << routed.residual;
+  EXPECT_LE(PgsSolver::residual(dense, r_routed), 1e-8);
+  EXPECT_LE(natural_map_error(sparse, r_routed), 1e-8);  // the same operator, stored by blocks
+
+  PgsParameters dense_only = parameters;
+  dense_only.route_sparse = false;
+  Eigen::VectorXd r_dense;
+  const PgsStatistics kept = PgsSolver(dense_only).solve(dense, r_dense);
+  EXPECT_FALSE(kept.routed_to_sparse);
+  ASSERT_TRUE(kept.converged) << kept.residual;
+  EXPECT_LE(PgsSolver::residual(dense, r_dense), 1e-8);
+  EXPECT_LE(natural_map_error(sparse, r_dense), 1e-8);
+
+  const FrictionContactProblem small = from_file("box_on_four_vertices_3d.txt");
+  ASSERT_EQ(small.storage, DelassusStorage::dense);
+  Eigen::VectorXd r_small;
+  EXPECT_FALSE(PgsSolver(parameters).solve(small, r_small).routed_to_sparse);
+}
+
 // A step of the packed 29-sphere box (bench/pile_scene.h: pile(29, 4, 4, 0.1), μ 0.5, steps of 1 ms):
 // 90 contacts on 29 spheres (270 rows, 174 freedoms), a hyperstatic set, dumped from a run with its warm
 // start (the previous step's impulses by contact key, zero for a new contact). Gauss–Seidel stalls (its
