@@ -85,7 +85,7 @@ void ContactStage::form_delassus() {
     return;
   }
   problem_.storage = DelassusStorage::dense;
-  problem_.W_sparse.resize(0, 0);
+  if (problem_.W_sparse.outerSize() != 0) problem_.W_sparse.resize(0, 0);  // resize allocates: not every step
   iteration_->delassus(rows_, problem_.W);
 }
 
