@@ -41,15 +41,9 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const Eigen
   // solves end at a relative residual of 3e-3 either way).
   int polished_after = -1;
   const auto polish_now = [&] {
-    ++statistics.polishes;
     polished_after = statistics.iterations;
-    PolishBudget budget;
-    budget.available =
-        parameters.polish_budget * statistics.sweep_work + parameters.polish_allowance - statistics.polish_work;
-    if (polish<D>(problem, W_rows, r, statistics.residual, parameters.tolerance, budget)) statistics.polished = true;
-    statistics.polish_work += budget.spent;
-    statistics.polish_factorizations += budget.factorizations;
-    statistics.polish_cut = statistics.polish_cut || budget.exhausted;
+    PolishBudget budget = statistics.start_polish(parameters);
+    statistics.finish_polish(budget, polish<D>(problem, W_rows, r, statistics.residual, parameters.tolerance, budget));
   };
 
   const double norm_b = problem.b.norm();
@@ -189,6 +183,20 @@ double PgsSolver::residual(const FrictionContactProblem& problem, const Eigen::V
   if (problem.storage == DelassusStorage::sparse) return sparse_residual(problem, r);
   Eigen::MatrixXd transpose;
   return dense_pgs::relative_residual(problem, dense_pgs::rows_of(problem.W, transpose), r);
+}
+
+PolishBudget PgsStatistics::start_polish(const PgsParameters& parameters) {
+  ++polishes;
+  PolishBudget budget;
+  budget.available = parameters.polish_budget * sweep_work + parameters.polish_allowance - polish_work;
+  return budget;
+}
+
+void PgsStatistics::finish_polish(const PolishBudget& budget, bool improved) {
+  polished = polished || improved;
+  polish_work += budget.spent;
+  polish_factorizations += budget.factorizations;
+  polish_cut = polish_cut || budget.exhausted;
 }
 
 }  // namespace csim

@@ -94,6 +94,8 @@ struct PgsParameters {
   bool route_sparse = true;
 };
 
+struct PolishBudget;  // sparse_alart_curnier.h
+
 struct PgsStatistics {
   int iterations = 0;         // sweeps done
   double residual = 0.0;      // final full residual, relative
@@ -106,6 +108,11 @@ struct PgsStatistics {
   int polish_factorizations = 0;  // LU factorizations of the polish (sparse path: sparse ones)
   bool polish_cut = false;    // a polish stopped at its budget
   bool routed_to_sparse = false;  // a dense-stored W was solved on its block-sparse copy (route_sparse)
+
+  // One polish on either path: start_polish counts it and gives the flops it may spend (parameters'
+  // polish_budget × sweep_work + polish_allowance − polish_work); finish_polish records what it spent.
+  PolishBudget start_polish(const PgsParameters& parameters);
+  void finish_polish(const PolishBudget& budget, bool improved);
 };
 
 // The work arrays of a solve with equality rows (their condensation, equality_condensation.cpp): a solver keeps

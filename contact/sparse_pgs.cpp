@@ -276,15 +276,9 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const Block
   const double sweep_flops = 2.0 * static_cast<double>(W.W.nonZeros());
   int polished_after = -1;
   const auto polish_now = [&] {
-    ++statistics.polishes;
     polished_after = statistics.iterations;
-    PolishBudget budget;
-    budget.available =
-        parameters.polish_budget * statistics.sweep_work + parameters.polish_allowance - statistics.polish_work;
-    if (polish<D>(problem, W, r, statistics.residual, parameters.tolerance, budget)) statistics.polished = true;
-    statistics.polish_work += budget.spent;
-    statistics.polish_factorizations += budget.factorizations;
-    statistics.polish_cut = statistics.polish_cut || budget.exhausted;
+    PolishBudget budget = statistics.start_polish(parameters);
+    statistics.finish_polish(budget, polish<D>(problem, W, r, statistics.residual, parameters.tolerance, budget));
   };
   const double norm_b = problem.b.norm();
   bool residual_is_current = false;
