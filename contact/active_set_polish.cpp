@@ -111,16 +111,6 @@ void form_system(const FrictionContactProblem& problem, const std::vector<Polish
   for (Eigen::Index i = 0; i < k; ++i) system.b(i) = -problem.b(system.equations[i]);
 }
 
-// True if the budget has room for `flops` more (which it then counts) and `reserve` after them.
-bool afford(PolishBudget& budget, double flops, double reserve) {
-  if (budget.spent + flops + reserve > budget.available) {
-    budget.exhausted = true;
-    return false;
-  }
-  budget.spent += flops;
-  return true;
-}
-
 enum class Solved { yes, no, refused };
 
 // A z = b by the partial-pivot LU and its refinement step, then (A singular) by the proximal iteration,
@@ -131,13 +121,13 @@ Solved solve_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, double r
   consistent = true;
   const double k = static_cast<double>(A.rows()), lu_flops = 2.0 / 3.0 * k * k * k, step_flops = 4.0 * k * k;
   const double norm_b = b.norm();
-  if (!afford(budget, lu_flops + 2.0 * step_flops, reserve)) return Solved::refused;
+  if (!budget.afford(lu_flops + 2.0 * step_flops, reserve)) return Solved::refused;
   ++budget.factorizations;
   const Eigen::PartialPivLU<Eigen::MatrixXd> plain(A);
   z = plain.solve(b);
   z += plain.solve(b - A * z);  // one step of refinement (W's condition number reaches 1e8)
   if (z.allFinite() && (A * z - b).norm() <= kSolved * norm_b) return Solved::yes;
-  if (!afford(budget, lu_flops + kProximalSteps * step_flops, reserve)) return Solved::refused;
+  if (!budget.afford(lu_flops + kProximalSteps * step_flops, reserve)) return Solved::refused;
   ++budget.factorizations;
   ++budget.regularized_steps;
   Eigen::MatrixXd shifted = A;
@@ -155,7 +145,7 @@ Solved solve_system(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, double r
   // least-squares solution of least norm, which leaves the redundant contact that need not press
   // separating, so that the correction opens it.
   consistent = false;
-  if (!afford(budget, 3.0 * k * k * k, reserve)) return Solved::refused;
+  if (!budget.afford(3.0 * k * k * k, reserve)) return Solved::refused;
   ++budget.factorizations;
   z = A.completeOrthogonalDecomposition().solve(b);
   return z.allFinite() ? Solved::yes : Solved::no;
@@ -173,7 +163,7 @@ bool solve_statuses(const FrictionContactProblem& problem, const std::vector<Pol
   const double m = static_cast<double>(problem.size());
   // Forming A (k² entries, a few flops each), then the pass's residual and status correction (two
   // products by W).
-  if (!afford(budget, 2.0 * D * static_cast<double>(k * k), 4.0 * m * m)) return false;
+  if (!budget.afford(2.0 * D * static_cast<double>(k * k), 4.0 * m * m)) return false;
   Eigen::VectorXd z;
   if (solve_system(system.A, system.b, 4.0 * m * m, budget, z, consistent) != Solved::yes) return false;
   candidate.setZero(problem.size());

@@ -1,6 +1,6 @@
 #include "contact/alart_curnier.h"
 
-#include "contact/sparse_alart_curnier.h"
+#include "contact/polish_budget.h"
 
 #include <algorithm>
 #include <cmath>
@@ -76,29 +76,6 @@ void evaluate(const FrictionContactProblem& problem, const Eigen::VectorXd& rho,
   }
 }
 
-// The flops of the polish, counted into a budget when there is one (none: nothing counted or refused).
-class Spending {
- public:
-  explicit Spending(PolishBudget* budget) : budget_(budget) {}
-  // False, the budget marked exhausted, if `flops` more would exceed it.
-  bool allows(double flops) {
-    if (budget_ == nullptr || budget_->spent + flops <= budget_->available) return true;
-    budget_->exhausted = true;
-    return false;
-  }
-  void spend(double flops) {
-    if (budget_ != nullptr) budget_->spent += flops;
-  }
-  void factorized(bool regularized) {
-    if (budget_ == nullptr) return;
-    ++budget_->factorizations;
-    if (regularized) ++budget_->regularized_steps;
-  }
-
- private:
-  PolishBudget* budget_;
-};
-
 // Flops of a dense LU of size k with its solve and the check of its residual.
 double lu_flops(double k) { return 2.0 / 3.0 * k * k * k + 6.0 * k * k; }
 
@@ -112,7 +89,7 @@ enum class StepOutcome { solved, unsolved, refused };
 // 1e-8 (J singular on a hyperstatic contact set); `refused`: the budget has no room for the
 // factorization, the solve and `reserve` flops after it.
 StepOutcome newton_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& F, double delta, double reserve,
-                        Spending& spending, Eigen::VectorXd& step) {
+                        PolishBudget& budget, Eigen::VectorXd& step) {
   const Eigen::Index m = J.rows();
   std::vector<Eigen::Index> kept;
   kept.reserve(static_cast<std::size_t>(m));
@@ -122,7 +99,7 @@ StepOutcome newton_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& F, doub
   step.setZero(m);
   if (k == 0) return StepOutcome::solved;
   const double flops = lu_flops(static_cast<double>(k));
-  if (!spending.allows(flops + reserve)) return StepOutcome::refused;
+  if (!budget.allows(flops + reserve)) return StepOutcome::refused;
   Eigen::MatrixXd reduced(k, k);
   Eigen::VectorXd rhs(k);
   for (Eigen::Index j = 0; j < k; ++j) {
@@ -131,8 +108,9 @@ StepOutcome newton_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& F, doub
   }
   reduced.diagonal().array() += delta;
   const Eigen::VectorXd part = reduced.partialPivLu().solve(rhs);
-  spending.spend(flops);
-  spending.factorized(delta > 0.0);
+  budget.spent += flops;
+  ++budget.factorizations;
+  if (delta > 0.0) ++budget.regularized_steps;
   if (!part.allFinite()) return StepOutcome::unsolved;
   for (Eigen::Index j = 0; j < k; ++j) step(kept[j]) = part(j);
   if (delta > 0.0) return StepOutcome::solved;  // an approximation of Newton's by construction
@@ -142,7 +120,7 @@ StepOutcome newton_step(const Eigen::MatrixXd& J, const Eigen::VectorXd& F, doub
 }  // namespace
 
 bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd& r, int max_iterations,
-                          double tolerance, NewtonStatistics* statistics, double rho_scale, PolishBudget* budget) {
+                          double tolerance, NewtonStatistics* statistics, double rho_scale, PolishBudget* given_budget) {
   for (int c = 0; c < problem.contacts; ++c)
     if (problem.dimension == 3 && problem.mu[c](0) != problem.mu[c](1)) return false;
   const int d = problem.dimension;
@@ -162,13 +140,14 @@ bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd
 
   // F alone costs a product by W; F with J about twice that (J's rows are W's, scaled).
   const double size = static_cast<double>(m), merit_flops = 2.0 * size * size, jacobian_flops = 2.0 * merit_flops;
-  Spending spending(budget);
+  // Without a budget, one that refuses nothing (and whose counts nobody reads).
+  PolishBudget unbounded;
+  PolishBudget& budget = given_budget != nullptr ? *given_budget : unbounded;
   if (statistics) *statistics = NewtonStatistics{};
-  if (!spending.allows(jacobian_flops)) return true;
+  if (!budget.afford(jacobian_flops)) return true;
   Eigen::VectorXd F, F_trial, step, trial;
   Eigen::MatrixXd J;
   evaluate(problem, rho, r, F, &J);
-  spending.spend(jacobian_flops);
   double merit = F.squaredNorm();
   bool regularize = false;  // the plain step failed once: J is singular at these statuses, take the proximal one
   int iteration = 0;
@@ -178,22 +157,22 @@ bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd
     const double scale = std::max(rho_b.norm(), r.norm());
     if (std::sqrt(merit) <= tolerance * scale) break;
     StepOutcome outcome = StepOutcome::unsolved;
-    if (!regularize) outcome = newton_step(J, F, 0.0, reserve, spending, step);
+    if (!regularize) outcome = newton_step(J, F, 0.0, reserve, budget, step);
     if (outcome == StepOutcome::refused) break;
     if (outcome == StepOutcome::unsolved) {
       regularize = true;
       const double delta = std::min(1e-2, std::max(1e-12, std::sqrt(merit) / std::max(scale, 1e-300)));
-      outcome = newton_step(J, F, delta, reserve, spending, step);
+      outcome = newton_step(J, F, delta, reserve, budget, step);
       if (outcome != StepOutcome::solved) break;
     }
     if (!step.allFinite()) break;
     // Backtracking (Armijo on ½‖F‖², with the Newton direction's model decrease ‖F‖²).
     double alpha = 1.0;
     bool accepted = false;
-    for (int halving = 0; halving < 30 && spending.allows(merit_flops + jacobian_flops); ++halving, alpha *= 0.5) {
+    for (int halving = 0; halving < 30 && budget.allows(merit_flops + jacobian_flops); ++halving, alpha *= 0.5) {
       trial = r + alpha * step;
       evaluate(problem, rho, trial, F_trial, nullptr);
-      spending.spend(merit_flops);
+      budget.spent += merit_flops;
       const double trial_merit = F_trial.squaredNorm();
       if (trial_merit <= (1.0 - 1e-4 * alpha) * merit) {
         r = trial;
@@ -204,7 +183,7 @@ bool alart_curnier_newton(const FrictionContactProblem& problem, Eigen::VectorXd
     }
     if (!accepted) break;
     evaluate(problem, rho, r, F, &J);
-    spending.spend(jacobian_flops);
+    budget.spent += jacobian_flops;
   }
   if (statistics) {
     statistics->iterations = iteration;

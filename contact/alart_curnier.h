@@ -12,7 +12,7 @@
 // Where Gauss–Seidel converges linearly at a rate set by the Delassus's condition number (a rigid body
 // on two or four points of a stiff elastic one: eigenvalues 1e-5 of the others), Newton converges in
 // a few iterations once the contact statuses settle; its cost is one dense LU of the problem's size
-// per iteration, bounded by a budget in flops when one is given (PolishBudget, sparse_alart_curnier.h:
+// per iteration, bounded by a budget in flops when one is given (PolishBudget, polish_budget.h:
 // before each factorization and each line-search trial, the method stops if the work would exceed it).
 //
 // On a hyperstatic contact set (a body on more points than it has freedoms) J is singular. When the
@@ -35,7 +35,7 @@
 
 namespace csim {
 
-struct PolishBudget;  // sparse_alart_curnier.h
+struct PolishBudget;  // polish_budget.h
 
 struct NewtonStatistics {
   int iterations = 0;

@@ -8,7 +8,7 @@
 #pragma once
 
 #include "contact/pgs_solver.h"
-#include "contact/sparse_alart_curnier.h"
+#include "contact/polish_budget.h"
 
 #include <Eigen/Dense>
 #include <vector>

@@ -144,11 +144,7 @@ bool solve_active_set(const FrictionContactProblem& problem, const SparseDelassu
   }
 
   Umfpack lu;
-  if (budget.spent + product_flops > budget.available) {
-    budget.exhausted = true;
-    return false;
-  }
-  budget.spent += product_flops;  // the symbolic analysis, about linear in the entries
+  if (!budget.afford(product_flops)) return false;  // the symbolic analysis, about linear in the entries
   if (umfpack_di_symbolic(k, k, shifted.outerIndexPtr(), shifted.innerIndexPtr(), shifted.valuePtr(), &lu.symbolic,
                           lu.control, lu.info) != UMFPACK_OK)
     return false;
@@ -158,10 +154,7 @@ bool solve_active_set(const FrictionContactProblem& problem, const SparseDelassu
           (4.0 * (std::max(lu.info[UMFPACK_LNZ_ESTIMATE], 0.0) + std::max(lu.info[UMFPACK_UNZ_ESTIMATE], 0.0)) +
            product_flops) +
       product_flops;
-  if (budget.spent + predicted + solve_flops > budget.available) {
-    budget.exhausted = true;
-    return false;
-  }
+  if (!budget.allows(predicted, solve_flops)) return false;
   const int status = umfpack_di_numeric(shifted.outerIndexPtr(), shifted.innerIndexPtr(), shifted.valuePtr(),
                                         lu.symbolic, &lu.numeric, lu.control, lu.info);
   ++budget.factorizations;
@@ -172,14 +165,10 @@ bool solve_active_set(const FrictionContactProblem& problem, const SparseDelassu
   const double largest = kLargestCorrection * std::max(z.norm(), f.norm());
   Eigen::VectorXd g = A * z - f, step(k), rhs(k);
   for (int iteration = 0; iteration < kProximalSteps && g.norm() > target; ++iteration) {
-    if (budget.spent + solve_flops > budget.available) {
-      budget.exhausted = true;
-      break;
-    }
+    if (!budget.afford(solve_flops)) break;
     rhs = -g;
     const int solved = umfpack_di_solve(UMFPACK_A, shifted.outerIndexPtr(), shifted.innerIndexPtr(),
                                         shifted.valuePtr(), step.data(), rhs.data(), lu.numeric, lu.control, lu.info);
-    budget.spent += solve_flops;
     if (solved != UMFPACK_OK || !step.allFinite() || step.norm() > largest) break;
     const Eigen::VectorXd z_next = z + step;
     const Eigen::VectorXd g_next = A * z_next - f;

@@ -35,7 +35,7 @@
 
 #include "contact/coulomb_local.h"
 #include "contact/friction_contact_problem.h"
-#include "contact/sparse_alart_curnier.h"
+#include "contact/polish_budget.h"
 
 #include <Eigen/Dense>
 #include <vector>

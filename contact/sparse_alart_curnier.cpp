@@ -145,8 +145,7 @@ bool sparse_alart_curnier_newton(const FrictionContactProblem& problem, const Sp
   const double scale_b = rho_b.norm();
 
   // The symbolic analysis (an AMD ordering, about linear in W's entries) is counted as one product.
-  if (budget.spent + 2.0 * product_flops > budget.available) {
-    budget.exhausted = true;
+  if (!budget.allows(2.0 * product_flops)) {
     if (statistics) *statistics = NewtonStatistics{};
     return true;
   }
@@ -177,10 +176,7 @@ bool sparse_alart_curnier_newton(const FrictionContactProblem& problem, const Sp
   // A factorization of J + δ I and its solve into `step`; false if refused by the budget or failed.
   // Room is kept for the solve, the line search's first trial and the caller's residual check.
   const auto newton_step = [&](double delta) {
-    if (budget.spent + predicted + predicted_solve + 2.0 * product_flops > budget.available) {
-      budget.exhausted = true;
-      return false;
-    }
+    if (!budget.allows(predicted, predicted_solve, 2.0 * product_flops)) return false;
     assemble(W, d, jacobian, delta, values);
     if (lu.numeric) umfpack_di_free_numeric(&lu.numeric);
     const int status = umfpack_di_numeric(W.outerIndexPtr(), W.innerIndexPtr(), values.data(), lu.symbolic,
@@ -205,10 +201,7 @@ bool sparse_alart_curnier_newton(const FrictionContactProblem& problem, const Sp
   const auto line_search = [&] {
     double alpha = 1.0;
     for (int halving = 0; halving < 30; ++halving, alpha *= 0.5) {
-      if (budget.spent + 2.0 * product_flops > budget.available) {  // this trial and the caller's check
-        budget.exhausted = true;
-        return false;
-      }
+      if (!budget.allows(2.0 * product_flops)) return false;  // this trial and the caller's check
       trial = r + alpha * step;
       u_trial = W * trial + problem.b;
       budget.spent += product_flops;

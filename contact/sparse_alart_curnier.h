@@ -33,19 +33,11 @@
 
 #include "contact/alart_curnier.h"
 #include "contact/friction_contact_problem.h"
+#include "contact/polish_budget.h"
 
 #include <Eigen/Dense>
-#include <limits>
 
 namespace csim {
-
-struct PolishBudget {
-  double available = std::numeric_limits<double>::infinity();  // flops the polish may still spend
-  double spent = 0.0;                                           // flops spent so far
-  int factorizations = 0;                                       // numeric LU factorizations done
-  int regularized_steps = 0;                                    // steps taken by (J + δ I)
-  bool exhausted = false;                                       // a factorization was refused
-};
 
 // W: the problem's Delassus in the layout above (may be problem.W_sparse itself). Improves r in place by
 // at most max_iterations Newton steps, stopping when ‖F‖ ≤ tolerance·max(‖ρ b‖, ‖r‖), when the line

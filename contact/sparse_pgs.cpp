@@ -167,12 +167,9 @@ bool active_set_polish(const FrictionContactProblem& problem, const BlockRows<D>
   double previous = std::numeric_limits<double>::infinity();  // the last pass's candidate's residual
   for (int pass = 0; pass < kActiveSetPasses && residual > tolerance; ++pass) {
     if (!solve_active_set(problem, W.W, statuses, start, candidate, budget)) break;
-    if (budget.spent + 2.0 * residual_flops > budget.available) {
-      budget.exhausted = true;
-      break;
-    }
+    // The residual, and the velocities of the statuses' correction.
+    if (!budget.afford(2.0 * residual_flops)) break;
     const double candidate_residual = relative_residual<D>(problem, W, candidate, problem.contacts);
-    budget.spent += 2.0 * residual_flops;  // the residual, and the velocities of the statuses' correction
     if (candidate_residual < residual) {
       r = candidate;
       residual = candidate_residual;
