@@ -65,8 +65,10 @@
 //     otherwise (a frictionless closed contact is slip);
 //   - an inconsistent problem (sizes, dimension) throws std::invalid_argument;
 //   - no heap allocation without equality rows once the solver has seen the problem's size (an
-//     unsymmetric W's transpose is the solver's); with them, the condensed problem (W_ee's LDLT,
-//     W_ee⁺ W_ec and the Schur complement), once per solve.
+//     unsymmetric W's transpose is the solver's), except in a routed solve (route_sparse): it builds
+//     its block-sparse copy of W each solve and then allocates as the sparse path does (sparse_pgs.h);
+//     with equality rows, the condensed problem (W_ee's LDLT, W_ee⁺ W_ec and the Schur complement),
+//     once per solve.
 #pragma once
 
 #include "contact/coulomb_local.h"
@@ -89,12 +91,13 @@ struct PgsParameters {
   double polish_allowance = 1e6;
   // A W stored dense but mostly zero blocks (at least 150 rows, at most 25 % of its D × D blocks
   // nonzero, no equality rows) is solved on a block-sparse copy by the sparse path (sparse_pgs.h),
-  // whose sweeps and polish cost O(nonzero blocks): Siconos' Capsules-i122-1617 (296 contacts, 1.6 %
-  // of blocks) in 8.4 s instead of 76 s (docs/contact-problems.md). false keeps the dense path.
+  // whose sweeps and polish cost O(nonzero blocks); docs/contact-problems.md ("The polish on W stored
+  // dense and by blocks") gives the times of both paths and the bench_polish command that measures
+  // them. false keeps the dense path.
   bool route_sparse = true;
 };
 
-struct PolishBudget;  // sparse_alart_curnier.h
+struct PolishBudget;  // polish_budget.h
 
 struct PgsStatistics {
   int iterations = 0;         // sweeps done
