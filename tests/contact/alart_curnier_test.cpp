@@ -2,10 +2,10 @@
 // ill-conditioned problems met in scenes that Gauss–Seidel alone does not finish.
 #include "contact/alart_curnier.h"
 #include "contact/pgs_solver.h"
+#include "tests/contact/test_problems.h"
 
 #include <gtest/gtest.h>
 
-#include <fstream>
 
 namespace csim {
 namespace {
@@ -58,9 +58,7 @@ TEST(AlartCurnier, FinishesTheBoxOnFourVerticesOfAStiffBlock) {
   // stiff elastic block, W with eigenvalues from 3e-5 to 1.3. Gauss–Seidel alone stays near 1e-6
   // after 2000 sweeps (the run then failed); with the polish (active set, then Newton, which finds
   // the slip directions in 3D) the solver converges to 1e-12.
-  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/box_on_four_vertices_3d.txt");
-  ASSERT_TRUE(file.good());
-  const FrictionContactProblem problem = read_problem(file);
+  const FrictionContactProblem problem = test::problem_file("box_on_four_vertices_3d.txt");
   PgsParameters plain;
   plain.polish = false;
   plain.tolerance = 1e-12;

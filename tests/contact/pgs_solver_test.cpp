@@ -1,11 +1,11 @@
 // Projected Gauss–Seidel on small problems whose solutions are known by hand.
 #include "contact/pgs_solver.h"
+#include "tests/contact/test_problems.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -657,9 +657,7 @@ TEST(PgsSolver, PolishFindsTheLateralSlipOfANodeHeldAcrossTheGround) {
   // those steep slip laws stalls. The polish used to run Newton from the active set's result, which
   // had put these contacts in stick with r_t2 = 0 (its W_cc-weighted residual blind to r_t2): the
   // solve ended at 3.2e-7. From the Gauss–Seidel iterate Newton converges in a few steps.
-  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/ring_cornering_lateral_slip_3d.txt");
-  ASSERT_TRUE(file.good());
-  const FrictionContactProblem problem = read_problem(file);
+  const FrictionContactProblem problem = test::problem_file("ring_cornering_lateral_slip_3d.txt");
   std::vector<int> held_across;  // contacts with a zero t2 column of W and a lateral free velocity
   for (int c = 0; c < problem.contacts; ++c)
     if (problem.W.col(3 * c + 2).norm() == 0.0 && problem.b(3 * c + 2) != 0.0) held_across.push_back(c);
@@ -749,30 +747,9 @@ TEST(PgsSolver, SolvesAnUnsymmetricFrictionlessProblemByItsRows) {
   EXPECT_EQ(PgsSolver::residual(problem, r), statistics.residual);
 }
 
-// Two frictional contacts (μ = 0.3), W unsymmetric in its normal–normal, tangent–tangent and
-// normal–tangent couplings. The solution, chosen first and b = u − W r formed from it:
-//   r = (1, 1/10, 1, −3/10), u = (0, 0, 0, 2/5): contact 1 sticks (|r_t| = 0.1 < 0.3), contact 2 slips
-//   along +t with its friction −μ r_n against it.
-// Enumerating the 4 × 4 status combinations (open, stick, slip ±) in exact rational arithmetic finds
-// this one only; the same enumeration on Wᵀ gives both contacts slipping, r = (2551/1660, −7653/16600,
-// 13/83, −39/830), which is what reading W's columns converged to.
-FrictionContactProblem unsymmetric_frictional() {
-  FrictionContactProblem problem;
-  problem.dimension = 2;
-  problem.contacts = 2;
-  problem.W.resize(4, 4);
-  problem.W << 2.0, 0.5, 1.0, 0.0,  //
-      0.0, 1.0, 0.0, 0.5,           //
-      0.0, 0.0, 2.0, 0.5,           //
-      0.5, 0.0, 0.0, 1.0;
-  problem.b.resize(4);
-  problem.b << -61.0 / 20, 1.0 / 20, -37.0 / 20, 1.0 / 5;
-  problem.mu.assign(2, Eigen::Vector2d(0.3, 0.3));
-  return problem;
-}
-
+// test::unsymmetric_frictional (test_problems.h): its solution, enumerated by hand, and that of Wᵀ.
 TEST(PgsSolver, SolvesAnUnsymmetricFrictionalProblemByItsRows) {
-  const FrictionContactProblem problem = unsymmetric_frictional();
+  const FrictionContactProblem problem = test::unsymmetric_frictional();
   for (const bool polish : {true, false}) {
     PgsParameters parameters;
     parameters.polish = polish;
@@ -865,25 +842,7 @@ TEST(PgsSolver, PolishSolvesAHyperstaticBoxWithoutFullPivoting) {
 // The box on four vertices of a stiff block needs the polish (Gauss–Seidel alone stays near 1e-6): its
 // work stays within polish_budget times the sweeps' (no allowance here), and with none it does nothing.
 TEST(PgsSolver, ThePolishStaysWithinItsBudget) {
-  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/box_on_four_vertices_3d.txt");
-  ASSERT_TRUE(file.good());
-  const FrictionContactProblem problem = read_problem(file);
-  for (const double budget : {0.0, 1.0, 10.0}) {
-    PgsParameters parameters;
-    parameters.tolerance = 1e-12;
-    parameters.polish_budget = budget;
-    parameters.polish_allowance = 0.0;
-    Eigen::VectorXd r;
-    const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
-    EXPECT_LE(statistics.polish_work, budget * statistics.sweep_work) << budget;
-    EXPECT_GT(statistics.sweep_work, 0.0);
-    if (budget == 0.0) {
-      EXPECT_EQ(statistics.polish_factorizations, 0);
-      EXPECT_TRUE(statistics.polish_cut);
-      EXPECT_FALSE(statistics.converged);
-    }
-    if (budget == 10.0) EXPECT_TRUE(statistics.converged) << statistics.residual;
-  }
+  test::expect_polish_within_budget(test::problem_file("box_on_four_vertices_3d.txt"));
 }
 
 // Two frictionless contacts squeezing one freedom from both sides while both walls approach:
@@ -932,9 +891,7 @@ TEST(PgsSolver, NeverPolishesTwiceWithoutASweepBetween) {
 // By hand: the bottom corners hold the shoe (Σ r_n = h N = 70 N·s, the vertical having no stiffness),
 // and it slides (the push, 200 kN, exceeds μ N = 21 kN): r_t = −μ r_n on each.
 TEST(PgsSolver, SolvesARigidShoeWhoseTopCornersShareTheBottomOnesNormalRows) {
-  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/sdnv104_rigid_1mg_shoe.txt");
-  ASSERT_TRUE(file.good());
-  const FrictionContactProblem problem = read_problem(file);
+  const FrictionContactProblem problem = test::problem_file("sdnv104_rigid_1mg_shoe.txt");
   ASSERT_EQ(problem.contacts, 4);
   Eigen::VectorXd warm_start = Eigen::VectorXd::Zero(8);  // the run's: the first step's impulses
   warm_start.head(4) << 24.499999999986024, 7.3499999999958066, 45.500000000013976, 13.650000000004193;

@@ -3,22 +3,16 @@
 // (frictionContact_newFromFile) and NM_get_value give for the same files, printed with %.17g, so a
 // transposed block, a shifted index or a lost digit shows.
 #include "contact/siconos_problem_format.h"
+#include "tests/contact/test_problems.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <string>
 
 namespace csim {
 namespace {
-
-FrictionContactProblem load(const std::string& name) {
-  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/siconos/" + name);
-  EXPECT_TRUE(file) << name;
-  return read_siconos_problem(file);
-}
 
 // Entry (i, j) of W whichever storage holds it.
 double entry(const FrictionContactProblem& problem, int i, int j) {
@@ -48,7 +42,7 @@ void expect_whole_blocks(const FrictionContactProblem& problem) {
 }
 
 TEST(SiconosProblemFormat, DenseIsColumnMajor) {
-  const FrictionContactProblem problem = load("Rover4396.dat");
+  const FrictionContactProblem problem = test::siconos_file("Rover4396.dat");
   EXPECT_EQ(problem.dimension, 3);
   EXPECT_EQ(problem.contacts, 2);
   EXPECT_EQ(problem.equalities, 0);
@@ -67,7 +61,7 @@ TEST(SiconosProblemFormat, DenseIsColumnMajor) {
 }
 
 TEST(SiconosProblemFormat, TwoDimensionalDenseUnsymmetric) {
-  const FrictionContactProblem problem = load("FC2D_SliderCrankLagrangian00000.dat");
+  const FrictionContactProblem problem = test::siconos_file("FC2D_SliderCrankLagrangian00000.dat");
   EXPECT_EQ(problem.dimension, 2);
   EXPECT_EQ(problem.contacts, 2);
   ASSERT_EQ(problem.storage, DelassusStorage::dense);
@@ -80,7 +74,7 @@ TEST(SiconosProblemFormat, TwoDimensionalDenseUnsymmetric) {
 
 // An older writer put blank lines between the items: whitespace is free, as for fscanf.
 TEST(SiconosProblemFormat, OneContactWithBlankLines) {
-  const FrictionContactProblem problem = load("FrictionContact3D_1c.dat");
+  const FrictionContactProblem problem = test::siconos_file("FrictionContact3D_1c.dat");
   Eigen::Matrix3d W;
   W << 15, -1, -2, -1, 14, 1, -2, 1, 16;
   EXPECT_EQ(problem.W, Eigen::MatrixXd(W));
@@ -89,7 +83,7 @@ TEST(SiconosProblemFormat, OneContactWithBlankLines) {
 }
 
 TEST(SiconosProblemFormat, SparseBlockGivesSparseStorage) {
-  const FrictionContactProblem problem = load("Confeti-ex13-4contact-Fc3D-SBM.dat");
+  const FrictionContactProblem problem = test::siconos_file("Confeti-ex13-4contact-Fc3D-SBM.dat");
   EXPECT_EQ(problem.contacts, 4);
   ASSERT_EQ(problem.storage, DelassusStorage::sparse);
   EXPECT_EQ(problem.W.size(), 0);
@@ -106,7 +100,7 @@ TEST(SiconosProblemFormat, SparseBlockGivesSparseStorage) {
 
 // FC2D, diagonal blocks only, whose off-diagonal entries differ in sign: a transposed block shows.
 TEST(SiconosProblemFormat, SparseBlockTwoDimensionalKeepsBlockOrientation) {
-  const FrictionContactProblem problem = load("FrictionContactProblem00031.dat");
+  const FrictionContactProblem problem = test::siconos_file("FrictionContactProblem00031.dat");
   EXPECT_EQ(problem.dimension, 2);
   EXPECT_EQ(problem.contacts, 11);
   ASSERT_EQ(problem.storage, DelassusStorage::sparse);
@@ -121,8 +115,8 @@ TEST(SiconosProblemFormat, SparseBlockTwoDimensionalKeepsBlockOrientation) {
 }
 
 TEST(SiconosProblemFormat, DenseAndSparseBlockFilesOfOneProblemAgree) {
-  const FrictionContactProblem dense = load("FC3D_Example1.dat");
-  const FrictionContactProblem blocks = load("FC3D_Example1_SBM.dat");
+  const FrictionContactProblem dense = test::siconos_file("FC3D_Example1.dat");
+  const FrictionContactProblem blocks = test::siconos_file("FC3D_Example1_SBM.dat");
   ASSERT_EQ(blocks.storage, DelassusStorage::sparse);
   EXPECT_EQ(Eigen::MatrixXd(blocks.W_sparse), dense.W);
   EXPECT_EQ(blocks.b, dense.b);
@@ -131,7 +125,7 @@ TEST(SiconosProblemFormat, DenseAndSparseBlockFilesOfOneProblemAgree) {
 
 // CSparse's compressed columns (granular flow in 2D, 667 contacts), completed to whole 2 × 2 blocks.
 TEST(SiconosProblemFormat, CompressedColumnsGiveSparseStorageInWholeBlocks) {
-  const FrictionContactProblem problem = load("fc2d_granularflowonwall_00667_00000.dat");
+  const FrictionContactProblem problem = test::siconos_file("fc2d_granularflowonwall_00667_00000.dat");
   EXPECT_EQ(problem.dimension, 2);
   EXPECT_EQ(problem.contacts, 667);
   ASSERT_EQ(problem.storage, DelassusStorage::sparse);

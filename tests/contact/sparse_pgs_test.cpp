@@ -5,6 +5,7 @@
 #include "contact/siconos_problem_format.h"
 #include "contact/sparse_active_set.h"
 #include "contact/sparse_pgs.h"
+#include "tests/contact/test_problems.h"
 
 #include <gtest/gtest.h>
 
@@ -16,6 +17,10 @@
 namespace csim {
 namespace {
 
+using test::natural_map_error;
+using test::problem_file;
+using test::siconos_file;
+
 constexpr double kGravity = 9.81;  // m/s²
 constexpr double kStep = 0.01;     // s
 
@@ -25,12 +30,6 @@ FrictionContactProblem as_sparse(const FrictionContactProblem& dense) {
   sparse.W_sparse = block_sparse(dense.W, dense.dimension);
   sparse.W.resize(0, 0);
   return sparse;
-}
-
-FrictionContactProblem from_file(const std::string& name) {
-  std::ifstream file(std::string(CSIM_SOURCE_DIR "/tests/contact/data/") + name);
-  EXPECT_TRUE(file.good()) << name;
-  return read_problem(file);
 }
 
 // A row of [dᵀ, (p × d)ᵀ] for a rigid body: the velocity of its point p (relative to the centre) along d.
@@ -159,8 +158,8 @@ TEST(SparsePgs, SameImpulsesAsTheDensePathOnARowOfBalls) {
 }
 
 TEST(SparsePgs, SameSolutionAsTheDensePathOnStoredProblems) {
-  expect_same_solution(from_file("box_on_four_vertices_3d.txt"), 1e-10, "box on four vertices", true);
-  expect_same_solution(from_file("ring_cornering_lateral_slip_3d.txt"), 1e-8, "ring cornering");
+  expect_same_solution(problem_file("box_on_four_vertices_3d.txt"), 1e-10, "box on four vertices", true);
+  expect_same_solution(problem_file("ring_cornering_lateral_slip_3d.txt"), 1e-8, "ring cornering");
 }
 
 // A box on 4 (or 8) coplanar points: W has rank 6 for 12 (24) rows, the contact set is hyperstatic
@@ -202,20 +201,9 @@ TEST(SparseAlartCurnier, FinishesAHyperstaticBoxFromZeroByProximalSteps) {
 }
 
 TEST(SparsePgs, SolvesAnUnsymmetricProblemByItsRows) {
-  // unsymmetric_frictional of pgs_solver_test.cpp: its solution, found by enumerating the statuses in
+  // test::unsymmetric_frictional, stored by blocks: its solution, found by enumerating the statuses in
   // exact arithmetic, is r = (1, 1/10, 1, −3/10); Wᵀ's would be both contacts slipping.
-  FrictionContactProblem dense;
-  dense.dimension = 2;
-  dense.contacts = 2;
-  dense.W.resize(4, 4);
-  dense.W << 2.0, 0.5, 1.0, 0.0,  //
-      0.0, 1.0, 0.0, 0.5,         //
-      0.0, 0.0, 2.0, 0.5,         //
-      0.5, 0.0, 0.0, 1.0;
-  dense.b.resize(4);
-  dense.b << -61.0 / 20, 1.0 / 20, -37.0 / 20, 1.0 / 5;
-  dense.mu.assign(2, Eigen::Vector2d(0.3, 0.3));
-  const FrictionContactProblem problem = as_sparse(dense);
+  const FrictionContactProblem problem = as_sparse(test::unsymmetric_frictional());
   for (const int sweeps : {2000, 1}) {  // 1: the polish alone finishes it
     PgsParameters parameters;
     parameters.max_iterations = sweeps;
@@ -234,23 +222,8 @@ TEST(SparsePgs, SolvesAnUnsymmetricProblemByItsRows) {
 
 // The box on four vertices of a stiff block needs the polish (Gauss–Seidel alone stays near 1e-6).
 TEST(SparsePgs, ThePolishStaysWithinItsBudget) {
-  const FrictionContactProblem problem = as_sparse(from_file("box_on_four_vertices_3d.txt"));
-  for (const double budget : {0.0, 1.0, 10.0}) {
-    PgsParameters parameters;
-    parameters.tolerance = 1e-12;
-    parameters.polish_budget = budget;
-    parameters.polish_allowance = 0.0;
-    Eigen::VectorXd r;
-    const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
-    EXPECT_LE(statistics.polish_work, budget * statistics.sweep_work) << budget;
-    EXPECT_GT(statistics.sweep_work, 0.0);
-    if (budget == 0.0) {
-      EXPECT_EQ(statistics.polish_factorizations, 0);
-      EXPECT_TRUE(statistics.polish_cut);
-      EXPECT_FALSE(statistics.converged);
-    }
-    if (budget == 10.0) EXPECT_TRUE(statistics.converged) << statistics.residual;
-  }
+  const FrictionContactProblem problem = as_sparse(problem_file("box_on_four_vertices_3d.txt"));
+  test::expect_polish_within_budget(problem);
   // The allowance alone (no sweep work to speak of: one sweep) is a bound too.
   PgsParameters one_sweep;
   one_sweep.max_iterations = 1;
@@ -262,44 +235,12 @@ TEST(SparsePgs, ThePolishStaysWithinItsBudget) {
   EXPECT_TRUE(statistics.polish_cut);
 }
 
-// Siconos' natural-map error of r (fc3d_compute_error, fc2d_compute_error with ρ = 1; De Saxcé's
-// modified velocity): Σ_c ‖r_c − P_K(r_c − (u_c + μ‖u_t‖ e_n))‖², its square root relative to
-// max(‖b‖, ‖r‖, ‖u‖), K the isotropic Coulomb cone. Independent of the solver's own residual.
-double natural_map_error(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
-  const Eigen::VectorXd u = problem.W_sparse * r + problem.b;
-  const int d = problem.dimension;
-  double error = 0.0;
-  for (int c = 0; c < problem.contacts; ++c) {
-    const double mu = problem.mu[c](0);
-    const Eigen::VectorXd r_c = r.segment(d * c, d), u_c = u.segment(d * c, d);
-    Eigen::VectorXd v = r_c - u_c;
-    v(0) -= mu * u_c.tail(d - 1).norm();
-    const double normal = v(0), tangent = v.tail(d - 1).norm();
-    Eigen::VectorXd projected = v;
-    if (mu * tangent <= -normal) {
-      projected.setZero();
-    } else if (tangent > mu * normal) {
-      const double n = (mu * tangent + normal) / (mu * mu + 1.0);
-      projected(0) = n;
-      projected.tail(d - 1) = mu * n * v.tail(d - 1) / tangent;
-    }
-    error += (r_c - projected).squaredNorm();
-  }
-  return std::sqrt(error) / std::max({problem.b.norm(), r.norm(), u.norm()});
-}
-
-FrictionContactProblem from_siconos(const std::string& name) {
-  std::ifstream file(std::string(CSIM_SOURCE_DIR "/tests/contact/data/siconos/") + name);
-  EXPECT_TRUE(file.good()) << name;
-  return read_siconos_problem(file);
-}
-
 // Gauss–Seidel converging at a steady rate is not interrupted by the polish: Siconos' 00071 (89 contacts,
 // 2D) takes 67 sweeps alone, its increments contracting by about 0.8 a sweep; polished at sweep 20 as the
 // schedule says, it spent up to polish_budget × the sweeps' work in sparse LUs. The box on four vertices
 // of a stiff block, where Gauss–Seidel stalls near 1e-6, is still polished and converges.
 TEST(SparsePgs, PolishesOnlyAStalledIteration) {
-  const FrictionContactProblem steady = from_siconos("FrictionContactProblem00071.dat");
+  const FrictionContactProblem steady = siconos_file("FrictionContactProblem00071.dat");
   ASSERT_EQ(steady.storage, DelassusStorage::sparse);
   PgsParameters parameters;
   parameters.tolerance = 1e-8;
@@ -311,7 +252,7 @@ TEST(SparsePgs, PolishesOnlyAStalledIteration) {
   EXPECT_GT(statistics.iterations, 20);  // past the first scheduled polish
   EXPECT_LE(natural_map_error(steady, r), 1e-8);
 
-  const FrictionContactProblem stalled = as_sparse(from_file("box_on_four_vertices_3d.txt"));
+  const FrictionContactProblem stalled = as_sparse(problem_file("box_on_four_vertices_3d.txt"));
   parameters.tolerance = 1e-12;
   Eigen::VectorXd r_stalled;
   const PgsStatistics polished = PgsSolver(parameters).solve(stalled, r_stalled);
@@ -326,7 +267,7 @@ TEST(SparsePgs, PolishesOnlyAStalledIteration) {
 // active-set stage (sparse_active_set.h) 5, its statuses converging pass after pass. NSGS
 // stops at 1.3e-6 of Siconos' natural map after 100000 iterations (docs/contact-problems.md).
 TEST(SparseActiveSet, FinishesAStackOfBoxes) {
-  const FrictionContactProblem problem = from_siconos("BoxesStack1-i100000-32.hdf5.dat");
+  const FrictionContactProblem problem = siconos_file("BoxesStack1-i100000-32.hdf5.dat");
   ASSERT_EQ(problem.storage, DelassusStorage::sparse);
   PgsParameters parameters;
   parameters.tolerance = 1e-8;
@@ -360,7 +301,7 @@ TEST(SparseActiveSet, FinishesAStackOfBoxes) {
 // path, and reaches the tolerance of the same residual (PgsSolver::residual on the dense problem) and the
 // same natural-map error as the dense path (route_sparse false). A small dense problem keeps the dense path.
 TEST(SparsePgs, RoutesADenseStoredBlockSparseProblem) {
-  const FrictionContactProblem sparse = from_siconos("BoxesStack1-i100000-32.hdf5.dat");
+  const FrictionContactProblem sparse = siconos_file("BoxesStack1-i100000-32.hdf5.dat");
   FrictionContactProblem dense = sparse;
   dense.storage = DelassusStorage::dense;
   dense.W = Eigen::MatrixXd(sparse.W_sparse);
@@ -384,7 +325,7 @@ TEST(SparsePgs, RoutesADenseStoredBlockSparseProblem) {
   EXPECT_LE(PgsSolver::residual(dense, r_dense), 1e-8);
   EXPECT_LE(natural_map_error(sparse, r_dense), 1e-8);
 
-  const FrictionContactProblem small = from_file("box_on_four_vertices_3d.txt");
+  const FrictionContactProblem small = problem_file("box_on_four_vertices_3d.txt");
   ASSERT_EQ(small.storage, DelassusStorage::dense);
   Eigen::VectorXd r_small;
   EXPECT_FALSE(PgsSolver(parameters).solve(small, r_small).routed_to_sparse);
@@ -395,7 +336,7 @@ TEST(SparsePgs, RoutesADenseStoredBlockSparseProblem) {
 // start (the previous step's impulses by contact key, zero for a new contact). Gauss–Seidel stalls (its
 // relative increments stay near 2e-3 from sweep 100 to 700); the polish finishes it.
 TEST(SparsePgs, SolvesAStepOfAPackedBoxOfSpheres) {
-  const FrictionContactProblem problem = from_file("packed_box_29_spheres_step_3d.txt");
+  const FrictionContactProblem problem = problem_file("packed_box_29_spheres_step_3d.txt");
   ASSERT_EQ(problem.storage, DelassusStorage::sparse);
   std::ifstream warm_file(CSIM_SOURCE_DIR "/tests/contact/data/packed_box_29_spheres_step_3d_warm_start.txt");
   std::vector<double> warm;
@@ -413,7 +354,7 @@ TEST(SparsePgs, SolvesAStepOfAPackedBoxOfSpheres) {
 }
 
 TEST(SparsePgs, RefusesEqualityRowsByName) {
-  FrictionContactProblem problem = as_sparse(from_file("box_on_four_vertices_3d.txt"));
+  FrictionContactProblem problem = as_sparse(problem_file("box_on_four_vertices_3d.txt"));
   const Eigen::Index n = problem.size();
   problem.equalities = 1;
   problem.W_sparse.conservativeResize(n + 1, n + 1);
