@@ -3,10 +3,12 @@
 //   active_set_polish.cpp      the active-set iteration on the statuses' linear systems;
 //   dense_polish.cpp           the polish: the active set, then Newton (alart_curnier.h), within a budget;
 //   equality_condensation.cpp  the bilateral rows condensed out before the sweeps;
-//   pgs_solver.cpp             the iteration: sweeps, convergence tests and when to polish.
+//   pgs_iteration.h            the iteration both paths share: sweeps, convergence tests, when to polish;
+//   pgs_solver.cpp             the dense path that runs it on these pieces.
 // Internal to contact/.
 #pragma once
 
+#include "contact/pgs_local.h"
 #include "contact/pgs_solver.h"
 #include "contact/polish_budget.h"
 
@@ -22,16 +24,7 @@ bool is_symmetric(const Eigen::MatrixXd& W);
 // into `transpose` (a solver's work array, its storage reused from solve to solve).
 const Eigen::MatrixXd& rows_of(const Eigen::MatrixXd& W, Eigen::MatrixXd& transpose);
 
-struct SweepResult {
-  double increment_squared = 0.0;  // Σ (W_ii Δr_i)², (m/s)²
-  double Wr_squared = 0.0;         // ≈ ‖W r‖², from the velocities seen during the sweep, (m/s)²
-  // The contacts from this one on have a zero term in the full residual at the sweep's result, known
-  // without solving them again: after the last contact whose impulse moved, no impulse changed, so
-  // each later contact (and that one, if its impulse is its local solution, omega = 1) sees at the end
-  // the frozen velocity it was solved with, and its local solution is its impulse bit for bit. 0 when
-  // every local solve returned the impulse it started from; a rejected contact is never settled.
-  int settled_from = 0;
-};
+using pgs_local::SweepResult;
 
 // sweep<D>: one Gauss–Seidel sweep, dense_sweep.h.
 

@@ -1,6 +1,7 @@
 // A Gauss–Seidel sweep of PgsSolver's dense path (pgs_solver.h, dense_pgs.h), in a header so that the
-// iteration (pgs_solver.cpp) inlines it: on a few contacts a sweep is a few hundred instructions, and
-// out of line it cost 1 % more instructions a step of a lumped scene (bench/step_instructions.sh).
+// iteration (pgs_iteration.h, run by pgs_solver.cpp) inlines it: on a few contacts a sweep is a few
+// hundred instructions, and out of line it cost 1 % more instructions a step of a lumped scene
+// (bench/step_instructions.sh).
 // Internal to contact/.
 #pragma once
 

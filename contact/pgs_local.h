@@ -62,14 +62,25 @@ void keep_in_cone(Vector<D>& r, const Eigen::Vector2d& mu) {
   if (ratio > 1.0) r.template tail<D - 1>() *= r(0) > 0 ? 1.0 / ratio : 0.0;
 }
 
+// What a sweep learnt on its way, for the convergence tests (pgs_solver.h).
+struct SweepResult {
+  double increment_squared = 0.0;  // Σ (W_ii Δr_i)², (m/s)²
+  double Wr_squared = 0.0;         // ≈ ‖W r‖², from the velocities seen during the sweep, (m/s)²
+  // The contacts from this one on have a zero term in the full residual at the sweep's result, known
+  // without solving them again: after the last contact whose impulse moved, no impulse changed, so
+  // each later contact (and that one, if its impulse is its local solution, omega = 1) sees at the end
+  // the frozen velocity it was solved with, and its local solution is its impulse bit for bit. 0 when
+  // every local solve returned the impulse it started from; a rejected contact is never settled.
+  int settled_from = 0;
+};
+
 // One contact's Gauss–Seidel update within a sweep: its local problem (W_cc, the frozen free velocity
 // `frozen` = b_c + Σ_{d≠c} W_cd r_d) solved exactly, the impulse r_c (D entries from r_c's start)
-// relaxed by omega, and the sweep's sums of a `Result` (fields increment_squared, Wr_squared,
-// settled_from, as the sweeps' SweepResult) updated; `b_c` is the contact's own free term, from which
+// relaxed by omega, and the sweep's sums in `result` updated; `b_c` is the contact's own free term, from which
 // (W r)_c = (frozen − b_c) + W_cc r_c. A non-finite local result is rejected (counted, r_c kept).
-template <int D, class Result>
+template <int D>
 void update_contact(int c, const Matrix<D>& W_cc, const Vector<D>& frozen, const Vector<D>& b_c,
-                    const Eigen::Vector2d& mu, double omega, double* r_c, Result& result, int& rejected) {
+                    const Eigen::Vector2d& mu, double omega, double* r_c, SweepResult& result, int& rejected) {
   Eigen::Map<Vector<D>> r_contact(r_c);
   Vector<D> r_local;
   solve_local<D>(W_cc, frozen, mu, r_local);

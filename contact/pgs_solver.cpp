@@ -2,6 +2,7 @@
 
 #include "contact/dense_pgs.h"
 #include "contact/dense_sweep.h"
+#include "contact/pgs_iteration.h"
 #include "contact/pgs_local.h"
 #include "contact/sparse_pgs.h"
 
@@ -11,90 +12,34 @@
 #include <stdexcept>
 #include <string>
 
-// The iteration of the dense path: sweeps, the convergence tests and when to polish; the pieces are in
+// PgsSolver: the route to a path, and the dense path's iteration (pgs_iteration.h) on the pieces of
 // dense_pgs.h's files.
 
 namespace csim {
 namespace dense_pgs {
 namespace {
 
-using pgs_local::status_of;
-using pgs_local::velocity_scale;
-
-// Sweeps between two attempts at the polish (dense_polish.cpp).
-constexpr int kPolishInterval = 200;
-// ... and once early, after 20 sweeps: when a few sweeps have sorted out the statuses, the direct
-// solve finishes a problem that Gauss–Seidel would take hundreds of sweeps over (an ill-conditioned
-// Delassus). A sweep costs 2 m² flops for m rows and an LU of the polish 2 m³/3, so the polish's budget
-// (PgsParameters) lets it factor a few hundred rows at sweep 20 and more at later attempts.
-constexpr int kFirstPolish = 20;
-
+// The dense path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's rows, the
+// polish of dense_polish.cpp on every schedule.
 template <int D>
-PgsStatistics solve_dimension(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows,
-                              const PgsParameters& parameters, Eigen::VectorXd& r,
-                              std::vector<ContactStatus>* status) {
-  PgsStatistics statistics;
-  // The sweep count at the last polish: the final polish is skipped when no sweep has run since the
-  // last one. With max_iterations 20 or a multiple of 200 an unconverged solve used to polish twice in
-  // a row, the second from the first one's result: twice the cost (23.9 s became 47.9 s on a
-  // 296-contact problem) for at most a small gain (rolling-ring-3d-cornering, whose 7 unconverged
-  // solves end at a relative residual of 3e-3 either way).
-  int polished_after = -1;
-  const auto polish_now = [&] {
-    polished_after = statistics.iterations;
-    PolishBudget budget = statistics.start_polish(parameters);
-    statistics.finish_polish(budget, polish<D>(problem, W_rows, r, statistics.residual, parameters.tolerance, budget));
-  };
+struct DensePath {
+  const FrictionContactProblem& problem;
+  const Eigen::MatrixXd& W_rows;
+  const PgsParameters& parameters;
 
-  const double norm_b = problem.b.norm();
-  bool residual_is_current = false;
-  for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
-    const SweepResult swept =
-        sweep<D>(problem, W_rows, parameters, r, statistics.rejected_local_solutions);
-    statistics.iterations = iteration;
-    statistics.sweep_work += 2.0 * static_cast<double>(W_rows.size());
-    residual_is_current = false;
-    // A stalled iteration: try the active-set polish every kPolishInterval sweeps.
-    if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish)) {
-      statistics.residual = relative_residual(problem, W_rows, r, swept.settled_from);
-      residual_is_current = true;
-      polish_now();
-      if (statistics.residual <= parameters.tolerance) {
-        statistics.converged = true;
-        break;
-      }
-      continue;
-    }
-    // Cheap test: a sweep that barely moved r, or one after which every contact is settled (the full
-    // residual then costs no local solve, and the next sweep would return r to the bit: a single
-    // contact is solved by its first sweep). Only then is the full residual (about one more sweep of
-    // work) worth computing; it decides.
-    const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
-    if (swept.settled_from == 0 || std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
-      statistics.residual = relative_residual(problem, W_rows, r, swept.settled_from);
-      residual_is_current = true;
-      if (statistics.residual <= parameters.tolerance) {
-        statistics.converged = true;
-        break;
-      }
-    }
+  double sweep_flops() const { return 2.0 * static_cast<double>(W_rows.size()); }
+  SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
+    return dense_pgs::sweep<D>(problem, W_rows, parameters, r, rejected);
   }
-  if (!residual_is_current) {
-    statistics.residual = relative_residual(problem, W_rows, r);
-    statistics.converged = statistics.residual <= parameters.tolerance;
+  double residual(const Eigen::VectorXd& r, int settled_from) const {
+    return relative_residual(problem, W_rows, r, settled_from);
   }
-  if (parameters.polish && !statistics.converged && polished_after != statistics.iterations) {
-    polish_now();
-    statistics.converged = statistics.residual <= parameters.tolerance;
+  bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
+    return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
   }
-
-  if (status != nullptr) {
-    status->resize(problem.contacts);
-    for (int c = 0; c < problem.contacts; ++c)
-      (*status)[c] = status_of<D>(r.template segment<D>(static_cast<Eigen::Index>(D) * c), problem.mu[c]);
-  }
-  return statistics;
-}
+  void observe(const SweepResult&, double) const {}
+  bool stalled() const { return true; }
+};
 
 }  // namespace
 
@@ -107,8 +52,12 @@ PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const Pg
     return statistics;
   }
   const Eigen::MatrixXd& W_rows = rows_of(problem.W, transpose);
-  return problem.dimension == 2 ? solve_dimension<2>(problem, W_rows, parameters, r, status)
-                                : solve_dimension<3>(problem, W_rows, parameters, r, status);
+  if (problem.dimension == 2) {
+    DensePath<2> path{problem, W_rows, parameters};
+    return pgs_local::iterate<2>(problem, parameters, path, r, status);
+  }
+  DensePath<3> path{problem, W_rows, parameters};
+  return pgs_local::iterate<3>(problem, parameters, path, r, status);
 }
 
 }  // namespace dense_pgs

@@ -2,7 +2,7 @@
 // known (open, stick, or slip along a given direction), the law reduces to a square linear system on
 // the closed contacts, solved sparsely as a correction of the Gauss–Seidel iterate.
 //
-// Unknowns and equations per contact (as pgs_solver.cpp's dense active set):
+// Unknowns and equations per contact (as active_set_polish.cpp's dense active set):
 //   open   r_c = 0, no equation;
 //   stick  r_c free (its frictionless tangential axes held at 0), u_c = 0 on the same rows;
 //   slip   r_c = r_n · slip_ratio (slip_ratio(0) = 1, the tangential part on the cone's boundary),

@@ -1,5 +1,6 @@
 #include "contact/sparse_pgs.h"
 
+#include "contact/pgs_iteration.h"
 #include "contact/pgs_local.h"
 #include "contact/sparse_active_set.h"
 #include "contact/sparse_alart_curnier.h"
@@ -13,15 +14,12 @@ namespace csim {
 namespace {
 
 using pgs_local::Matrix;
+using pgs_local::SweepResult;
 using pgs_local::Vector;
 using pgs_local::solve_local;
-using pgs_local::status_of;
 using pgs_local::update_contact;
 using pgs_local::velocity_scale;
 
-// Sweeps between two polishes, and the sweep of the first one (as the dense path, pgs_solver.cpp).
-constexpr int kPolishInterval = 200;
-constexpr int kFirstPolish = 20;
 constexpr int kNewtonIterations = 30;
 
 // True if W is laid out as the sweeps and the Newton polish read it: compressed rows, sorted columns in
@@ -113,12 +111,6 @@ double product_squared(const FrictionContactProblem& problem, int c, const Vecto
                        const Vector<D>& r_c) {
   return (frozen - problem.b.template segment<D>(D * c) + W_cc * r_c).squaredNorm();
 }
-
-struct SweepResult {
-  double increment_squared = 0.0;
-  double Wr_squared = 0.0;
-  int settled_from = 0;  // as pgs_solver.cpp's: the contacts from this one on have a zero law term
-};
 
 template <int D>
 SweepResult sweep(const FrictionContactProblem& problem, const BlockRows<D>& W, const PgsParameters& parameters,
@@ -266,60 +258,34 @@ class ContractionWindow {
   long next_ = 0;
 };
 
+// The sparse path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's block rows,
+// the polish above, skipped on schedule while the sweeps converge at a steady rate.
+template <int D>
+struct SparsePath {
+  const FrictionContactProblem& problem;
+  const BlockRows<D>& W;
+  const PgsParameters& parameters;
+  ContractionWindow window;
+
+  double sweep_flops() const { return 2.0 * static_cast<double>(W.W.nonZeros()); }
+  SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
+    return csim::sweep<D>(problem, W, parameters, r, rejected);
+  }
+  double residual(const Eigen::VectorXd& r, int settled_from) const {
+    return relative_residual<D>(problem, W, r, settled_from);
+  }
+  bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
+    return csim::polish<D>(problem, W, r, residual, parameters.tolerance, budget);
+  }
+  void observe(const SweepResult& swept, double scale) { window.add(std::sqrt(swept.increment_squared) / scale); }
+  bool stalled() const { return !(window.contraction() < kStalled); }
+};
+
 template <int D>
 PgsStatistics solve_dimension(const FrictionContactProblem& problem, const BlockRows<D>& W,
                               const PgsParameters& parameters, Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
-  PgsStatistics statistics;
-  const double sweep_flops = 2.0 * static_cast<double>(W.W.nonZeros());
-  int polished_after = -1;
-  const auto polish_now = [&] {
-    polished_after = statistics.iterations;
-    PolishBudget budget = statistics.start_polish(parameters);
-    statistics.finish_polish(budget, polish<D>(problem, W, r, statistics.residual, parameters.tolerance, budget));
-  };
-  const double norm_b = problem.b.norm();
-  bool residual_is_current = false;
-  ContractionWindow window;
-  for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
-    const SweepResult swept = sweep<D>(problem, W, parameters, r, statistics.rejected_local_solutions);
-    statistics.iterations = iteration;
-    statistics.sweep_work += sweep_flops;
-    residual_is_current = false;
-    const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
-    window.add(std::sqrt(swept.increment_squared) / scale);
-    if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish) &&
-        !(window.contraction() < kStalled)) {
-      statistics.residual = relative_residual<D>(problem, W, r, swept.settled_from);
-      residual_is_current = true;
-      polish_now();
-      if (statistics.residual <= parameters.tolerance) {
-        statistics.converged = true;
-        break;
-      }
-      continue;
-    }
-    if (swept.settled_from == 0 || std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
-      statistics.residual = relative_residual<D>(problem, W, r, swept.settled_from);
-      residual_is_current = true;
-      if (statistics.residual <= parameters.tolerance) {
-        statistics.converged = true;
-        break;
-      }
-    }
-  }
-  if (!residual_is_current) {
-    statistics.residual = relative_residual<D>(problem, W, r, problem.contacts);
-    statistics.converged = statistics.residual <= parameters.tolerance;
-  }
-  if (parameters.polish && !statistics.converged && polished_after != statistics.iterations) {
-    polish_now();
-    statistics.converged = statistics.residual <= parameters.tolerance;
-  }
-  if (status != nullptr) {
-    status->resize(static_cast<std::size_t>(problem.contacts));
-    for (int c = 0; c < problem.contacts; ++c) (*status)[c] = status_of<D>(r.template segment<D>(D * c), problem.mu[c]);
-  }
-  return statistics;
+  SparsePath<D> path{problem, W, parameters, {}};
+  return pgs_local::iterate<D>(problem, parameters, path, r, status);
 }
 
 // W_sparse itself when its layout is the one read here, else a completed copy in `completed`.
