@@ -39,6 +39,7 @@ struct DensePath {
   }
   void observe(const SweepResult&, double) const {}
   bool stalled() const { return true; }
+  bool checks_residual(int) const { return false; }
 };
 
 }  // namespace

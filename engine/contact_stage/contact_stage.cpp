@@ -8,14 +8,15 @@
 namespace csim {
 
 ContactStage::ContactStage(const World& world, const PgsParameters& solver, std::unique_ptr<IterationOperator> iteration)
-    : world_(world), detector_(world), dimension_(detector_.dimension()), pgs_(solver), iteration_(std::move(iteration)) {
+    : world_(world), touching_(kTouching * world.length_scale()), detector_(world), dimension_(detector_.dimension()),
+      pgs_(solver), iteration_(std::move(iteration)) {
   rows_.dimension = dimension_;
 }
 
 void ContactStage::detect(const Vector& q, double margin) {
   active_.clear();
   active_candidates_.clear();
-  detector_.detect(q, margin, candidates_, candidate_rows_);
+  detector_.detect(q, margin + touching_, candidates_, candidate_rows_);
 }
 
 bool ContactStage::is_active(int k) const {

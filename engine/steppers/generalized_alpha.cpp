@@ -129,7 +129,7 @@ void GeneralizedAlpha::detect(const State& state) {
   }
   stage_.detect(state.q, margin);
   for (int k = 0; k < stage_.candidate_count(); ++k)
-    if (stage_.predicted_gap(k, work_, kActivationFraction * h) <= 0.0) stage_.activate(k);
+    if (stage_.predicted_gap(k, work_, kActivationFraction * h) <= stage_.touching()) stage_.activate(k);
 }
 
 // The contact stage's rows, W (generalized_alpha_response.h) and b = H v_free, with Newton's impact

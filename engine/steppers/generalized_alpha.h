@@ -39,8 +39,8 @@
 // large step grows with the mesh and as ρ∞ falls (docs/generalized-alpha.md; 0 at ρ∞ = 1).
 //
 // Contacts: detected at q_n within the travel of the free step; active when the gap closes over half
-// the free step, g + ½ H (q_free − q_n) ≤ 0 (Moreau–Jean's rule at θ = ½); Newton's impact law
-// u_n⁺ ≥ −e u_n⁻ on the normal rows, and an inelastic contact still open by its gap closes it within
+// the free step, g + ½ H (q_free − q_n) ≤ ε (ε: the stage's touching band; Moreau–Jean's rule at
+// θ = ½); Newton's impact law u_n⁺ ≥ −e u_n⁻ on the normal rows, and an inelastic contact still open by its gap closes it within
 // the step (Stewart & Trinkle's term, with q_{n+1} − q_free ≈ ½ h (v_{n+1} − v_free), exact at ρ∞ = 1).
 //
 // Energy: no closed discrete balance is known for this scheme with contacts. The stepper keeps the

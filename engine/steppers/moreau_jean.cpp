@@ -158,7 +158,8 @@ void MoreauJean::detect(const State& state) {
                                  ? stage_.predicted_gap(k, state.v, kActivationGamma * h) +
                                        kActivationGamma * h * theta * halves_->free_dot(d * k)
                                  : stage_.predicted_gap(k, v_predicted_, kActivationGamma * h);
-    if (predicted <= 0.0 || (reach_velocity_.size() > 0 && stage_.predicted_gap(k, reach_velocity_, h) <= 0.0))
+    if (predicted <= stage_.touching() ||
+        (reach_velocity_.size() > 0 && stage_.predicted_gap(k, reach_velocity_, h) <= stage_.touching()))
       stage_.activate(k);
   }
 }

@@ -5,7 +5,8 @@
 // matrix A = M + hθC + h²θ²K (structural_operators.h, factored once when K is constant):
 //   1. free velocity   A (v_free − v_k) = h [θ f(t_{k+1}) + (1−θ) f(t_k) + f_int(q_k) − θ h K v_k − C v_k];
 //   2. detect          candidates within twice the step's travel; a contact is active when its predicted
-//                      gap g + γ h u_n ≤ 0 (γ = ½), u_n from the θ-weighted free velocity (1−θ)v_k + θ v_free;
+//                      gap g + γ h u_n ≤ ε (γ = ½), u_n from the θ-weighted free velocity (1−θ)v_k + θ v_free,
+//                      ε the stage's touching band (1e-9 of the World's size, contact_stage.h);
 //   3. assemble        the contact stage (contact_stage.h) forms W = H A⁻¹ Hᵀ through A's operator
 //                      (iteration_operator.h) and b = H v_free, to which the step adds Newton's impact law
 //                      e·u_n(v_k) on normal rows and, on an inelastic contact (e = 0) whose gap g is still

@@ -42,7 +42,7 @@ void MoreauJean::compute_newton_free_velocity(const State& state, const Vector& 
 int MoreauJean::activate_missed_contacts(double h) {
   std::vector<int> missed;
   for (int k = 0; k < stage_.candidate_count(); ++k)
-    if (!stage_.is_active(k) && stage_.predicted_gap(k, v_theta_, kActivationGamma * h) <= 0.0) missed.push_back(k);
+    if (!stage_.is_active(k) && stage_.predicted_gap(k, v_theta_, kActivationGamma * h) <= stage_.touching()) missed.push_back(k);
   if (!missed.empty()) stage_.activate_more(missed);
   return static_cast<int>(missed.size());
 }

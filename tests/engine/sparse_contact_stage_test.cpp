@@ -1,13 +1,15 @@
 // The contact stage's sparse Delassus operator (engine/contact_stage/forward_columns.h, block_gram.h) on
 // rigid spheres packed in a box (bench/pile_scene.h): the same run with W stored sparse and dense agrees
 // to the contact solver's tolerance, the sparse W stores only the blocks of contacts that share a body,
-// and a packed pile, statically admissible, stays at rest with its weight on the floor.
+// and a packed pile, statically admissible, stays at rest with its weight on the floor, every touching
+// pair in the problem at every step (the stage's touching band, contact_stage.h).
 #include "bench/pile_scene.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <unistd.h>
@@ -115,6 +117,39 @@ TEST(SparseContactStage, APackedPileStaysAtRestWithItsWeightOnTheFloor) {
     box_impulse += contact.body_b == box ? -up : up;  // the impulse pushes B along +n, A along −n
   }
   EXPECT_NEAR(box_impulse, spheres.size() * 1.0 * g * h, 0.02 * spheres.size() * g * h);
+}
+
+TEST(SparseContactStage, APackedPileKeepsEveryTouchingPairAndRestsOnItsWarmStart) {
+  // Two layers on a 9 × 8 base (72 + 28 spheres): every pair the packing makes touch is at a gap of
+  // round-off, and the sideways contacts of the base hold the upper layer's thrust. Counted from the
+  // geometry: each base sphere on the floor, the base's outer ones on the walls, and every two spheres
+  // whose centres are 2R apart. Each of those must be in the problem at the end (the band keeps them,
+  // where "closed" as gap ≤ 0 let round-off drop and re-admit them from step to step, and the pile then
+  // moved), and the warm start from the last step must fit: a few sweeps a solve after the first.
+  const double radius = 0.1, h = 1e-3;
+  const int steps = 30;
+  const std::vector<bench::Sphere> spheres = bench::pile(100, 9, 8, radius);
+  const RunReport report = run_text(bench::scene_text(spheres, radius, steps, 9, 8, 0.5, 20000), "sparse");
+
+  std::size_t touching = 0;
+  for (std::size_t k = 0; k < spheres.size(); ++k) {
+    const bench::Sphere& p = spheres[k];
+    if (p.layer == 0) touching += 1 + (p.i == 0) + (p.i == 8) + (p.j == 0) + (p.j == 7);  // floor, walls
+    for (std::size_t l = k + 1; l < spheres.size(); ++l) {
+      const bench::Sphere& q = spheres[l];
+      const double distance = std::sqrt((p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y) + (p.z - q.z) * (p.z - q.z));
+      if (std::abs(distance - 2.0 * radius) <= 1e-12 * radius) ++touching;
+    }
+  }
+  ASSERT_EQ(touching, 390u);  // 72 floor, 34 wall, 127 + 45 in the layers, 4 × 28 supports
+  const SolverCounters& counters = report.state.counters;
+  EXPECT_EQ(counters.steps, steps);
+  EXPECT_EQ(counters.not_converged, 0);
+  EXPECT_EQ(report.state.contacts.size(), touching);
+  // The first solve starts from zero; the 29 warm-started ones take at most 10 sweeps each on average.
+  EXPECT_LE(counters.total_iterations - counters.max_iterations, 10 * (steps - 1));
+  const double g = 9.81;
+  EXPECT_LE(report.state.v.lpNorm<Eigen::Infinity>(), 0.01 * g * h);
 }
 
 }  // namespace
