@@ -22,9 +22,9 @@ namespace csim {
 class BlockPattern {
  public:
   // The blocks that share an index with each block, from reach[a] (the indices in [0, size) that column
-  // a reaches, each once). False, the pattern left empty, when some index is reached by more than
-  // max_density × (number of blocks) blocks: W would then be dense in at least that fraction of its block
-  // rows (the contacts of one elastic body), and the dense storage is faster (the test costs
+  // a reaches; a repeated one counts once). False, the pattern left empty, when some index is reached by
+  // more than max_density × (number of blocks) blocks: W would then be dense in at least that fraction of
+  // its block rows (the contacts of one elastic body), and the dense storage is faster (the test costs
   // O(Σ |reach_a|) at most, and stops at the first such index).
   bool build(int size, const std::vector<const std::vector<int>*>& reach, int dimension, int contacts,
              double max_density = 1.0);

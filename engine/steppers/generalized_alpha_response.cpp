@@ -26,11 +26,9 @@ const GeneralizedAlphaResponse::Columns& GeneralizedAlphaResponse::columns(const
   for (int i = 0; i < col.G.size(); ++i)
     if (col.G(i) != 0.0) col.reach.push_back(i);
   const std::size_t solved = col.reach.size();
-  for (int k = 0; k < row.count; ++k)  // h's own unknowns, where G may vanish
-    if (!std::binary_search(col.reach.begin(), col.reach.begin() + solved, row.index[k]))
-      col.reach.push_back(row.index[k]);
-  std::sort(col.reach.begin(), col.reach.end());
-  col.reach.erase(std::unique(col.reach.begin(), col.reach.end()), col.reach.end());
+  for (int e = 0; e < row.count; ++e)  // h's own unknowns, where G may vanish (ascending: a bisection)
+    if (!std::binary_search(col.reach.begin(), col.reach.begin() + solved, row.index[e]))
+      col.reach.push_back(row.index[e]);
   return col;
 }
 

@@ -45,7 +45,7 @@ class GeneralizedAlphaResponse final : public IterationOperator {
   struct Columns {
     SparseRow row;
     Vector Z, G;
-    std::vector<int> reach;  // the unknowns where h or G is nonzero, ascending
+    std::vector<int> reach;  // the unknowns where h or G is nonzero (block_pattern.h)
     long factorization = -1;
     bool used = false;
   };
