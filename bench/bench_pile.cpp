@@ -1,5 +1,6 @@
 // A settled pile of rigid spheres: the cost of a Moreau–Jean step with a few hundred frictional contacts
-// between many bodies (run by hand: build/bench/bench_pile [spheres] [steps] [repeats] [auto|dense|sparse]).
+// between many bodies (run by hand: build/bench/bench_pile [spheres] [steps] [repeats] [auto|dense|sparse]
+// [moreau-jean|generalized-alpha]).
 //
 // The pile (bench/pile_scene.h): spheres packed in a box, settled by construction; a 9 × 8 base gives
 // 72 + 56 + 42 + 30 = 200 spheres in four layers, other counts fill the layers in order. Each sphere
@@ -9,6 +10,8 @@
 // tolerance 1e-8 and at most 20 000 sweeps. Printed: the spheres, the contacts of the last step, ms per
 // step (median and min–max over the repeats) with the stepper's phase timers of the last repeat, or
 // where the contact solver stopped the run.
+// generalized-alpha: the same pile of point masses (pile_scene.h), ρ∞ = 0.8, its W from its own response
+// (engine/steppers/generalized_alpha_response.h).
 #include "bench/pile_scene.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
@@ -28,10 +31,17 @@ int main(int argc, char** argv) {
   const int steps = argc > 2 ? std::atoi(argv[2]) : 5;
   const int repeats = argc > 3 ? std::atoi(argv[3]) : 3;
   const std::string storage = argc > 4 ? argv[4] : "auto";  // contact_solver.storage: auto, dense or sparse
+  const std::string integrator = argc > 5 ? argv[5] : "moreau-jean";
+  if (integrator != "moreau-jean" && integrator != "generalized-alpha") {
+    std::printf("integrator: moreau-jean or generalized-alpha, not '%s'\n", integrator.c_str());
+    return 2;
+  }
   const double radius = 0.1;
   const std::vector<csim::bench::Sphere> spheres = csim::bench::pile(count, 9, 8, radius);
   const std::string file = "/tmp/bench_pile_" + std::to_string(getpid()) + ".yaml";
-  std::ofstream(file) << csim::bench::scene_text(spheres, radius, steps, 9, 8);
+  std::string text = csim::bench::scene_text(spheres, radius, steps, 9, 8);
+  if (integrator == "generalized-alpha") text = csim::bench::generalized_alpha_text(text);
+  std::ofstream(file) << text;
   const std::unique_ptr<csim::Scene> scene = csim::load_scene(file, {"contact_solver.storage=" + storage});
   std::remove(file.c_str());
 

@@ -79,5 +79,15 @@ inline std::string scene_text(const std::vector<Sphere>& spheres, double radius,
   return text;
 }
 
+// The same scene text under the generalized-α stepper, the spheres point masses (that stepper integrates
+// no rotation of a rigid body in space; the packing is statically admissible without them).
+inline std::string generalized_alpha_text(std::string text) {
+  for (std::size_t at = text.find("type: rigid"); at != std::string::npos; at = text.find("type: rigid", at))
+    text.replace(at, 11, "type: point");
+  const std::string moreau_jean = "integrator: {type: moreau-jean, theta: 0.5}";
+  text.replace(text.find(moreau_jean), moreau_jean.size(), "integrator: {type: generalized-alpha}");
+  return text;
+}
+
 }  // namespace csim::bench
 

@@ -28,8 +28,6 @@ class ForwardColumnsOperator final : public IterationOperator {
   // and, unless forced, at least kSparseRows rows and no factor row reached by more than kSparseDensity
   // of the blocks.
   bool sparse_delassus(const ProblemRows& rows, SparseDelassus& W, bool forced) override;
-  static constexpr int kSparseRows = 48;
-  static constexpr double kSparseDensity = 0.25;
   void add_response(const ProblemRows& rows, const Vector& r, Vector& v) override;
 
   // Two halves. The forward half of A⁻¹ f (f: N·s, the step's impulse of the smooth forces).

@@ -36,6 +36,10 @@ class IterationOperator {
   // can form it so; false otherwise, and the stage then asks delassus(). add_response answers for the
   // rows of either.
   virtual bool sparse_delassus(const ProblemRows&, SparseDelassus&, bool /*forced*/) { return false; }
+  // When it pays, for every operator that can store W so (`automatic`): at least kSparseRows rows, and no
+  // unknown (or factor row) reached by more than kSparseDensity of the rows' blocks (block_pattern.h).
+  static constexpr int kSparseRows = 48;
+  static constexpr double kSparseDensity = 0.25;
   // v += A⁻¹ Hᵀ r, H the rows of the last delassus() (r: one impulse a row, N·s; v in m/s).
   virtual void add_response(const ProblemRows& rows, const Vector& r, Vector& v) = 0;
   // u = H v, H the rows of the last delassus() (an operator that holds H dense applies it so).

@@ -4,14 +4,8 @@
 // unless the two rows move a common body. A pile of spheres has a few nonzero 3 × 3 blocks a row, where a
 // dense W has m² entries: memory and the Gauss–Seidel sweep then cost O(nonzero blocks).
 //
-// Storage (contact/friction_contact_problem.h, DelassusStorage::sparse): rows compressed, the pattern made
-// of whole blocks: the first dimension · contacts columns are the contacts' rows, `dimension` each, every
-// later one (an equality row) a block of its own; two blocks any of whose columns share a factor row get
-// all their entries (zeros included), the others none. W is symmetric to the bit (each entry computed
-// once and mirrored).
-//
-// Cost: the rows the columns reach, each with the list of blocks reaching it (O(Σ |y_a|)), then one
-// sparse dot for each entry of the pattern.
+// Storage and cost: block_pattern.h, the indices a column reaches being its factor rows; then one sparse
+// dot for each entry of the pattern's upper triangle.
 #pragma once
 
 #include "engine/linear_algebra/sparse_ldlt.h"

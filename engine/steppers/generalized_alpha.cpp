@@ -60,6 +60,7 @@ GeneralizedAlpha::GeneralizedAlpha(const World& world, const GeneralizedAlphaPar
   if (const std::string refusal = unsupported(world); !refusal.empty()) throw RunError(0.0, refusal);
   if (!(parameters.rho_infinity >= 0.0 && parameters.rho_infinity <= 1.0))
     throw RunError(0.0, "generalized-alpha: rho_infinity must lie in [0, 1]");
+  stage_.set_delassus_choice(parameters.delassus_storage);
 }
 
 // The stage's view of the step's contact response (generalized_alpha_response.h), which update() also

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "contact/pgs_solver.h"
+#include "engine/contact_stage/iteration_operator.h"
 
 namespace csim {
 
@@ -18,6 +19,7 @@ struct GeneralizedAlphaParameters : GeneralizedAlphaOptions {
   double step = 1e-3;              // h, s
   PgsParameters solver;
   double failure_residual = 1e-6;  // a solve left above this relative residual stops the run
+  DelassusChoice delassus_storage = DelassusChoice::automatic;  // contact_solver.storage
 };
 
 // The coefficients of Chung & Hulbert (J. Appl. Mech. 1993) for a spectral radius ρ∞: second order,

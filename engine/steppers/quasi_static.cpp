@@ -59,6 +59,7 @@ QuasiStatic::QuasiStatic(const World& world, const QuasiStaticParameters& parame
       stage_(world, parameters.solver, make_operator()), d_(stage_.dimension()) {
   if (!world.constraints.empty()) throw RunError(0.0, unsupported(world));
   if (const std::string refusal = unsupported(world, reduced_); !refusal.empty()) throw RunError(0.0, refusal);
+  stage_.set_delassus_choice(parameters.delassus_storage);
   bool nonlinear = false;
   for (const BodyInstance& b : world.bodies) nonlinear = nonlinear || b.body->nonlinear();
   for (const ContactLaw& law : world.contact_laws) penalty_friction_ = penalty_friction_ || law.elastic_slip > 0.0;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "contact/pgs_solver.h"
+#include "engine/contact_stage/iteration_operator.h"
 
 namespace csim {
 
@@ -16,6 +17,9 @@ struct QuasiStaticParameters : QuasiStaticOptions {
   double step = 0.1;              // s of pseudo-time per load step
   PgsParameters solver;
   double failure_residual = 1e-6;
+  // contact_solver.storage: automatic or dense (the stepper's operator stores W dense; sparse is refused
+  // when the scene is loaded).
+  DelassusChoice delassus_storage = DelassusChoice::automatic;
   double newton_tolerance = 1e-10;  // on |Δz|∞ / L
   int newton_max_iterations = 30;
   // Newton's predictor and modified Newton (quasi_static.h), not scene keys: off only where a test compares

@@ -31,6 +31,7 @@ GeneralizedAlphaParameters generalized_alpha_parameters(const RunSettings& run) 
   parameters.step = run.step;
   parameters.solver = run.contact_solver;
   parameters.failure_residual = run.failure_residual;
+  parameters.delassus_storage = run.delassus_storage;
   return parameters;
 }
 
@@ -46,6 +47,7 @@ QuasiStaticParameters quasi_static_parameters(const RunSettings& run) {
   QuasiStaticParameters parameters;
   static_cast<QuasiStaticOptions&>(parameters) = run.quasi_static;
   set_shared_settings(run, parameters);
+  parameters.delassus_storage = run.delassus_storage;
   return parameters;
 }
 

@@ -129,6 +129,15 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
   else if (storage == "dense") run.delassus_storage = DelassusChoice::dense;
   else if (storage == "sparse") run.delassus_storage = DelassusChoice::sparse;
   else solver.fail_at("storage", "expected auto, dense or sparse");
+  // Moreau–Jean and generalized-α store W by blocks (iteration_operator.h); the quasi-static stepper's
+  // operator, over its reduced unknowns, only dense; the IDA integrators solve no contact problem.
+  if (is_ida(run.integrator) && run.delassus_storage != DelassusChoice::automatic)
+    solver.fail_at("storage", integrator_name(run.integrator) +
+                                  " solves no contact problem (its contacts are regularized or events): remove "
+                                  "the key, or use moreau-jean or generalized-alpha");
+  if (run.integrator == Integrator::quasi_static && run.delassus_storage == DelassusChoice::sparse)
+    solver.fail_at("storage", "quasi-static stores its Delassus operator dense (over its reduced unknowns): use "
+                              "auto or dense, or moreau-jean or generalized-alpha for W stored by blocks");
   run.failure_residual = solver.number("failure_residual", 1e-6);
   if (!(run.failure_residual >= run.contact_solver.tolerance))
     solver.fail_at("failure_residual", "must be >= contact_solver.tolerance");
