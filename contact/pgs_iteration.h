@@ -8,8 +8,7 @@
 //   double residual(const Eigen::VectorXd& r, int settled_from) const   the full relative residual;
 //   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget)   true if r was replaced;
 //   void observe(const SweepResult& swept, double scale)      sees each sweep's increment (scale: m/s);
-//   bool stalled() const                                      false skips a scheduled polish;
-//   bool checks_residual(int iteration) const                 the full residual after this sweep anyway.
+//   bool stalled() const                                      false skips a scheduled polish.
 // The dense path polishes on every schedule (stalled() is true); the sparse path skips while the sweeps
 // converge at a steady rate (sparse_pgs.h).
 #pragma once
@@ -72,8 +71,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
     // residual then costs no local solve, and the next sweep would return r to the bit: a single
     // contact is solved by its first sweep). Only then is the full residual (about one more sweep of
     // work) worth computing; it decides.
-    if (swept.settled_from == 0 || std::sqrt(swept.increment_squared) <= parameters.tolerance * scale ||
-        path.checks_residual(iteration)) {
+    if (swept.settled_from == 0 || std::sqrt(swept.increment_squared) <= parameters.tolerance * scale) {
       statistics.residual = path.residual(r, swept.settled_from);
       residual_is_current = true;
       if (statistics.residual <= parameters.tolerance) {

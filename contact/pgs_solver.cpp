@@ -39,7 +39,6 @@ struct DensePath {
   }
   void observe(const SweepResult&, double) const {}
   bool stalled() const { return true; }
-  bool checks_residual(int) const { return false; }
 };
 
 }  // namespace

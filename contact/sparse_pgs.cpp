@@ -279,13 +279,6 @@ struct SparsePath {
   }
   void observe(const SweepResult& swept, double scale) { window.add(std::sqrt(swept.increment_squared) / scale); }
   bool stalled() const { return !(window.contraction() < kStalled); }
-  // After sweeps 1, 11, 21, …: on a hyperstatic contact set the impulses keep moving along W's null
-  // space, which leaves the velocities as they are, long after the law holds to the tolerance, and the
-  // cheap test on ‖Δr‖ alone then misses convergence. A settled pile warm-started from its last step
-  // holds the law at its first sweep; without this check a 200-sphere pile ran 20 sweeps and a polish a
-  // step (bench/bench_pile). Cost: at most one sweep's worth in kResidualInterval.
-  bool checks_residual(int iteration) const { return iteration % kResidualInterval == 1; }
-  static constexpr int kResidualInterval = 10;
 };
 
 template <int D>

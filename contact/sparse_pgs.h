@@ -26,8 +26,6 @@
 //     sweeps then finish for less than the polish would spend (Siconos' FrictionContactProblem00727:
 //     696 sweeps alone in 29 ms; 400 sweeps and three polishes in 260 ms). A solve that ends
 //     unconverged is polished at the end as before.
-//   - The full residual is also computed after sweeps 1, 11, 21, …, not only when the cheap test passes:
-//     on a hyperstatic set the impulses drift along W's null space after the law already holds.
 //   - Allocation: each solve copies the diagonal blocks and their offsets (O(contacts)); a polish
 //     allocates J's values (W's size) and UMFPACK's factors. The dense path's no-allocation promise
 //     (pgs_solver.h) is not this path's.

@@ -143,7 +143,9 @@ void expect_same_solution(const FrictionContactProblem& dense, double tolerance,
   ASSERT_TRUE(on_sparse.converged) << name << ": sparse " << on_sparse.residual;
   EXPECT_LE(PgsSolver::residual(dense, r_sparse), tolerance) << name;
   EXPECT_NEAR(PgsSolver::residual(sparse, r_sparse), PgsSolver::residual(dense, r_sparse), 1e-3 * tolerance) << name;
-  if (unique) EXPECT_LE((r_dense - r_sparse).norm(), 1e3 * tolerance * r_dense.norm()) << name;
+  if (unique) {
+    EXPECT_LE((r_dense - r_sparse).norm(), 1e3 * tolerance * r_dense.norm()) << name;
+  }
 }
 
 TEST(SparsePgs, SameImpulsesAsTheDensePathOnARowOfBalls) {

