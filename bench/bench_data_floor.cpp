@@ -18,6 +18,7 @@
 #include "contact/siconos_problem_format.h"
 #include "contact/sparse_alart_curnier.h"
 #include "contact/sparse_pgs.h"
+#include "bench/siconos_error.h"
 
 #include <FrictionContactProblem.h>
 #include <NumericsMatrix.h>
@@ -39,21 +40,6 @@
 #include <vector>
 
 namespace {
-
-// Siconos' natural-map error of r, relative (as bench_siconos computes it).
-double siconos_error(::FrictionContactProblem& problem, const Eigen::VectorXd& r) {
-  const int n = problem.dimension * problem.numberOfContacts;
-  std::vector<double> reaction(r.data(), r.data() + n), velocity(n, 0.0);
-  double norm_q = 0.0;
-  for (int i = 0; i < n; ++i) norm_q += problem.q[i] * problem.q[i];
-  norm_q = std::sqrt(norm_q);
-  double error = NAN;
-  if (problem.dimension == 3)
-    fc3d_compute_error(&problem, reaction.data(), velocity.data(), 1e-8, nullptr, norm_q, &error);
-  else
-    fc2d_compute_error(&problem, reaction.data(), velocity.data(), 1e-8, norm_q, &error);
-  return error;
-}
 
 // Half a unit in the last printed digit of w (digits significant digits).
 double half_unit(double w, int digits) {
@@ -104,7 +90,7 @@ int main(int argc, char** argv) {
   parameters.polish = false;
   Eigen::VectorXd start = Eigen::VectorXd::Zero(problem.size());
   csim::PgsSolver(parameters).solve(problem, start);
-  std::printf("Gauss–Seidel, %d sweeps: error %.3e\n", sweeps, siconos_error(*theirs, start));
+  std::printf("Gauss–Seidel, %d sweeps: error %.3e\n", sweeps, csim::bench::siconos_error(*theirs, start, 1e-8));
   Eigen::VectorXd r = start;
   for (const double rho_scale : {1e-2, 1.0, 1e2}) {
     Eigen::VectorXd candidate = start;
@@ -112,7 +98,7 @@ int main(int argc, char** argv) {
     csim::NewtonStatistics newton;
     csim::sparse_alart_curnier_newton(problem, problem.W_sparse, candidate, 10, 1e-14, rho_scale, budget, &newton);
     std::printf("Newton at ρ scale %g: %d steps, error %.3e\n", rho_scale, newton.iterations,
-                siconos_error(*theirs, candidate));
+                csim::bench::siconos_error(*theirs, candidate, 1e-8));
     if (rho_scale == 1.0) r = candidate;
   }
 

@@ -22,6 +22,7 @@
 #include "contact/friction_contact_problem.h"
 #include "contact/pgs_solver.h"
 #include "contact/siconos_problem_format.h"
+#include "bench/siconos_error.h"
 
 #include <FrictionContactProblem.h>
 #include <Friction_cst.h>
@@ -53,6 +54,8 @@
 #include <vector>
 
 namespace {
+
+using csim::bench::siconos_error;
 
 struct Options {
   std::string directory;
@@ -118,21 +121,6 @@ Outcome in_child(double timeout, const std::function<Outcome()>& work) {
 }
 
 int rows(const ::FrictionContactProblem& problem) { return problem.dimension * problem.numberOfContacts; }
-
-// Siconos' natural-map error of r (relative), from Siconos' own functions.
-double siconos_error(::FrictionContactProblem& problem, const Eigen::VectorXd& r, double tolerance) {
-  const int n = rows(problem);
-  std::vector<double> reaction(r.data(), r.data() + n), velocity(n, 0.0);
-  double norm_q = 0.0;
-  for (int i = 0; i < n; ++i) norm_q += problem.q[i] * problem.q[i];
-  norm_q = std::sqrt(norm_q);
-  double error = NAN;
-  if (problem.dimension == 3)
-    fc3d_compute_error(&problem, reaction.data(), velocity.data(), tolerance, nullptr, norm_q, &error);
-  else
-    fc2d_compute_error(&problem, reaction.data(), velocity.data(), tolerance, norm_q, &error);
-  return error;
-}
 
 Outcome solve_with_csim(const csim::FrictionContactProblem& loaded, ::FrictionContactProblem& siconos,
                         const Options& options) {
