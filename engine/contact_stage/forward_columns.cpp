@@ -1,6 +1,5 @@
 #include "engine/contact_stage/forward_columns.h"
 
-#include "engine/linear_algebra/block_gram.h"
 #include "engine/structural_operators.h"
 
 namespace csim {
@@ -54,8 +53,8 @@ bool ForwardColumnsOperator::sparse_delassus(const ProblemRows& rows, SparseDela
   if (W.rows() == m && cache_.still_holds(sparse_taken_, slots_)) return true;
   columns_.resize(m);
   for (int a = 0; a < m; ++a) columns_[a] = &cache_.forward(slots_[a]);
-  slots_taken_ = !block_gram(operators_.sparse_factor(), columns_, rows.dimension, rows.contact_rows() / rows.dimension,
-                             W, forced ? 1.0 : kSparseDensity);
+  slots_taken_ = !block_gram_.assemble(operators_.sparse_factor(), columns_, rows.dimension,
+                                       rows.contact_rows() / rows.dimension, W, forced ? 1.0 : kSparseDensity);
   if (slots_taken_) sparse_taken_ = {};  // declined: W_sparse was not formed from these slots
   return !slots_taken_;
 }

@@ -13,6 +13,7 @@
 
 #include "engine/contact_stage/delassus_cache.h"
 #include "engine/contact_stage/iteration_operator.h"
+#include "engine/linear_algebra/block_gram.h"
 #include "engine/linear_algebra/forward_rows.h"
 #include "engine/state.h"
 
@@ -54,6 +55,7 @@ class ForwardColumnsOperator final : public IterationOperator {
   std::vector<int> slots_;              // each problem row's slot in the cache
   bool slots_taken_ = false;            // sparse_delassus took slots_ and declined: delassus() uses them
   std::vector<const SparseLdlt::ForwardColumn*> columns_;  // sparse_delassus' forward columns, by row
+  BlockGram block_gram_;                // sparse_delassus' assembly, with its work space
   DelassusCache::Taken copied_;         // the slots W was last copied from
   DelassusCache::Taken sparse_taken_;   // the slots the sparse W was last formed from
   std::vector<int> equality_index_;     // an equality row's nonzeros (work space)

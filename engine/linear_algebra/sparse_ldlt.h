@@ -124,6 +124,9 @@ class SparseLdlt {
   void forward(const int* index, const double* value, int count, ForwardColumn& y) const;
   // y_aᵀ D⁻¹ y_b: the entry of W of the two rows whose forward columns these are.
   double delassus_entry(const ForwardColumn& a, const ForwardColumn& b) const;
+  // D, in the factor's order (ones for an LLᵀ factor, see above): y_aᵀ D⁻¹ y_b = Σ_i y_a(i) y_b(i) / D_i
+  // over the rows i of both columns, as delassus_entry sums it (block_gram.h sums whole blocks so).
+  const Vector& pivots() const;
   // x ← Pᵀ L⁻ᵀ D⁻¹ z, z in the factor's order (Σ r_a y_a of forward columns): the second half of a solve,
   // so that A⁻¹ Hᵀ r costs a backward substitution once Y's columns are known.
   void back_substitute(const Vector& z, Vector& x) const;

@@ -95,6 +95,11 @@ double SparseLdlt::delassus_entry(const ForwardColumn& a, const ForwardColumn& b
   return sum;
 }
 
+const Vector& SparseLdlt::pivots() const {
+  prepare_tree();
+  return pivots_;
+}
+
 void SparseLdlt::scatter_scaled(const ForwardColumn& y, Vector& x) const {
   for (std::size_t k = 0; k < y.index.size(); ++k) x(y.index[k]) = y.value[k] / pivots_(y.index[k]);
 }
