@@ -10,13 +10,21 @@ namespace {
 // is rounding noise and would give an arbitrary t1.
 constexpr double kParallelTolerance = 1e-12;
 
-// The world axis least aligned with n (first one on ties), so that its projection is well conditioned
-// (its orthogonal part has norm ≥ sqrt(2/3)) and the choice depends on n only.
+// A later axis is taken as less aligned only when it is so by more than this (|n| = 1). Built scenes are
+// full of ties: a normal along an axis, or at 45° between two (a sphere on a floor, on four below it, or
+// beside its neighbour in a layer). A strict comparison lets the round-off of n pick the axis, so t1
+// turns by 90° from one step to the next: the warm start's tangential impulses then point the wrong way
+// and W changes while nothing moves (a settled pile of 200 spheres: |ΔW|/|W| = 0.4–0.9 a step).
+constexpr double kTieMargin = 1e-6;
+
+// The world axis least aligned with n, the first one on ties to within kTieMargin, so that its
+// projection is well conditioned (its orthogonal part has norm ≥ sqrt(2/3) − kTieMargin) and the
+// choice depends on n only, and not on its round-off near a tie.
 Eigen::Vector3d least_aligned_axis(const Eigen::Vector3d& n) {
   const Eigen::Vector3d a = n.cwiseAbs();
   int axis = 0;
-  if (a.y() < a[axis]) axis = 1;
-  if (a.z() < a[axis]) axis = 2;
+  if (a.y() < a[axis] - kTieMargin) axis = 1;
+  if (a.z() < a[axis] - kTieMargin) axis = 2;
   return Eigen::Vector3d::Unit(axis);
 }
 

@@ -223,8 +223,13 @@ void MoreauJean::assemble(const State& state) {
     } else if (parameters_.close_gaps) {
       // An inelastic contact still open by g: its condition is g(q_{k+1}) ≥ 0, that is
       // u_n(v_{k+1}) ≥ −(g + h(1−θ) u_n(v_k)) / (hθ), so that it closes the gap within the step and
-      // stops on the surface, not wherever the activation rule caught it (header, step 3).
-      const double opening = active[i].point.gap + h * (1.0 - theta) * approach;
+      // stops on the surface, not wherever the activation rule caught it (header, step 3). A gap
+      // within the touching band counts as closed, g = 0: closing gaps of round-off would ask a
+      // hyperstatic set for a rigid motion that closes every one of them at once, which their
+      // round-off does not allow (a settled pile of 200 spheres: after 30 steps no impulse met the
+      // law to better than a relative 1e-8, and Gauss–Seidel ran its 20 000 sweeps every step).
+      const double gap = active[i].point.gap > stage_.touching() ? active[i].point.gap : 0.0;
+      const double opening = gap + h * (1.0 - theta) * approach;
       if (opening > 0.0) b(d * i) += opening / (h * theta);
     }
   }

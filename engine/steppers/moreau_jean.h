@@ -11,8 +11,8 @@
 //                      (iteration_operator.h) and b = H v_free, to which the step adds Newton's impact law
 //                      e·u_n(v_k) on normal rows and, on an inelastic contact (e = 0) whose gap g is still
 //                      open, (g + h(1−θ)u_n(v_k))⁺ / (hθ), so that its condition is g(q_{k+1}) ≥ 0 and it
-//                      stops on the surface (Stewart & Trinkle, IJNME 1996, on open gaps only; close_gaps =
-//                      false: the textbook u_n(v_{k+1}) ≥ 0). Then the rows of the linear constraints and of
+//                      stops on the surface (Stewart & Trinkle, IJNME 1996, on open gaps only; a gap within
+//                      ε counts as 0; close_gaps = false: the textbook u_n(v_{k+1}) ≥ 0). Then the rows of the linear constraints and of
 //                      the prescribed components (world.h; their force, impulse / h, is state.reactions),
 //                      whose target makes them hold exactly in position at t_{k+1}, and those of the ties
 //                      (tie_rows.h), linearized at each iterate, which hold at Newton's convergence;

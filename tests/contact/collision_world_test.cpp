@@ -157,6 +157,30 @@ TEST(CompleteFrame, DirectionAlongNormalFallsBackToDeterministicChoice) {
   expect_near(reference.t1, Eigen::Vector3d::UnitY(), 1e-15);
 }
 
+// Normals at a tie (along an axis, or at 45° between two: a sphere on a floor, beside its neighbour, on
+// four spheres below it) perturbed by round-off, as consecutive steps compute them: the frame must not
+// turn with the perturbation (a strict comparison turned t1 by 90°, and the warm start's tangential
+// impulses with it). t1 moves by no more than the perturbation itself.
+TEST(CompleteFrame, RoundOffAtATieDoesNotTurnTheFrame) {
+  const double s = 1.0 / std::sqrt(2.0);
+  const std::vector<Eigen::Vector3d> ties = {{0, 0, 1}, {1, 0, 0}, {0, -1, 0}, {s, s, 0}, {0.5, 0.5, s}, {-0.5, 0.5, s}};
+  const double eps = 1e-15;
+  for (const Eigen::Vector3d& tie : ties) {
+    ContactPoint reference;
+    reference.normal = tie;
+    complete_frame(reference, false);
+    for (const Eigen::Vector3d& push : {Eigen::Vector3d(eps, -eps, 0), Eigen::Vector3d(-eps, eps, eps),
+                                        Eigen::Vector3d(0, eps, -eps), Eigen::Vector3d(eps, eps, eps)}) {
+      ContactPoint c;
+      c.normal = (tie + push).normalized();
+      complete_frame(c, false);
+      expect_frame(c);
+      expect_near(c.t1, reference.t1, 1e-14);
+      expect_near(c.t2, reference.t2, 1e-14);
+    }
+  }
+}
+
 TEST(CompleteFrame, PlanarUsesEzCrossNormal) {
   ContactPoint c;
   c.normal = Eigen::Vector3d(std::cos(0.4), std::sin(0.4), 0.0);

@@ -59,14 +59,17 @@ RunReport run(const std::string& scene, std::vector<std::string> overrides) {
 // same extrema of the elastic shoe, and the bar's energy kept to round-off. The two order their
 // arithmetic differently, and θ = ½'s normal force rings undamped at this step
 // (docs/generalized-alpha.md), which carries a round-off difference of 1e-14 in the first steps to a
-// few 1e-9 in these errors; a different scheme (θ = 0.51) is 2e-3 away.
+// few 1e-9 in these errors; a different scheme (θ = 0.51) is 2e-3 away. One difference of rule: a
+// contact within the touching band (contact_stage.h) has its gap read as 0 by Moreau–Jean and closed
+// by generalized-α, and the shoe's ringing nodes sit in that band: x2 parts by 8e-7.
 TEST(GeneralizedAlpha, RhoOneIsMoreauJeanThetaOneHalf) {
   const std::vector<std::string> shoe{"time.step=0.01", "time.end=4", "parameters.divisions=5"};
   std::vector<std::string> alpha = shoe, theta = shoe;
   alpha.insert(alpha.end(), {"integrator.type=generalized-alpha", "integrator.rho_infinity=1"});
   theta.push_back("integrator.theta=0.5");
   const RunReport a = run("sdnv104-quad4", alpha), b = run("sdnv104-quad4", theta);
-  for (const char* check : {"x1", "x2"}) EXPECT_NEAR(relative_error(a, check), relative_error(b, check), 2e-8) << check;
+  EXPECT_NEAR(relative_error(a, "x1"), relative_error(b, "x1"), 2e-8);
+  EXPECT_NEAR(relative_error(a, "x2"), relative_error(b, "x2"), 2e-6);
 
   const RunReport bar = run("fe-free-vibration", {"integrator.type=generalized-alpha", "integrator.rho_infinity=1"});
   const EnergyBalance& e = bar.state.energy;
