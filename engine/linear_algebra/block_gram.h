@@ -44,7 +44,6 @@ class BlockGram {
   std::vector<const std::vector<int>*> reach_;
   std::vector<long> panel_start_;  // each block's panel: its rows' values, by factor row then column
   std::vector<double> panels_;
-  std::vector<int> position_;      // the row of the current block's panel at each factor row, or −1
 };
 
 }  // namespace csim
