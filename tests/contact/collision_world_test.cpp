@@ -413,7 +413,9 @@ TEST(BoxHalfspace, VertexContactsCarryTheirArmsOnTheBoxSide) {
         const Eigen::Vector3d& carried = reversed ? c.arm_a : c.arm_b;
         EXPECT_TRUE(carried == arm) << carried.transpose() << " against " << arm.transpose();
         EXPECT_TRUE(on_box == box.pose * r) << on_box.transpose();
-        if (planar) EXPECT_EQ(carried.z(), 0.0);
+        if (planar) {
+          EXPECT_EQ(carried.z(), 0.0);
+        }
       }
     }
   }
