@@ -4,7 +4,8 @@
 // centre (R, R) across and √2 R above theirs), layer 0 on the floor and against the box's four walls,
 // which take the layers' outward thrust: a statically admissible packing, frictionless or not.
 // Contacts are declared per pair of neighbours (each sphere with the floor and walls, with the spheres
-// beside it and with its four supports).
+// beside it and with its four supports), or by group: every sphere in the group `spheres`, one law
+// between every two of them and one between the floor and the group (docs/contract.md, contacts).
 #pragma once
 
 #include <cmath>
@@ -14,6 +15,8 @@
 #include <vector>
 
 namespace csim::bench {
+
+enum class Declaration { neighbour_pairs, group };
 
 struct Sphere {
   double x, y, z;
@@ -38,14 +41,16 @@ inline std::vector<Sphere> pile(int count, int base_a, int base_b, double radius
 // The scene file of these spheres in a box of base_a × base_b (the base layer's extent), `steps` steps of
 // 1 ms, Coulomb μ on every contact, the contact solver's tolerance 1e-8 and at most max_iterations sweeps.
 inline std::string scene_text(const std::vector<Sphere>& spheres, double radius, int steps, int base_a, int base_b,
-                              double mu = 0.5, int max_iterations = 20000) {
+                              double mu = 0.5, int max_iterations = 20000,
+                              Declaration declaration = Declaration::neighbour_pairs) {
+  const bool by_group = declaration == Declaration::group;
   std::string text = "dimension: 3\ngravity: [0, 0, -9.81]\nbodies:\n";
   char line[512];
   for (std::size_t k = 0; k < spheres.size(); ++k) {
     std::snprintf(line, sizeof line,
                   "  s%zu: {type: rigid, mass: 1, position: [%.17g, %.17g, %.17g], "
-                  "shapes: {ball: {type: sphere, radius: %.17g}}}\n",
-                  k, spheres[k].x, spheres[k].y, spheres[k].z, radius);
+                  "shapes: {ball: {type: sphere, radius: %.17g}}%s}\n",
+                  k, spheres[k].x, spheres[k].y, spheres[k].z, radius, by_group ? ", group: spheres" : "");
     text += line;
   }
   // The floor and the box's four walls, touching the base layer's outer spheres.
@@ -59,7 +64,12 @@ inline std::string scene_text(const std::vector<Sphere>& spheres, double radius,
                 -radius, -x_max, -radius, -y_max);
   text += line;
   text += "contacts:\n";
-  for (std::size_t k = 0; k < spheres.size(); ++k) {
+  if (by_group) {
+    std::snprintf(line, sizeof line, "  floor: {between: [floor, spheres], mu: %.17g}\n"
+                  "  pile: {between: [spheres, spheres], mu: %.17g}\n", mu, mu);
+    text += line;
+  }
+  for (std::size_t k = 0; k < spheres.size() && !by_group; ++k) {
     std::snprintf(line, sizeof line, "  f%zu: {between: [s%zu, floor], mu: %.17g}\n", k, k, mu);
     text += line;
     for (std::size_t l = k + 1; l < spheres.size(); ++l) {

@@ -35,6 +35,7 @@ struct BodyInstance {
   int position_offset = 0;
   int velocity_offset = 0;
   std::vector<ShapeInstance> shapes;
+  int group = -1;  // index in World::groups, −1: in no group (a body belongs to at most one)
 
   // This body's slice of the World's positions q.
   ConstVectorRef positions(const Vector& q) const { return q.segment(position_offset, body->position_size()); }
@@ -102,12 +103,23 @@ struct RigidTie {
   int rigid_body = -1;     // a RigidBody2d or RigidBody3d
 };
 
-// Contact law between the shapes of two bodies: Coulomb friction (isotropic when mu(0) == mu(1);
+// A named set of bodies that contact laws may name as one side (contact_law_table.h).
+struct BodyGroup {
+  std::string name;
+  std::vector<int> bodies;  // body indices, ascending
+};
+
+// Contact law between the shapes of two sides, each a body or a group of bodies: every pair of
+// distinct bodies, one from each side, touches under it unless a more specific law names that pair
+// (the precedence: contact_law_table.h). A group against itself pairs every two of its bodies.
+// Coulomb friction (isotropic when mu(0) == mu(1);
 // orthotropic with μ1 along friction_direction projected on the tangent plane, μ2 across it) and the
 // Newton impact law with restitution e ∈ [0, 1].
 struct ContactLaw {
   std::string name;
+  // Each side is a body (body_x ≥ 0, group_x = −1) or a group (group_x ≥ 0, body_x = −1).
   int body_a = -1, body_b = -1;
+  int group_a = -1, group_b = -1;
   Eigen::Vector2d mu = Eigen::Vector2d::Zero();
   Eigen::Vector3d friction_direction = Eigen::Vector3d::Zero();
   double restitution = 0.0;
@@ -119,6 +131,7 @@ struct ContactLaw {
   // tangential force reaches μ r_n (Abaqus' "allowable elastic slip"); 0: Coulomb's law, exact stick.
   double elastic_slip = 0.0;
   bool isotropic() const { return mu(0) == mu(1); }
+  bool between_bodies() const { return body_a >= 0 && body_b >= 0; }
   Eigen::Vector2d mu_at(double t) const {
     if (mu_ramp_end <= mu_ramp_start || t >= mu_ramp_end) return mu;
     if (t <= mu_ramp_start) return Eigen::Vector2d::Zero();
@@ -135,6 +148,7 @@ struct World {
   std::vector<LinearConstraint> constraints;
   std::vector<PrescribedComponent> prescribed;
   std::vector<RigidTie> ties;
+  std::vector<BodyGroup> groups;
   std::vector<ContactLaw> contact_laws;
   int position_size = 0;
   int velocity_size = 0;

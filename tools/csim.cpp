@@ -30,6 +30,7 @@
 #include "tools/output/atomic_file.h"
 #include "tools/output/output_folder.h"
 #include "tools/run/run.h"
+#include "tools/scene/contact_pairs_listing.h"
 #include "tools/scene/scene.h"
 #include "engine/steppers/stepper.h"
 #include "tools/run/stop_request.h"
@@ -368,6 +369,7 @@ int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& sto
       csim::check_outputs(*scene);  // what the output writers would refuse, as run does before its first step
       std::printf("%s: valid (%zu bodies, %zu probes, %zu checks)\n", file.c_str(), scene->world.bodies.size(),
                   scene->run.probes.size(), scene->run.checks.size());
+      std::fputs(csim::contact_pairs_listing(scene->world).c_str(), stdout);
       return kPassed;
     }
     if (arguments.command == "dump-config") {

@@ -86,32 +86,42 @@ void contact_rows(const World& world, int body_a, const PointJacobian& point_a, 
 }
 
 ContactDetector::ContactDetector(const World& world)
-    : world_(world), dimension_(world.dimension == 2 ? 2 : 3) {
-  // Collision objects only for bodies that some contact law names: a scene without contact builds
-  // no collision world at all.
-  const int nb = static_cast<int>(world.bodies.size());
-  law_of_pair_.assign(nb * nb, -1);
-  std::vector<bool> in_contact(nb, false);
-  for (std::size_t l = 0; l < world.contact_laws.size(); ++l) {
-    const ContactLaw& law = world.contact_laws[l];
-    law_of_pair_[law.body_a * nb + law.body_b] = static_cast<int>(l);
-    law_of_pair_[law.body_b * nb + law.body_a] = static_cast<int>(l);
-    in_contact[law.body_a] = in_contact[law.body_b] = true;
-  }
+    : world_(world), dimension_(world.dimension == 2 ? 2 : 3), laws_(world) {
+  // Collision objects only for bodies that some contact law's side holds: a scene without contact
+  // builds no collision world at all, and a body in no law touches nothing.
   if (world.contact_laws.empty()) return;
+  const int nb = static_cast<int>(world.bodies.size());
   collision_ = std::make_unique<CollisionWorld>(world.dimension == 2);
   for (int i = 0; i < nb; ++i) {
-    if (!in_contact[i]) continue;
+    if (!laws_.in_some_law(i)) continue;
     const BodyInstance& b = world.bodies[i];
+    const bool elastic = b.body->elastic();
+    // The laws whose sides hold an elastic body (few bodies, each a scan of the laws).
+    std::vector<int> laws_of_body;
     bool smoothed = false;
-    for (const ContactLaw& law : world.contact_laws)
-      smoothed |= (law.body_a == i || law.body_b == i) && law.features == SurfaceFeatures::smoothed;
-    if (const std::optional<ContactSurface> surface = b.body->contact_surface(smoothed)) {
-      // A deformable body touches through its surface (node-to-surface against rigid shapes).
+    if (elastic)
+      for (std::size_t l = 0; l < world.contact_laws.size(); ++l) {
+        const ContactLaw& law = world.contact_laws[l];
+        const bool on_a = law.body_a == i || (law.group_a >= 0 && law.group_a == b.group);
+        const bool on_b = law.body_b == i || (law.group_b >= 0 && law.group_b == b.group);
+        if (!on_a && !on_b) continue;
+        laws_of_body.push_back(static_cast<int>(l));
+        smoothed |= law.features == SurfaceFeatures::smoothed;
+      }
+    if (const std::optional<ContactSurface> surface = elastic ? b.body->contact_surface(smoothed) : std::nullopt) {
+      // A deformable body touches through its surface (node-to-surface against rigid shapes), with the
+      // features of the law that governs each pair (nodes unless set).
       const int object = collision_->add_deformable_surface(i, surface->reference_nodes, surface->geometry);
-      for (const ContactLaw& law : world.contact_laws) {
-        if (law.body_a == i) collision_->set_surface_features(object, law.body_b, law.features);
-        if (law.body_b == i) collision_->set_surface_features(object, law.body_a, law.features);
+      for (int l : laws_of_body) {
+        const ContactLaw& law = world.contact_laws[l];
+        if (law.features == SurfaceFeatures::nodes) continue;
+        for (int side = 0; side < 2; ++side) {
+          const bool on_side = side == 0 ? law.body_a == i || (law.group_a >= 0 && law.group_a == b.group)
+                                         : law.body_b == i || (law.group_b >= 0 && law.group_b == b.group);
+          if (!on_side) continue;
+          for (int other : side == 0 ? side_bodies(world, law.body_b, law.group_b) : side_bodies(world, law.body_a, law.group_a))
+            if (other != i && laws_.law(i, other) == l) collision_->set_surface_features(object, other, law.features);
+        }
       }
       object_body_.resize(object + 1);
       object_shape_.resize(object + 1);
@@ -219,12 +229,11 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   collision_->update(margin);
   collision_->find_contacts(points_);
 
-  const int nb = static_cast<int>(world_.bodies.size());
   const int d = dimension_;
   rows.resize(d * points_.size());
   for (ContactPoint& point : points_) {
     const int body_a = object_body_[point.key.object_a], body_b = object_body_[point.key.object_b];
-    const int law_index = law_of_pair_[body_a * nb + body_b];
+    const int law_index = body_a == body_b ? -1 : laws_.law(body_a, body_b);
     if (law_index < 0) continue;
     const ContactLaw& law = world_.contact_laws[law_index];
     if (!law.isotropic()) complete_frame(point, world_.dimension == 2, law.friction_direction);

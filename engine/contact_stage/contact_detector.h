@@ -1,11 +1,12 @@
 // The engine's side of contact detection, shared by every stepper: it owns the CollisionWorld (only
-// for bodies that a contact law names), keeps the poses of the moving shapes up to date, and turns the
+// for bodies that a contact law's side holds: a body in no law touches nothing), keeps the poses of the moving shapes up to date, and turns the
 // detected points into contacts between bodies with their law, their frame (aligned with the law's
 // friction direction when it is anisotropic) and their rows of H:
 //   u = H v,  u = [n t1 (t2)]ᵀ (v_B(p_b) − v_A(p_a))   (m/s; n from the point's body A to body B).
 #pragma once
 
 #include "contact/collision_world.h"
+#include "engine/contact_stage/contact_law_table.h"
 #include "engine/linear_algebra/sparse_row.h"
 #include "engine/state.h"
 #include "engine/world.h"
@@ -56,7 +57,7 @@ class ContactDetector {
   std::vector<char> shape_at_origin_;  // collision object → its shape's origin is its body's (no offset)
   // Each deformable surface's node positions by collision object (its body's nodes; the surface's kept current).
   std::vector<std::vector<Eigen::Vector3d>> node_positions_;
-  std::vector<int> law_of_pair_;   // body_a · nb + body_b → contact law index or −1
+  ContactLawTable laws_;           // body pair → contact law index or −1
   std::vector<ContactPoint> points_;
 };
 

@@ -69,6 +69,10 @@ std::string IdaIntegrator::unsupported(const World& world, const IdaParameters& 
   if (!world.ties.empty())
     return name + " does not take elastic bodies tied to rigid ones ('tied_to'); use moreau-jean or quasi-static";
   for (const ContactLaw& law : world.contact_laws)
+    if (!law.between_bodies())  // the penalty and the event models are set per pair of bodies
+      return name + " takes contact laws between two bodies (contact law '" + law.name +
+             "' names a group); use moreau-jean";
+  for (const ContactLaw& law : world.contact_laws)
     if (law.mu_ramp_end > law.mu_ramp_start)
       return name + " does not take a friction ramp (contact law '" + law.name + "' has mu_ramp); use moreau-jean";
   if (!world.constraints.empty() && parameters.linear_solver == "klu")

@@ -10,6 +10,8 @@
 //           time (a ground moved along a path, a hub held at its centre; 3D rotations rx, ry, rz: the
 //           angle turned about that body axis, exact for turns about one axis), or
 //           {value: ..., until: T (s)}: prescribed until T, then free (a hub's spin held during a press).
+//   group: NAME: the group of bodies it belongs to (at most one), that contact laws may name as a side
+//           (any body type; a name may not be both a body's and a group's).
 #include "engine/bodies/fe_body.h"
 #include "engine/bodies/fixed_body.h"
 #include "engine/bodies/point_mass.h"
@@ -19,6 +21,7 @@
 
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace csim::scene_parts {
 
@@ -93,7 +96,7 @@ Eigen::Vector3d default_inertia(const SceneNode& node, double mass, const std::v
 
 void read_body(const std::string& name, const SceneNode& node, World& world) {
   node.allow_only({"type", "mass", "inertia", "position", "angle", "axis", "initial_displacement", "velocity",
-                   "angular_velocity", "shapes", "prescribed"});
+                   "angular_velocity", "shapes", "prescribed", "group"});
   const int d = world.dimension;
   BodyInstance b;
   b.name = name;
@@ -184,12 +187,29 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
 }  // namespace
 
 void read_bodies(const SceneNode& root, World& world) {
-  for (const auto& [name, node] : root.child("bodies").entries()) {
+  const auto entries = root.child("bodies").entries();
+  std::unordered_map<std::string, int> group_index;
+  for (const auto& [name, node] : entries) {
     node.expect_map();
     if (node.has("type") && node.string("type") == "elastic") read_elastic_body(name, node, world);
     else read_body(name, node, world);
+    if (!node.has("group")) continue;
+    const std::string group = node.string("group");
+    if (group.empty()) node.fail_at("group", "a group's name must not be empty");
+    const auto [at, added] = group_index.emplace(group, static_cast<int>(world.groups.size()));
+    if (added) world.groups.push_back({group, {}});
+    world.bodies.back().group = at->second;
+    world.groups[at->second].bodies.push_back(static_cast<int>(world.bodies.size()) - 1);
   }
   if (world.bodies.empty()) root.fail_at("bodies", "a scene needs at least one body");
+  // A between names a body or a group: one name cannot be both.
+  for (std::size_t i = 0; i < world.bodies.size(); ++i) {
+    const auto clash = group_index.find(world.bodies[i].name);
+    if (clash == group_index.end()) continue;
+    const int member = world.groups[clash->second].bodies.front();
+    entries[member].second.fail_at("group", "'" + clash->first + "' is also the name of a body: a contact law's "
+                                            "between could not tell them apart; rename the group or the body");
+  }
   world.finalize_layout();
   read_ties(root, world);
 }

@@ -266,7 +266,7 @@ void read_ties(const SceneNode& root, World& world) {
 
 void read_elastic_body(const std::string& name, const SceneNode& node, World& world) {
   node.allow_only({"type", "mesh", "material", "thickness", "mass", "fixed", "velocity", "angular_velocity", "damping",
-                   "tie"});
+                   "tie", "group"});
   Mesh mesh = read_mesh(node.child("mesh"), world.dimension);
   if (mesh.dimension() != world.dimension)
     node.fail_at("mesh", "a " + std::string(to_string(mesh.element_type)) + " mesh in a " +

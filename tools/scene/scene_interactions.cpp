@@ -1,7 +1,10 @@
 // springs, loads, constraints and contacts: what acts on the bodies.
 #include "engine/bodies/fe_body.h"
+#include "engine/contact_stage/contact_law_table.h"
 #include "tools/scene/scene_parts.h"
 #include "fem/assembly.h"
+
+#include <unordered_map>
 
 namespace csim::scene_parts {
 
@@ -120,9 +123,48 @@ void read_constraints(const SceneNode& root, World& world) {
   }
 }
 
+namespace {
+
+// What the contact checks need of a side (a body, or a group's bodies), formed once per group so that
+// reading L laws is O(L) however large the groups.
+struct SideSummary {
+  std::string name;                // "body 'a'" or "group 'G'"
+  int count = 0;                   // bodies
+  int without_shapes = -1;         // a body with neither shapes nor an elastic surface, or −1
+  std::vector<int> elastic;        // its first two elastic bodies
+};
+
+SideSummary summarize(const World& world, int body, int group) {
+  SideSummary side;
+  side.name = group >= 0 ? "group '" + world.groups[group].name + "'" : "body '" + world.bodies[body].name + "'";
+  for (int b : side_bodies(world, body, group)) {
+    ++side.count;
+    const BodyInstance& instance = world.bodies[b];
+    if (instance.body->elastic()) {
+      if (side.elastic.size() < 2) side.elastic.push_back(b);
+    } else if (instance.shapes.empty() && side.without_shapes < 0) {
+      side.without_shapes = b;
+    }
+  }
+  return side;
+}
+
+// Two distinct elastic bodies, one from each side (−1, −1 if none): a pair the law would make.
+std::pair<int, int> elastic_pair(const SideSummary& a, const SideSummary& b) {
+  for (int x : a.elastic)
+    for (int y : b.elastic)
+      if (x != y) return {x, y};
+  return {-1, -1};
+}
+
+}  // namespace
+
 // A contact law: {between: [A, B], mu: μ | [μ1, μ2], friction_direction, restitution, features,
 // mu_ramp: [start, end] (s; μ grows linearly from 0 over that window), elastic_slip: γ (m, quasi-static
 // stepper only; 0 = exact stick)}.
+// A and B each name a body or a group (a body's `group`): the law pairs every body of A with every
+// distinct body of B; [G, G] pairs every two bodies of G. A law naming two bodies overrides one naming
+// a group, and one naming a body and a group overrides one naming two groups (contact_law_table.h).
 // features (with an elastic body): nodes (its boundary nodes on the other body's shapes, node-to-
 // surface), faces (the other body's sphere or box vertices on its boundary faces, so that a rigid body
 // can land on it), both, or smoothed (plane scenes: Gauss points on a smooth curve through its boundary
@@ -130,23 +172,45 @@ void read_constraints(const SceneNode& root, World& world) {
 // shapes; deformable_surface.h, boundary_curve.h).
 void read_contacts(const SceneNode& root, World& world) {
   if (!root.has("contacts")) return;
-  for (const auto& [name, node] : root.child("contacts").entries()) {
+  // Names → bodies and groups, and each group's summary, formed once: the reading is linear in the
+  // bodies and the laws.
+  std::unordered_map<std::string, int> body_of_name, group_of_name;
+  for (std::size_t i = 0; i < world.bodies.size(); ++i) body_of_name.emplace(world.bodies[i].name, static_cast<int>(i));
+  std::vector<SideSummary> group_summaries;
+  for (std::size_t g = 0; g < world.groups.size(); ++g) {
+    group_of_name.emplace(world.groups[g].name, static_cast<int>(g));
+    group_summaries.push_back(summarize(world, -1, static_cast<int>(g)));
+  }
+  const SceneNode contacts = root.child("contacts");
+  for (const auto& [name, node] : contacts.entries()) {
     node.allow_only({"between", "mu", "friction_direction", "restitution", "features", "mu_ramp",
                      "elastic_slip"});
     ContactLaw law;
     law.name = name;
     const auto pair = node.child("between").items();
-    if (pair.size() != 2) node.fail_at("between", "expected two body names");
+    if (pair.size() != 2) node.fail_at("between", "expected two names, of bodies or groups");
+    SideSummary sides[2];
     for (int i = 0; i < 2; ++i) {
-      const int body = world.body_index(pair[i].as_string());
-      if (body < 0) pair[i].fail("no body named '" + pair[i].as_string() + "'");
-      (i == 0 ? law.body_a : law.body_b) = body;
+      const std::string side = pair[i].as_string();
+      int& body = i == 0 ? law.body_a : law.body_b;
+      int& group = i == 0 ? law.group_a : law.group_b;
+      if (const auto found = body_of_name.find(side); found != body_of_name.end()) {
+        body = found->second;
+        sides[i] = summarize(world, body, -1);
+      } else if (const auto found_group = group_of_name.find(side); found_group != group_of_name.end()) {
+        group = found_group->second;
+        sides[i] = group_summaries[group];
+      } else {
+        pair[i].fail("no body or group named '" + side + "'");
+      }
     }
-    if (law.body_a == law.body_b) node.fail_at("between", "a body cannot touch itself");
-    for (const ContactLaw& other : world.contact_laws)
-      if ((other.body_a == law.body_a && other.body_b == law.body_b) ||
-          (other.body_a == law.body_b && other.body_b == law.body_a))
-        node.fail_at("between", "these bodies already have the contact law '" + other.name + "'");
+    if (law.body_a >= 0 && law.body_a == law.body_b) node.fail_at("between", "a body cannot touch itself");
+    // A side that is a group of one body, against itself or its own body, pairs nothing.
+    const bool one_against_itself =
+        (law.group_a >= 0 && law.group_a == law.group_b && sides[0].count < 2) ||
+        (law.group_a >= 0 && law.body_b >= 0 && sides[0].count == 1 && world.bodies[law.body_b].group == law.group_a) ||
+        (law.group_b >= 0 && law.body_a >= 0 && sides[1].count == 1 && world.bodies[law.body_a].group == law.group_b);
+    if (one_against_itself) node.fail_at("between", "this law pairs no two distinct bodies (a group of one body)");
     if (node.has("mu") && node.child("mu").is_sequence()) {
       law.mu = node.vector("mu", 2, 2).head<2>();
       if (!node.has("friction_direction"))
@@ -168,13 +232,16 @@ void read_contacts(const SceneNode& root, World& world) {
     if (law.restitution < 0.0 || law.restitution > 1.0)
       node.fail_at("restitution", "must lie in [0, 1]");
     // An elastic body touches through its boundary nodes; the other bodies through their shapes.
-    for (int body : {law.body_a, law.body_b})
-      if (world.bodies[body].shapes.empty() && !world.bodies[body].body->elastic())
-        node.fail_at("between", "body '" + world.bodies[body].name + "' has no shapes");
-    if (world.bodies[law.body_a].body->elastic() && world.bodies[law.body_b].body->elastic())
-      node.fail_at("between", "contact between two elastic bodies is not supported yet (node-to-surface "
-                              "contact works against rigid shapes)");
-    const bool has_elastic = world.bodies[law.body_a].body->elastic() || world.bodies[law.body_b].body->elastic();
+    for (const SideSummary& side : sides)
+      if (side.without_shapes >= 0)
+        node.fail_at("between", "body '" + world.bodies[side.without_shapes].name + "'" +
+                                    (side.name.starts_with("group") ? " (of " + side.name + ")" : "") +
+                                    " has no shapes");
+    if (const auto [x, y] = elastic_pair(sides[0], sides[1]); x >= 0)
+      node.fail_at("between", "contact between two elastic bodies ('" + world.bodies[x].name + "' and '" +
+                                  world.bodies[y].name + "') is not supported yet (node-to-surface contact works "
+                                  "against rigid shapes)");
+    const bool has_elastic = !sides[0].elastic.empty() || !sides[1].elastic.empty();
     const std::string features = node.string("features", "nodes");
     if (features == "faces") law.features = SurfaceFeatures::faces;
     else if (features == "both") law.features = SurfaceFeatures::both;
@@ -186,6 +253,12 @@ void read_contacts(const SceneNode& root, World& world) {
     if (!has_elastic && features != "nodes")
       node.fail_at("features", "only meaningful when one of the bodies is elastic");
     world.contact_laws.push_back(law);
+  }
+  // Laws with the same sides, or two laws of one specificity sharing a pair (contact_law_table.h).
+  try {
+    ContactLawTable table(world);
+  } catch (const ContactLawConflict& conflict) {
+    contacts.child(world.contact_laws[conflict.law].name).fail_at("between", conflict.what());
   }
 }
 

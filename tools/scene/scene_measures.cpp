@@ -116,6 +116,13 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     bool known = false;
     for (const char* c : components) known = known || p.force_component == c;
     if (!known) spec.fail_at("component", "expected normal, tangential, x, y or z (or give a direction)");
+    // The force on the law's first side is the force on one body; a group's bodies push on each other.
+    const ContactLaw& law = world.contact_laws[p.contact_law];
+    if (law.body_a < 0 && p.force_component != "normal")
+      spec.fail_at(spec.has("direction") ? "direction" : "component",
+                   "contact law '" + law.name + "' names the group '" + world.groups[law.group_a].name +
+                       "' first: only its normal force (the sum over its contacts) is defined; use component "
+                       "normal, or a law whose first side is a body");
   } else {
     spec.fail("unknown probe kind '" + kind +
               "' (expected displacement, position, velocity, energy, contact_force, contact_count or reaction)");
