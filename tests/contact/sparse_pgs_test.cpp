@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -235,6 +236,39 @@ TEST(SparsePgs, ThePolishStaysWithinItsBudget) {
   const PgsStatistics statistics = PgsSolver(one_sweep).solve(problem, r);
   EXPECT_LE(statistics.polish_work, 5e4);
   EXPECT_TRUE(statistics.polish_cut);
+}
+
+// The law is positively homogeneous: q scaled by s scales every solution r, and its u, by s. Siconos'
+// 667-contact granular flow has ‖q‖ = 4.3e-18, below DBL_EPSILON, where Siconos' error turns absolute
+// (bench_siconos.cpp): NSGS stops after one iteration at an absolute 3.7e-19, where the iterate is 0.09
+// off the law relative to the problem's scale. csim's residual is relative: the same sweeps at both
+// scales, q and q · 2^58 (a power of 2: exact), and the one-sweep iterate is no solution.
+TEST(SparsePgs, ConvergenceIsRelativeToTheProblemsScale) {
+  const FrictionContactProblem problem = siconos_file("fc2d_granularflowonwall_00667_00000.dat");
+  ASSERT_LT(problem.b.norm(), 1e-17);
+  FrictionContactProblem scaled = problem;
+  const double scale = std::ldexp(1.0, 58);
+  scaled.b *= scale;
+  PgsParameters parameters;
+  parameters.tolerance = 1e-8;
+  parameters.max_iterations = 100000;
+  Eigen::VectorXd r, r_scaled;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  const PgsStatistics scaled_statistics = PgsSolver(parameters).solve(scaled, r_scaled);
+  ASSERT_TRUE(statistics.converged) << statistics.residual;
+  ASSERT_TRUE(scaled_statistics.converged) << scaled_statistics.residual;
+  EXPECT_EQ(statistics.iterations, scaled_statistics.iterations);
+  EXPECT_NEAR(statistics.residual, scaled_statistics.residual, 1e-12);
+  EXPECT_LE((scale * r - r_scaled).norm(), 1e-12 * r_scaled.norm());
+  EXPECT_LE(natural_map_error(problem, r), 1e-8);
+  EXPECT_LE(natural_map_error(scaled, r_scaled), 1e-8);
+
+  PgsParameters one_sweep = parameters;
+  one_sweep.max_iterations = 1;
+  one_sweep.polish = false;
+  Eigen::VectorXd r_one;
+  PgsSolver(one_sweep).solve(problem, r_one);
+  EXPECT_GT(natural_map_error(problem, r_one), 1e-2);
 }
 
 // Gauss–Seidel converging at a steady rate is not interrupted by the polish: Siconos' 00071 (89 contacts,
