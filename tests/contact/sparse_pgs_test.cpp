@@ -1,5 +1,6 @@
 // The sparse path of PgsSolver (sparse_pgs.h) and its Newton polish (sparse_alart_curnier.h): the same
 // impulses as the dense path, hyperstatic contact sets, unsymmetric W, the polish budget, the text format.
+#include "contact/fclib_problem_format.h"
 #include "contact/pgs_solver.h"
 #include "contact/sparse_alart_curnier.h"
 #include "contact/siconos_problem_format.h"
@@ -236,6 +237,40 @@ TEST(SparsePgs, ThePolishStaysWithinItsBudget) {
   const PgsStatistics statistics = PgsSolver(one_sweep).solve(problem, r);
   EXPECT_LE(statistics.polish_work, 5e4);
   EXPECT_TRUE(statistics.polish_cut);
+}
+
+// Siconos' Capsules-i125-1213 (FCLib, 286 contacts, W unsymmetric, J singular: every plain Newton step
+// fails its factorization). From Gauss–Seidel's iterate at 200 sweeps (2.1e-6) the proximal steps
+// with δ = ‖F‖ / scale left ‖F‖ where it was for 11 steps, and four polishes spent their whole budget
+// (cut) before the sweeps finished at 803; with δ = √(‖F‖ / scale) (sparse_alart_curnier.h) Newton
+// moves the iterate (2.1e-6 to 6.7e-7 in 30 steps) and the second polish finishes the solve, within
+// its budget, long before Gauss–Seidel alone (2304 sweeps).
+TEST(SparseAlartCurnier, MovesAnIterateWhereJIsSingular) {
+  const FrictionContactProblem problem =
+      read_fclib_problem(CSIM_SOURCE_DIR "/tests/contact/data/siconos/Capsules-i125-1213.hdf5");
+  ASSERT_EQ(problem.storage, DelassusStorage::sparse);
+  PgsParameters sweeps_only;
+  sweeps_only.max_iterations = 200;
+  sweeps_only.polish = false;
+  Eigen::VectorXd r;
+  PgsSolver(sweeps_only).solve(problem, r);
+  const double start = PgsSolver::residual(problem, r);
+  ASSERT_GT(start, 1e-6);
+  PolishBudget budget;
+  NewtonStatistics statistics;
+  ASSERT_TRUE(sparse_alart_curnier_newton(problem, problem.W_sparse, r, 30, 1e-11, 1.0, budget, &statistics));
+  EXPECT_GT(budget.regularized_steps, 0);
+  EXPECT_LE(PgsSolver::residual(problem, r), 0.5 * start) << "from " << start;
+
+  PgsParameters parameters;
+  parameters.tolerance = 1e-8;
+  parameters.max_iterations = 100000;
+  Eigen::VectorXd solution;
+  const PgsStatistics solved = PgsSolver(parameters).solve(problem, solution);
+  ASSERT_TRUE(solved.converged) << solved.residual;
+  EXPECT_LE(natural_map_error(problem, solution), 1e-8);
+  EXPECT_FALSE(solved.polish_cut);
+  EXPECT_LT(solved.iterations, 2304);
 }
 
 // The law is positively homogeneous: q scaled by s scales every solution r, and its u, by s. Siconos'
