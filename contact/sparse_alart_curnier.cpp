@@ -226,7 +226,9 @@ bool sparse_alart_curnier_newton(const FrictionContactProblem& problem, const Sp
       regularize = !moved;
     }
     if (!moved) {
-      const double delta = std::min(1e-2, std::max(1e-12, std::sqrt(merit) / std::max(scale, 1e-300)));
+      // √(‖F‖ / scale), not ‖F‖ / scale: the header says why (a singular J's near-null directions).
+      const double delta =
+          std::min(1e-2, std::max(1e-12, std::sqrt(std::sqrt(merit) / std::max(scale, 1e-300))));
       const bool solved = newton_step(delta);
       if (budget.exhausted) break;
       ++budget.regularized_steps;

@@ -77,7 +77,8 @@ void define(CLI::App& app, Arguments& a, std::string& help_topic) {
   run->add_flag("--quiet", a.quiet, "print only the checks and the verdict");
   run->footer("Writes DIR/summary.json, DIR/probes.csv and, for elastic bodies, DIR/paraview/.\n"
               "Exit status: 0 checks passed (at least one evaluated, none failed, the others excluded by\n"
-              "their only_if), 1 not a pass (a check failed or could not be evaluated, or none applies),\n"
+              "their only_if) or a scene without checks ran to its end (a plain simulation), 1 not a pass\n"
+              "(a check failed or could not be evaluated, or none applies),\n"
               "2 bad input, a numerical failure (DIR then holds the outputs up to the failure, its\n"
               "summary.json saying \"status\": \"failed\") or an environment failure (a full disk: the\n"
               "system's reason);\n" +

@@ -15,8 +15,9 @@
 // between runs, removes that folder and leaves DIR as it was: exit status 130, 143 or 129 (128 + the
 // signal). A run stopped by a numerical failure (exit 2) leaves in DIR what it computed up to the failure,
 // its summary.json saying "failed" (tools/run/run.h).
-// Exit status of run: 0 checks passed (checks.h: CheckCounts::pass), 1 not a pass, 2 bad input, a
-// numerical failure or an environment failure (a file that cannot be written, out of memory).
+// Exit status of run: 0 checks passed (checks.h: CheckCounts::pass) or a scene without checks run to its
+// end (RunReport::plain_simulation), 1 not a pass, 2 bad input, a numerical failure or an environment
+// failure (a file that cannot be written, out of memory).
 // Exit status of compare: 0 every run succeeded, 1 some run failed (recorded in its row), 2 bad input.
 // Exit status of stress: 0 no run violated an invariant (failed checks and IDA stops are only reported),
 // 1 some run did, 2 bad input (sweeps file, --only, --set).
@@ -151,7 +152,7 @@ std::string verdict(const csim::CheckCounts& n) {
                              " excluded by only_if";
   if (n.pass()) return "checks passed (" + counts + ")";
   if (n.failed > 0) return "CHECKS FAILED (" + counts + ")";
-  if (n.total() == 0) return "NOT JUDGED: the scene has no checks (not a pass)";
+  if (n.total() == 0) return "no checks: a plain simulation, run to its end";
   if (n.not_evaluated > 0) return "NOT JUDGED: some checks could not be evaluated (not a pass; " + counts + ")";
   return "NOT JUDGED: no check applies to these parameters (not a pass; " + counts + ")";
 }
@@ -394,7 +395,7 @@ int run_command(const Arguments& arguments, csim::StudyRunner& runner, bool& sto
     print_checks(report.checks);
     std::printf("%s: %s (outputs in %s)\n", scene->name.c_str(), verdict(report.counts()).c_str(),
                 options.output_directory.c_str());
-    return report.passed() ? kPassed : kCheckFailed;
+    return report.passed() || report.plain_simulation() ? kPassed : kCheckFailed;
   } catch (const RankLeaves&) {
   } catch (const csim::StopRequested& stop) {
     stopped = true;

@@ -1,5 +1,6 @@
 // The sparse path of PgsSolver (sparse_pgs.h) and its Newton polish (sparse_alart_curnier.h): the same
 // impulses as the dense path, hyperstatic contact sets, unsymmetric W, the polish budget, the text format.
+#include "contact/fclib_problem_format.h"
 #include "contact/pgs_solver.h"
 #include "contact/sparse_alart_curnier.h"
 #include "contact/siconos_problem_format.h"
@@ -9,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -235,6 +237,73 @@ TEST(SparsePgs, ThePolishStaysWithinItsBudget) {
   const PgsStatistics statistics = PgsSolver(one_sweep).solve(problem, r);
   EXPECT_LE(statistics.polish_work, 5e4);
   EXPECT_TRUE(statistics.polish_cut);
+}
+
+// Siconos' Capsules-i125-1213 (FCLib, 286 contacts, W unsymmetric, J singular: every plain Newton step
+// fails its factorization). From Gauss–Seidel's iterate at 200 sweeps (2.1e-6) the proximal steps
+// with δ = ‖F‖ / scale left ‖F‖ where it was for 11 steps, and four polishes spent their whole budget
+// (cut) before the sweeps finished at 803; with δ = √(‖F‖ / scale) (sparse_alart_curnier.h) Newton
+// moves the iterate (2.1e-6 to 6.7e-7 in 30 steps) and the second polish finishes the solve, within
+// its budget, long before Gauss–Seidel alone (2304 sweeps).
+TEST(SparseAlartCurnier, MovesAnIterateWhereJIsSingular) {
+  const FrictionContactProblem problem =
+      read_fclib_problem(CSIM_SOURCE_DIR "/tests/contact/data/siconos/Capsules-i125-1213.hdf5");
+  ASSERT_EQ(problem.storage, DelassusStorage::sparse);
+  PgsParameters sweeps_only;
+  sweeps_only.max_iterations = 200;
+  sweeps_only.polish = false;
+  Eigen::VectorXd r;
+  PgsSolver(sweeps_only).solve(problem, r);
+  const double start = PgsSolver::residual(problem, r);
+  ASSERT_GT(start, 1e-6);
+  PolishBudget budget;
+  NewtonStatistics statistics;
+  ASSERT_TRUE(sparse_alart_curnier_newton(problem, problem.W_sparse, r, 30, 1e-11, 1.0, budget, &statistics));
+  EXPECT_GT(budget.regularized_steps, 0);
+  EXPECT_LE(PgsSolver::residual(problem, r), 0.5 * start) << "from " << start;
+
+  PgsParameters parameters;
+  parameters.tolerance = 1e-8;
+  parameters.max_iterations = 100000;
+  Eigen::VectorXd solution;
+  const PgsStatistics solved = PgsSolver(parameters).solve(problem, solution);
+  ASSERT_TRUE(solved.converged) << solved.residual;
+  EXPECT_LE(natural_map_error(problem, solution), 1e-8);
+  EXPECT_FALSE(solved.polish_cut);
+  EXPECT_LT(solved.iterations, 2304);
+}
+
+// The law is positively homogeneous: q scaled by s scales every solution r, and its u, by s. Siconos'
+// 667-contact granular flow has ‖q‖ = 4.3e-18, below DBL_EPSILON, where Siconos' error turns absolute
+// (bench_siconos.cpp): NSGS stops after one iteration at an absolute 3.7e-19, where the iterate is 0.09
+// off the law relative to the problem's scale. csim's residual is relative: the same sweeps at both
+// scales, q and q · 2^58 (a power of 2: exact), and the one-sweep iterate is no solution.
+TEST(SparsePgs, ConvergenceIsRelativeToTheProblemsScale) {
+  const FrictionContactProblem problem = siconos_file("fc2d_granularflowonwall_00667_00000.dat");
+  ASSERT_LT(problem.b.norm(), 1e-17);
+  FrictionContactProblem scaled = problem;
+  const double scale = std::ldexp(1.0, 58);
+  scaled.b *= scale;
+  PgsParameters parameters;
+  parameters.tolerance = 1e-8;
+  parameters.max_iterations = 100000;
+  Eigen::VectorXd r, r_scaled;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  const PgsStatistics scaled_statistics = PgsSolver(parameters).solve(scaled, r_scaled);
+  ASSERT_TRUE(statistics.converged) << statistics.residual;
+  ASSERT_TRUE(scaled_statistics.converged) << scaled_statistics.residual;
+  EXPECT_EQ(statistics.iterations, scaled_statistics.iterations);
+  EXPECT_NEAR(statistics.residual, scaled_statistics.residual, 1e-12);
+  EXPECT_LE((scale * r - r_scaled).norm(), 1e-12 * r_scaled.norm());
+  EXPECT_LE(natural_map_error(problem, r), 1e-8);
+  EXPECT_LE(natural_map_error(scaled, r_scaled), 1e-8);
+
+  PgsParameters one_sweep = parameters;
+  one_sweep.max_iterations = 1;
+  one_sweep.polish = false;
+  Eigen::VectorXd r_one;
+  PgsSolver(one_sweep).solve(problem, r_one);
+  EXPECT_GT(natural_map_error(problem, r_one), 1e-2);
 }
 
 // Gauss–Seidel converging at a steady rate is not interrupted by the polish: Siconos' 00071 (89 contacts,

@@ -44,7 +44,7 @@ std::string sweep_csv(const SweepStudy& study) {
       << "# placement: " << study.placement << "\n"
       << "# each case runs as `csim run --set OVERRIDES --set BASELINE --set KEY=VALUE...` would"
       << (study.case_outputs ? ", its outputs in case-NNNN/ (NNNN = case)" : "") << "\n"
-      << "# exit_status: as csim run (0 checks passed, 1 not a pass, 2 bad input, a numerical failure or an "
+      << "# exit_status: as csim run (0 checks passed or none declared, 1 not a pass, 2 bad input, a numerical failure or an "
          "environment failure: status says which); "
          "steps: time steps (IDA: internal steps); contact_solves, solver_sweeps, not_converged, max_residual: "
          "the contact solver's over the run; newton_*: total and most in a step\n"

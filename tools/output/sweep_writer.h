@@ -17,8 +17,8 @@ struct SweepCheck {
 
 struct SweepRow {
   std::vector<std::string> settings;    // the case's own KEY=VALUE
-  int exit_status = 2;                  // as `csim run`: 0 pass, 1 not a pass, 2 any failure below
-  // passed | not a pass | bad input | numerical failure | environment failure (out of memory, a file that
+  int exit_status = 2;                  // as `csim run`: 0 pass or no checks, 1 not a pass, 2 any failure below
+  // passed | no checks (a plain simulation run to its end) | not a pass | bad input | numerical failure | environment failure (out of memory, a file that
   // cannot be written: tools/studies/case_failure.h)
   std::string status;
   std::string message;                  // the error of a bad-input or failed case; the verdict otherwise

@@ -76,7 +76,8 @@ struct CheckCounts {
   int passed = 0, failed = 0, not_evaluated = 0, excluded = 0;
   int total() const { return passed + failed + not_evaluated + excluded; }
   // The run's verdict: a pass needs at least one evaluated check, no failure, and every check either
-  // evaluated or excluded by its own only_if. A scene without checks is not judged (and not a pass).
+  // evaluated or excluded by its own only_if. A scene without checks is not judged (never a pass): it
+  // is a plain simulation (RunReport::plain_simulation), which `csim run` ends with exit 0.
   bool pass() const { return passed > 0 && failed == 0 && not_evaluated == 0; }
 };
 CheckCounts count_checks(const std::vector<CheckResult>& checks);

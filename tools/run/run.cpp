@@ -297,6 +297,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
       .value("not_evaluated", counts.not_evaluated).value("excluded", counts.excluded)
       .end_object();
   json.value("passed", report.passed());
+  json.value("plain_simulation", report.plain_simulation());
   json.end_object();
   return json.str();
 }

@@ -39,6 +39,10 @@ struct RunReport {
   std::optional<RunFailure> failure;   // set when the run stopped on a RunError
   CheckCounts counts() const { return count_checks(checks); }
   bool passed() const { return !failure && counts().pass(); }  // checks.h: CheckCounts::pass
+  // A scene that declares no check, run to its end: a simulation, not a verification. Its `passed` is
+  // false (nothing was judged) and `csim run` exits 0 (docs/contract.md). A scene whose checks are all
+  // excluded by their only_if is not one: it was meant to be judged and could not be.
+  bool plain_simulation() const { return !failure && checks.empty(); }
 };
 
 // The state at t = 0: every body at its initial position and velocity.

@@ -76,7 +76,20 @@ TEST_F(CheckVerdict, AnExcludedCheckIsNeverAPass) {
   EXPECT_NE(c.note.find("is false for these parameters"), std::string::npos) << c.note;
   EXPECT_EQ(report.counts().excluded, 1);
   EXPECT_FALSE(report.passed());
+  EXPECT_FALSE(report.plain_simulation());  // it was meant to be judged: exit 1, not a plain simulation
   EXPECT_FALSE(CheckCounts{}.pass());  // no checks at all: not judged, not a pass
+}
+
+// A scene that declares no check is a plain simulation: not a pass (nothing was judged), but a run to
+// its end that `csim run` ends with exit 0; a numerical failure is never one.
+TEST_F(CheckVerdict, ASceneWithoutChecksIsAPlainSimulation) {
+  RunReport report = run_scene(*load(""), {});
+  EXPECT_TRUE(report.checks.empty());
+  EXPECT_FALSE(report.passed());
+  EXPECT_TRUE(report.plain_simulation());
+  EXPECT_NEAR(report.state.t, 0.1, 1e-12);
+  report.failure = RunFailure{};
+  EXPECT_FALSE(report.plain_simulation());
 }
 
 // A check whose time lies beyond the run's end is reported, with its reason, and spoils the pass even
@@ -214,9 +227,15 @@ checks:
   ASSERT_EQ(report.checks.size(), 4u);
   for (const CheckResult& c : report.checks) {
     EXPECT_TRUE(c.passed) << c.name << ": " << c.value;
-    if (c.name == "v_impact") EXPECT_EQ(c.value, v_min);
-    if (c.name == "v_rebound") EXPECT_EQ(c.value, v_max);
-    if (c.name == "lowest") EXPECT_EQ(c.value, lowest);
+    if (c.name == "v_impact") {
+      EXPECT_EQ(c.value, v_min);
+    }
+    if (c.name == "v_rebound") {
+      EXPECT_EQ(c.value, v_max);
+    }
+    if (c.name == "lowest") {
+      EXPECT_EQ(c.value, lowest);
+    }
     if (c.name == "apex") {
       EXPECT_GT(c.value, highest_after_bounce);
       EXPECT_NEAR(c.value, 0.3025, 0.3025 * 2e-2);
@@ -241,7 +260,9 @@ checks:
   with_at.replace(with_at.find("  v_impact:"), 0, checks);
   const RunReport at_report = run_scene(*load_scene(write(with_at), {}), {});
   for (const CheckResult& c : at_report.checks)
-    if (c.name == "v_after" || c.name == "v_jump") EXPECT_TRUE(c.passed) << c.name << ": " << c.value << " vs " << c.reference;
+    if (c.name == "v_after" || c.name == "v_jump") {
+      EXPECT_TRUE(c.passed) << c.name << ": " << c.value << " vs " << c.reference;
+    }
 }
 
 }  // namespace
