@@ -145,7 +145,16 @@ struct CollisionWorld::Impl {
   bool can_collide(int a, int b) const {
     const Object& oa = objects[a];
     const Object& ob = objects[b];
-    return oa.body != ob.body && !(oa.fixed && ob.fixed) && !(oa.surface && ob.surface);
+    return oa.body != ob.body && !(oa.fixed && ob.fixed) && !(oa.surface && ob.surface) &&
+           (!may_touch || may_touch(oa.body, ob.body));
+  }
+
+  // Enters the objects added since the last call into the tree: FCL builds a tree of all of them at
+  // once when it holds none yet (its registerObjects), and inserts them one by one otherwise.
+  void register_pending() const {
+    if (pending.empty()) return;
+    manager->registerObjects(pending);
+    pending.clear();
   }
 
   void refresh_aabb(Object& object) const {
@@ -172,6 +181,8 @@ struct CollisionWorld::Impl {
   int objects_in_tree = 0;
   mutable NarrowPhase narrow_phase;
   std::unique_ptr<fcl::DynamicAABBTreeCollisionManagerd> manager;
+  mutable std::vector<fcl::CollisionObjectd*> pending;  // added, not yet in the tree (register_pending)
+  std::function<bool(int, int)> may_touch;              // set_body_filter's
   mutable std::vector<std::pair<int, int>> candidates;  // (lower id, higher id), scratch
 };
 
@@ -187,6 +198,7 @@ bool CollisionWorld::Impl::gather_pair(fcl::CollisionObjectd* o1, fcl::Collision
 
 void CollisionWorld::Impl::gather_candidate_pairs() const {
   candidates.clear();
+  register_pending();
   if (tree_pairs()) manager->collide(const_cast<Impl*>(this), &gather_pair);
   // Halfspaces have infinite AABBs, which FCL 0.7's DynamicAABBTree cannot hold (its tree build and
   // rebalancing crash on them), so each is paired with every moving object directly; the pair
@@ -220,7 +232,7 @@ int CollisionWorld::add_object(int body, const Shape& shape, bool fixed) {
   object.fcl_object = std::make_unique<MarginCollisionObject>(object.instance.geometry);
   object.fcl_object->setUserData(id_as_user_data(id));
   impl_->refresh_aabb(object);
-  impl_->manager->registerObject(object.fcl_object.get());
+  impl_->pending.push_back(object.fcl_object.get());
   ++impl_->objects_in_tree;
   if (!fixed) impl_->moving_in_tree.push_back(id);
   return id;
@@ -240,7 +252,12 @@ void CollisionWorld::update(double margin) {
   for (Impl::Object& object : impl_->objects) {
     if (object.fcl_object) impl_->refresh_aabb(object);
   }
+  impl_->register_pending();
   impl_->manager->update();
+}
+
+void CollisionWorld::set_body_filter(std::function<bool(int, int)> may_touch) {
+  impl_->may_touch = std::move(may_touch);
 }
 
 void CollisionWorld::find_contacts(std::vector<ContactPoint>& out) const {
@@ -296,7 +313,7 @@ int CollisionWorld::add_deformable_surface(int body, const std::vector<Eigen::Ve
   object.fcl_object = std::make_unique<MarginCollisionObject>(std::make_shared<fcl::Sphered>(0.0));
   object.fcl_object->setUserData(id_as_user_data(id));
   impl_->refresh_aabb(object);
-  impl_->manager->registerObject(object.fcl_object.get());
+  impl_->pending.push_back(object.fcl_object.get());
   ++impl_->objects_in_tree;
   impl_->moving_in_tree.push_back(id);
   return id;

@@ -142,6 +142,9 @@ ContactDetector::ContactDetector(const World& world)
       collision_->set_pose(object, b.body->pose(b.initial_position) * b.shapes[s].local_pose);
     }
   }
+  // Bodies that share no law never reach the narrow phase (the filter reads laws_: the detector, which
+  // owns collision_, is neither copied nor moved).
+  collision_->set_body_filter([this](int a, int b) { return laws_.law(a, b) >= 0; });
 }
 
 ContactDetector::~ContactDetector() = default;

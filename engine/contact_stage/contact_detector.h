@@ -20,6 +20,8 @@ class ContactDetector {
  public:
   explicit ContactDetector(const World& world);
   ~ContactDetector();
+  ContactDetector(const ContactDetector&) = delete;
+  ContactDetector& operator=(const ContactDetector&) = delete;
 
   bool empty() const { return collision_ == nullptr; }
   int dimension() const { return dimension_; }  // rows per contact: 2 in plane scenes, 3 in space

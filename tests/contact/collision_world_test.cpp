@@ -722,6 +722,31 @@ TEST(CollisionWorld, SameBodyAndFixedPairsIgnored) {
   EXPECT_EQ(world.object_count(), 4);
 }
 
+// The callers' contact laws as a filter on bodies: three overlapping spheres on the ground, body 3
+// allowed the ground only; its pairs with the other spheres never reach the narrow phase, the others'
+// pairs are all found.
+TEST(CollisionWorld, BodiesTheFilterRefusesNeverMeet) {
+  CollisionWorld world(false);
+  const int ground = world.add_object(0, Halfspace{}, true);
+  const int s1 = world.add_object(1, Sphere{0.1}, false);
+  const int s2 = world.add_object(2, Sphere{0.1}, false);
+  const int s3 = world.add_object(3, Sphere{0.1}, false);
+  world.set_pose(s1, translation(0.0, 0.0, 0.1));
+  world.set_pose(s2, translation(0.15, 0.0, 0.1));
+  world.set_pose(s3, translation(0.075, 0.1, 0.1));
+  world.set_body_filter([](int a, int b) { return (a != 3 && b != 3) || a == 0 || b == 0; });
+  world.update(0.01);
+  std::vector<ContactPoint> contacts;
+  world.find_contacts(contacts);
+  std::vector<std::pair<int, int>> pairs;
+  for (const ContactPoint& c : contacts) pairs.emplace_back(c.key.object_a, c.key.object_b);
+  const std::vector<std::pair<int, int>> expected = {{ground, s1}, {ground, s2}, {ground, s3}, {s1, s2}};
+  EXPECT_EQ(pairs, expected);
+  world.set_body_filter(nullptr);  // every pair of bodies
+  world.find_contacts(contacts);
+  EXPECT_EQ(contacts.size(), 6u);
+}
+
 TEST(CollisionWorld, RejectsInvalidShapesAndMargins) {
   CollisionWorld world(false);
   EXPECT_THROW(world.add_object(0, Halfspace{}, false), std::invalid_argument);

@@ -78,7 +78,7 @@ TEST(DeformableSurface, NodesOffTheGeometryDoNotCount) {
   const int b = with_interior.add_deformable_surface(1, body_nodes(Eigen::Vector3d(0.4, -0.3, 0), 1e6), interleaved);
   const int renumbered[] = {0, 2, 3, 5};
   // Each corner in turn in the ball (node 0, then 2, 3, 5), then none.
-  for (const Eigen::Vector3d offset : {Eigen::Vector3d(0.4, -0.3, 0), Eigen::Vector3d(-0.9, -0.2, 0), Eigen::Vector3d(-0.9, -1.1, 0),
+  for (const Eigen::Vector3d& offset : {Eigen::Vector3d(0.4, -0.3, 0), Eigen::Vector3d(-0.9, -0.2, 0), Eigen::Vector3d(-0.9, -1.1, 0),
                                        Eigen::Vector3d(-0.2, -0.7, 0), Eigen::Vector3d(10, 0, 0)}) {
     plain.set_node_positions(a, square_nodes(offset));
     with_interior.set_node_positions(b, body_nodes(offset, offset.x() > 5 ? 0.0 : -1e6));
@@ -93,7 +93,9 @@ TEST(DeformableSurface, NodesOffTheGeometryDoNotCount) {
       EXPECT_EQ(found[i].gap, expected[i].gap);
       EXPECT_EQ(found[i].point_b, expected[i].point_b);
     }
-    if (offset.x() < 5) EXPECT_FALSE(found.empty());
+    if (offset.x() < 5) {
+      EXPECT_FALSE(found.empty());
+    }
   }
   EXPECT_THROW(with_interior.set_node_positions(b, square_nodes(Eigen::Vector3d::Zero())), std::invalid_argument);
 }
