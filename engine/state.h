@@ -7,6 +7,7 @@
 #include "contact/contact_point.h"
 #include "engine/bodies/body.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,15 @@ struct SolverCounters {
   long rejected_local_solutions = 0;
   long contact_points = 0;        // active contacts, summed over steps
   int max_contact_points = 0;
+  // m: the largest overlap (−gap) of an active contact at the configuration a step starts from (the
+  // gaps its detection measured), 0 if none overlapped: how far bodies interpenetrate over the run.
+  double deepest_penetration = 0.0;
+  // A step's contact set into the three figures above.
+  void count_contacts(const std::vector<ActiveContact>& contacts) {
+    contact_points += static_cast<long>(contacts.size());
+    max_contact_points = std::max(max_contact_points, static_cast<int>(contacts.size()));
+    for (const ActiveContact& c : contacts) deepest_penetration = std::max(deepest_penetration, -c.point.gap);
+  }
   long newton_iterations = 0;     // Newton iterations (quasi-static; Moreau–Jean with finite-strain bodies), summed over steps
   int max_newton_iterations = 0;  // the most in one step
   long newton_regularized = 0;    // iterations whose tangent needed a proximal term to be positive definite

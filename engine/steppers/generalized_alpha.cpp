@@ -212,8 +212,7 @@ void GeneralizedAlpha::step(State& state) {
   ++counters.steps;
   state.t = static_cast<double>(counters.steps) * parameters_.step;
   stage_.hand_over(state.contacts);
-  counters.contact_points += static_cast<long>(state.contacts.size());
-  counters.max_contact_points = std::max(counters.max_contact_points, static_cast<int>(state.contacts.size()));
+  counters.count_contacts(state.contacts);
   state.factorization_seconds = operators_.factorization_seconds();
   clock_.lap(state.timers.update);
 }

@@ -407,8 +407,7 @@ void MoreauJean::finish_step(State& state) {
   ++c.steps;
   state.t = static_cast<double>(c.steps) * h;  // no accumulated round-off
   stage_.hand_over(state.contacts);
-  c.contact_points += static_cast<long>(state.contacts.size());
-  c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
+  c.count_contacts(state.contacts);
   clock_.lap(state.timers.update);
 }
 

@@ -223,8 +223,7 @@ void QuasiStatic::step(State& state) {
   world_.position_difference(state.q, q_start, state.v);
   state.v /= h;
   ++c.steps;
-  c.contact_points += static_cast<long>(state.contacts.size());
-  c.max_contact_points = std::max(c.max_contact_points, static_cast<int>(state.contacts.size()));
+  c.count_contacts(state.contacts);
 }
 
 void QuasiStatic::measure_energy(State& state) const { state.energy.elastic = dynamics_.elastic_energy(state.q); }

@@ -253,6 +253,8 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
   json.begin_object("contacts")
       .value("max_active", c.max_contact_points)
       .value("mean_active", c.steps > 0 ? double(c.contact_points) / c.steps : 0.0)
+      .value("active_at_end", static_cast<long>(s.contacts.size()))
+      .value("deepest_penetration", c.deepest_penetration)
       .end_object();
   const EnergyBalance& e = s.energy;
   const double scale = std::max({std::abs(e.initial_kinetic) + std::abs(e.initial_elastic),
