@@ -1,6 +1,7 @@
 #include "tools/run/run.h"
 
 #include "tools/output/atomic_file.h"
+#include "tools/output/body_poses.h"
 #include "tools/output/json_writer.h"
 #include "tools/output/paraview_series.h"
 #include "tools/output/vtk_writer.h"
@@ -114,6 +115,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   if (!options.output_directory.empty()) {
     const std::filesystem::path dir(options.output_directory);
     std::filesystem::remove(dir / "probes.csv");
+    std::filesystem::remove(dir / "bodies.csv");
     std::filesystem::remove(dir / "summary.json");
     remove_paraview_outputs(options.output_directory);
   }
@@ -141,9 +143,13 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory, *run.paraview,
                                                 // The quasi-static stepper's impulses are forces × h.
                                                 ContactAction{run.integrator == Integrator::quasi_static, run.step});
+  // The moving bodies' poses at the same rows (output.bodies).
+  std::unique_ptr<BodyPoses> poses;
+  if (!options.output_directory.empty() && run.body_poses) poses = std::make_unique<BodyPoses>(scene.world);
   const auto output_row = [&](const std::vector<double>& row) {
     append_row(csv, state.t, row, report);
     if (paraview) paraview->write_frame(scene.world, state, state.t);
+    if (poses) poses->add_frame(scene.world, state);
   };
   std::vector<double> values;
   probes.evaluate(state, values);
@@ -162,6 +168,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
     std::filesystem::create_directories(options.output_directory);
     const std::filesystem::path dir(options.output_directory);
     write_file_atomically((dir / "probes.csv").string(), csv.str());
+    if (poses) write_file_atomically((dir / "bodies.csv").string(), poses->text());
     write_file_atomically((dir / "summary.json").string(), summary_json(scene, report));
     if (paraview) paraview->finish();
   };

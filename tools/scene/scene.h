@@ -84,6 +84,7 @@ struct RunSettings {
   double output_rate = 0.0;  // s between rows of probes.csv; 0 = every step
   // output.paraview: how the ParaView files store their arrays; none: no ParaView files.
   std::optional<VtkEncoding> paraview = VtkEncoding::binary;
+  bool body_poses = false;  // output.bodies: DIR/bodies.csv, the moving bodies' poses (body_poses.h)
   std::vector<ProbeDefinition> probes;
   std::vector<CheckDefinition> checks;
 };

@@ -145,7 +145,8 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
 
 void read_output(const SceneNode& root, RunSettings& run) {
   const SceneNode output = root.section("output");
-  output.allow_only({"rate", "paraview"});
+  output.allow_only({"rate", "paraview", "bodies"});
+  run.body_poses = output.boolean("bodies", false);
   run.output_rate = output.non_negative("rate", run.end_time / 1000.0);
   const std::string paraview = output.string("paraview", "binary");
   if (paraview == "binary") run.paraview = VtkEncoding::binary;
