@@ -94,9 +94,11 @@ Eigen::Vector3d default_inertia(const SceneNode& node, double mass, const std::v
   node.fail_at("inertia", "required (it has no default unless the body has one centred box or sphere)");
 }
 
-void read_body(const std::string& name, const SceneNode& node, World& world) {
+// One body, its position moved by `offset` (m: a copy's place in its grid, copies_of).
+void read_body(const std::string& name, const SceneNode& node, World& world,
+               const Eigen::Vector3d& offset = Eigen::Vector3d::Zero()) {
   node.allow_only({"type", "mass", "inertia", "position", "angle", "axis", "initial_displacement", "velocity",
-                   "angular_velocity", "shapes", "prescribed", "group"});
+                   "angular_velocity", "shapes", "prescribed", "group", "copies"});
   const int d = world.dimension;
   BodyInstance b;
   b.name = name;
@@ -105,7 +107,8 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
       b.shapes.push_back(read_shape(shape_name, shape_node, d));
 
   const std::string type = node.string("type");
-  const Eigen::Vector3d position = node.has("position") ? node.vector("position", d, d) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d position =
+      (node.has("position") ? node.vector("position", d, d) : Eigen::Vector3d::Zero()) + offset;
   const Eigen::Matrix3d orientation = rotation(node, d);
   if (type == "fixed") {
     for (const char* key : {"mass", "inertia", "initial_displacement", "velocity", "angular_velocity"})
@@ -184,30 +187,80 @@ void read_body(const std::string& name, const SceneNode& node, World& world) {
   world.bodies.push_back(std::move(b));
 }
 
+// A body's `copies: {grid: [nx, ny(, nz)], spacing: [dx, dy(, dz)]}`: nx · ny · nz bodies, the copy
+// (i, j, k) at position + (i dx, j dy, k dz), named NAME_n with n = (i ny + j) nz + k (x slowest), and
+// in the group NAME unless the body names its own. Returns each copy's name and offset (m).
+std::vector<std::pair<std::string, Eigen::Vector3d>> copies_of(const std::string& name, const SceneNode& node,
+                                                               int dimension) {
+  const SceneNode copies = node.child("copies");
+  copies.expect_map();
+  copies.allow_only({"grid", "spacing"});
+  const std::vector<SceneNode> grid = copies.child("grid").items();
+  if (static_cast<int>(grid.size()) != dimension)
+    copies.fail_at("grid", "expected " + std::to_string(dimension) + " counts, one per axis");
+  long count[3] = {1, 1, 1};
+  long total = 1;
+  for (int a = 0; a < dimension; ++a) {
+    const double n = grid[a].as_number();
+    if (!(n >= 1.0 && n <= 1e6 && n == std::floor(n))) copies.fail_at("grid", "each count must be a whole number >= 1");
+    count[a] = static_cast<long>(n);
+    total *= count[a];
+  }
+  if (total > 1000000) copies.fail_at("grid", "at most 1 000 000 copies");
+  const Eigen::Vector3d spacing = copies.vector("spacing", dimension, dimension);
+  std::vector<std::pair<std::string, Eigen::Vector3d>> out;
+  out.reserve(static_cast<std::size_t>(total));
+  for (long i = 0; i < count[0]; ++i)
+    for (long j = 0; j < count[1]; ++j)
+      for (long k = 0; k < count[2]; ++k)
+        out.emplace_back(name + "_" + std::to_string(out.size()),
+                         Eigen::Vector3d(i * spacing.x(), j * spacing.y(), k * spacing.z()));
+  return out;
+}
+
 }  // namespace
 
 void read_bodies(const SceneNode& root, World& world) {
   const auto entries = root.child("bodies").entries();
   std::unordered_map<std::string, int> group_index;
-  for (const auto& [name, node] : entries) {
-    node.expect_map();
-    if (node.has("type") && node.string("type") == "elastic") read_elastic_body(name, node, world);
-    else read_body(name, node, world);
-    if (!node.has("group")) continue;
-    const std::string group = node.string("group");
+  std::vector<int> entry_of_body;  // the entry that declared each body (copies: one entry, many bodies)
+  const auto join_group = [&](const SceneNode& node, const std::string& group) {
     if (group.empty()) node.fail_at("group", "a group's name must not be empty");
     const auto [at, added] = group_index.emplace(group, static_cast<int>(world.groups.size()));
     if (added) world.groups.push_back({group, {}});
     world.bodies.back().group = at->second;
     world.groups[at->second].bodies.push_back(static_cast<int>(world.bodies.size()) - 1);
+  };
+  std::unordered_map<std::string, int> declared;  // names of the entries, for the copies' names
+  for (std::size_t e = 0; e < entries.size(); ++e) declared.emplace(entries[e].first, static_cast<int>(e));
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    const auto& [name, node] = entries[e];
+    node.expect_map();
+    const bool elastic = node.has("type") && node.string("type") == "elastic";
+    if (node.has("copies")) {
+      if (elastic) node.fail_at("copies", "copies are for point, rigid and fixed bodies");
+      const std::string group = node.has("group") ? node.string("group") : name;
+      for (const auto& [copy, offset] : copies_of(name, node, world.dimension)) {
+        if (declared.count(copy))
+          node.fail_at("copies", "the copy '" + copy + "' has the name of another body; rename one of them");
+        read_body(copy, node, world, offset);
+        entry_of_body.push_back(static_cast<int>(e));
+        join_group(node, group);
+      }
+      continue;
+    }
+    if (elastic) read_elastic_body(name, node, world);
+    else read_body(name, node, world);
+    entry_of_body.push_back(static_cast<int>(e));
+    if (node.has("group")) join_group(node, node.string("group"));
   }
   if (world.bodies.empty()) root.fail_at("bodies", "a scene needs at least one body");
   // A between names a body or a group: one name cannot be both.
   for (std::size_t i = 0; i < world.bodies.size(); ++i) {
     const auto clash = group_index.find(world.bodies[i].name);
     if (clash == group_index.end()) continue;
-    const int member = world.groups[clash->second].bodies.front();
-    entries[member].second.fail_at("group", "'" + clash->first + "' is also the name of a body: a contact law's "
+    const int member = entry_of_body[world.groups[clash->second].bodies.front()];
+    entries[member].second.fail_at(entries[member].second.has("group") ? "group" : "copies", "'" + clash->first + "' is also the name of a body: a contact law's "
                                             "between could not tell them apart; rename the group or the body");
   }
   world.finalize_layout();
