@@ -130,6 +130,9 @@ struct ContactLaw {
   // Penalty friction (quasi-static stepper only): the elastic slip γ (m) at which a sticking contact's
   // tangential force reaches μ r_n (Abaqus' "allowable elastic slip"); 0: Coulomb's law, exact stick.
   double elastic_slip = 0.0;
+  // false: the pairs this law governs never touch (scene key collide: false), e.g. two bodies a
+  // constraint joins, or a pair a group's law would otherwise make; its other fields are unused.
+  bool collides = true;
   bool isotropic() const { return mu(0) == mu(1); }
   bool between_bodies() const { return body_a >= 0 && body_b >= 0; }
   Eigen::Vector2d mu_at(double t) const {

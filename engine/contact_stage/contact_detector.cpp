@@ -144,7 +144,7 @@ ContactDetector::ContactDetector(const World& world)
   }
   // Bodies that share no law never reach the narrow phase (the filter reads laws_: the detector, which
   // owns collision_, is neither copied nor moved).
-  collision_->set_body_filter([this](int a, int b) { return laws_.law(a, b) >= 0; });
+  collision_->set_body_filter([this](int a, int b) { return touching_law(a, b) >= 0; });
 }
 
 ContactDetector::~ContactDetector() = default;
@@ -236,7 +236,7 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   rows.resize(d * points_.size());
   for (ContactPoint& point : points_) {
     const int body_a = object_body_[point.key.object_a], body_b = object_body_[point.key.object_b];
-    const int law_index = body_a == body_b ? -1 : laws_.law(body_a, body_b);
+    const int law_index = body_a == body_b ? -1 : touching_law(body_a, body_b);
     if (law_index < 0) continue;
     const ContactLaw& law = world_.contact_laws[law_index];
     if (!law.isotropic()) complete_frame(point, world_.dimension == 2, law.friction_direction);

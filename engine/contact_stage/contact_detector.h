@@ -45,6 +45,12 @@ class ContactDetector {
   double travel_bound(const Vector& v, double h) const;
 
  private:
+  // The law under which bodies a and b touch, −1 when none does or the law that governs them says
+  // they never collide (ContactLaw::collides).
+  int touching_law(int a, int b) const {
+    const int l = laws_.law(a, b);
+    return l >= 0 && world_.contact_laws[l].collides ? l : -1;
+  }
   // The rows of a contact between shapes of two distinct bodies (no deformable surface): each side's
   // point Jacobian projected on the contact's axes by its body (Body::project_world_point_jacobian, or
   // project_lever_arm_jacobian with the contact's arm where its shape knows it), the same rows as

@@ -73,6 +73,10 @@ std::string IdaIntegrator::unsupported(const World& world, const IdaParameters& 
       return name + " takes contact laws between two bodies (contact law '" + law.name +
              "' names a group); use moreau-jean";
   for (const ContactLaw& law : world.contact_laws)
+    if (!law.collides)
+      return name + " sets its contacts by law; it does not take a law whose pairs never collide (contact law '" +
+             law.name + "': collide: false); use moreau-jean";
+  for (const ContactLaw& law : world.contact_laws)
     if (law.mu_ramp_end > law.mu_ramp_start)
       return name + " does not take a friction ramp (contact law '" + law.name + "' has mu_ramp); use moreau-jean";
   if (!world.constraints.empty() && parameters.linear_solver == "klu")

@@ -19,11 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Every file a csim command writes in its output folder (run: summary.json, probes.csv, paraview/;
+// Every file a csim command writes in its output folder (run: summary.json, probes.csv, bodies.csv, paraview/;
 // compare: work_precision.*; stress: stability.*; sweep: sweep.csv, and each case's run outputs in a folder
 // case-NNNN). A writer of a new file adds its name here, or the next
 // command into that folder refuses the file as the user's.
-const char* const kOwnFiles[] = {"summary.json",       "probes.csv",   "work_precision.csv", "work_precision.gp",
+const char* const kOwnFiles[] = {"summary.json",       "probes.csv",   "bodies.csv",   "work_precision.csv", "work_precision.gp",
                                  "work_precision.png", "stability.md", "stability.csv",
                                  "sweep.csv"};
 const char* const kOwnFolder = "paraview";

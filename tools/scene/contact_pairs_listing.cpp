@@ -29,10 +29,15 @@ std::string contact_pairs_listing(const World& world) {
   for (std::size_t l = 0; l < world.contact_laws.size(); ++l) {
     const ContactLaw& law = world.contact_laws[l];
     out << "  " << side_name(world, law.body_a, law.group_a) << " × " << side_name(world, law.body_b, law.group_b)
-        << ": law " << law.name << " (μ ";
-    if (law.isotropic()) out << law.mu(0);
-    else out << "[" << law.mu(0) << ", " << law.mu(1) << "]";
-    out << ", e " << law.restitution;
+        << ": law " << law.name << " (";
+    if (!law.collides) {
+      out << "never collide";
+    } else {
+      out << "μ ";
+      if (law.isotropic()) out << law.mu(0);
+      else out << "[" << law.mu(0) << ", " << law.mu(1) << "]";
+      out << ", e " << law.restitution;
+    }
     // The law that this one replaces on its pairs, if any.
     int overridden = -1;
     if (law.between_bodies()) {

@@ -184,7 +184,7 @@ void read_contacts(const SceneNode& root, World& world) {
   const SceneNode contacts = root.child("contacts");
   for (const auto& [name, node] : contacts.entries()) {
     node.allow_only({"between", "mu", "friction_direction", "restitution", "features", "mu_ramp",
-                     "elastic_slip"});
+                     "elastic_slip", "collide"});
     ContactLaw law;
     law.name = name;
     const auto pair = node.child("between").items();
@@ -211,6 +211,13 @@ void read_contacts(const SceneNode& root, World& world) {
         (law.group_a >= 0 && law.body_b >= 0 && sides[0].count == 1 && world.bodies[law.body_b].group == law.group_a) ||
         (law.group_b >= 0 && law.body_a >= 0 && sides[1].count == 1 && world.bodies[law.body_a].group == law.group_b);
     if (one_against_itself) node.fail_at("between", "this law pairs no two distinct bodies (a group of one body)");
+    law.collides = node.boolean("collide", true);
+    if (!law.collides) {  // a filter: its pairs never touch, so nothing else of a law applies
+      for (const char* key : {"mu", "friction_direction", "restitution", "features", "mu_ramp", "elastic_slip"})
+        if (node.has(key)) node.fail_at(key, "a law whose pairs never collide (collide: false) takes no " + std::string(key));
+      world.contact_laws.push_back(law);
+      continue;
+    }
     if (node.has("mu") && node.child("mu").is_sequence()) {
       law.mu = node.vector("mu", 2, 2).head<2>();
       if (!node.has("friction_direction"))

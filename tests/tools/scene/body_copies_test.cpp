@@ -4,6 +4,7 @@
 // with the file, the line and the key.
 #include "tests/tools/scene/scene_file_test.h"
 #include "tools/run/run.h"
+#include "tools/scene/contact_pairs_listing.h"
 
 #include <gtest/gtest.h>
 
@@ -82,6 +83,51 @@ TEST_F(BodyCopies, CopiesMayJoinANamedGroup) {
   ASSERT_EQ(loaded->world.groups.size(), 1u);
   EXPECT_EQ(loaded->world.groups[0].name, "marbles");
   EXPECT_EQ(loaded->world.groups[0].bodies.size(), 12u);
+}
+
+// A law with collide: false, naming two bodies of the group, overrides the group's law on that pair:
+// the upper sphere of the first stack falls through the lower one as if it were not there (½ g t² in
+// 0.05 s, no floor within reach), while the other stacks stand.
+TEST_F(BodyCopies, APairThatNeverCollides) {
+  std::string text = scene();
+  const std::string laws = "  ground: {between: [balls, floor], mu: 0.5}\n";
+  text.replace(text.find(laws), laws.size(), laws + "  apart: {between: [balls_0, balls_1], collide: false}\n");
+  const auto loaded = load_scene(write(text), {});
+  EXPECT_NE(contact_pairs_listing(loaded->world).find("body balls_0 × body balls_1: law apart (never collide; overrides pile)"),
+            std::string::npos) << contact_pairs_listing(loaded->world);
+  const RunReport report = run_scene(*loaded, {});
+  const World& world = loaded->world;
+  const auto z = [&](const std::string& name) {
+    const BodyInstance& b = world.bodies[world.body_index(name)];
+    return report.state.q(b.position_offset + 2);
+  };
+  const double t = report.state.t, g = 9.81;
+  EXPECT_NEAR(z("balls_1"), 0.3 - 0.5 * g * t * t, 1e-9);
+  EXPECT_NEAR(z("balls_0"), 0.1, 1e-9);
+  EXPECT_NEAR(z("balls_3"), 0.3, 1e-9);  // the next stack's upper sphere stands
+  EXPECT_EQ(report.state.contacts.size(), 11u);
+}
+
+TEST_F(BodyCopies, ALawThatNeverCollidesTakesNoFriction) {
+  std::string text = scene();
+  const std::string laws = "  ground: {between: [balls, floor], mu: 0.5}\n";
+  text.replace(text.find(laws), laws.size(), laws + "  apart: {between: [balls_0, balls_1], collide: false, mu: 0.3}\n");
+  const std::string message = error_of(write(text));
+  EXPECT_NE(message.find("contacts.apart.mu: a law whose pairs never collide (collide: false) takes no mu"),
+            std::string::npos) << message;
+  // ida sets its contacts by law: it refuses such a law before the first step.
+  const std::string refused = error_of(write(
+      "dimension: 3\n"
+      "bodies:\n"
+      "  floor: {type: fixed, shapes: {surface: {type: halfspace, normal: [0, 0, 1]}}}\n"
+      "  a: {type: rigid, mass: 1, position: [0, 0, 0.1], shapes: {ball: {type: sphere, radius: 0.1}}}\n"
+      "  b: {type: rigid, mass: 1, position: [0, 0, 0.3], shapes: {ball: {type: sphere, radius: 0.1}}}\n"
+      "contacts:\n"
+      "  ground: {between: [a, floor], mu: 0.5}\n"
+      "  apart: {between: [a, b], collide: false}\n"
+      "integrator: {type: ida}\n"
+      "time: {end: 0.01, step: 1e-3}\n"));
+  EXPECT_NE(refused.find("contact law 'apart': collide: false); use moreau-jean"), std::string::npos) << refused;
 }
 
 }  // namespace
