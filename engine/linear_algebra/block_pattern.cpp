@@ -19,36 +19,37 @@ bool BlockPattern::build(int size, const std::vector<const std::vector<int>*>& r
   group_first_.clear();
   group_end_.clear();
 
-  // How many blocks reach each index (a block's columns are consecutive: last_block dedups them), with
-  // the density test.
+  // Calls visit(index, block) once for each index a block reaches, blocks in column order (a block's
+  // columns are consecutive: last_block_ drops the repeats); stops at the first visit that returns false.
+  const auto each_reached = [&](auto&& visit) {
+    last_block_.assign(size, -1);
+    for (int a = 0; a < m; ++a) {
+      const int block = block_of(a);
+      for (const int index : *reach[a])
+        if (last_block_[index] != block) {
+          last_block_[index] = block;
+          if (!visit(index, block)) return false;
+        }
+    }
+    return true;
+  };
+
+  // How many blocks reach each index, with the density test.
   const double limit = max_density * blocks_;
   index_block_start_.assign(size + 1, 0);
-  last_block_.assign(size, -1);
-  for (int a = 0; a < m; ++a) {
-    const int block = block_of(a);
-    for (const int index : *reach[a])
-      if (last_block_[index] != block) {
-        last_block_[index] = block;
-        if (++index_block_start_[index + 1] > limit) {
-          neighbour_start_.assign(blocks_ + 1, 0);
-          return false;
-        }
-      }
+  if (!each_reached([&](int index, int) { return ++index_block_start_[index + 1] <= limit; })) {
+    neighbour_start_.assign(blocks_ + 1, 0);
+    return false;
   }
   for (int i = 0; i < size; ++i) index_block_start_[i + 1] += index_block_start_[i];
 
   // Each index's blocks, ascending (the columns in order): a counting sort.
   index_blocks_.resize(index_block_start_[size]);
   cursor_.assign(index_block_start_.begin(), index_block_start_.end() - 1);
-  last_block_.assign(size, -1);
-  for (int a = 0; a < m; ++a) {
-    const int block = block_of(a);
-    for (const int index : *reach[a])
-      if (last_block_[index] != block) {
-        last_block_[index] = block;
-        index_blocks_[cursor_[index]++] = block;
-      }
-  }
+  each_reached([&](int index, int block) {
+    index_blocks_[cursor_[index]++] = block;
+    return true;
+  });
 
   // The groups: runs of consecutive indices reached by the same blocks.
   const auto blocks_at = [&](int i) {

@@ -93,22 +93,10 @@ TEST(BlockGram, EqualsTheDenseDelassusWithTheBlocksOfRowsSharingABody) {
           for (int u = 0; u < kBody; ++u) H(3 * c + k, body * kBody + u) = uniform(random);
   H(m - 1, 4 * kBody + 1) = 1.0;
 
-  std::vector<SparseLdlt::ForwardColumn> forward(m);
-  std::vector<const SparseLdlt::ForwardColumn*> columns;
-  for (int a = 0; a < m; ++a) {
-    std::vector<int> index;
-    std::vector<double> value;
-    for (int j = 0; j < H.cols(); ++j)
-      if (H(a, j) != 0.0) {
-        index.push_back(j);
-        value.push_back(H(a, j));
-      }
-    factor.forward(index.data(), value.data(), static_cast<int>(index.size()), forward[a]);
-    columns.push_back(&forward[a]);
-  }
+  const Columns columns = forward_columns(factor, H);
   Eigen::SparseMatrix<double, Eigen::RowMajor> W;
   BlockGram gram;
-  ASSERT_TRUE(gram.assemble(factor, columns, 3, contacts, W));
+  ASSERT_TRUE(gram.assemble(factor, columns.pointers, 3, contacts, W));
 
   const Matrix expected = H * Matrix(A).ldlt().solve(H.transpose());
   const Matrix dense = Matrix(W);
