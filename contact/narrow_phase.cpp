@@ -1,5 +1,7 @@
 #include "contact/narrow_phase.h"
 
+#include "contact/box_box_manifold.h"
+
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/sphere.h>
 #include <fcl/narrowphase/collision.h>
@@ -148,8 +150,9 @@ void touching_box_box(const CollisionShape& first, const CollisionShape& second,
   c.point_a = c.point_b - c.gap * c.normal;
 }
 
-void box_box(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
-             std::vector<ContactPoint>& out) {
+// FCL's one point: the deepest when overlapping (SAT), the touching one, or GJK's closest points.
+void box_box_point(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
+                   std::vector<ContactPoint>& out) {
   if (add_deepest_fcl_contact(first, second, second.pose, query, out)) return;
   const double gap = fcl_distance(first, second, query);
   if (gap > query.margin) return;
@@ -161,6 +164,21 @@ void box_box(const CollisionShape& first, const CollisionShape& second, PairQuer
   const Eigen::Vector3d& p1 = result.nearest_points[0];
   const Eigen::Vector3d& p2 = result.nearest_points[1];
   add_contact(p1, p2, (p2 - p1).normalized(), gap, 0, out);
+}
+
+// FCL's point names the normal; where a face lies along it, the face clipping gives the manifold
+// (box_box_manifold.h); an edge–edge contact keeps FCL's point.
+template <bool kPlanar>
+void box_box(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
+             std::vector<ContactPoint>& out) {
+  const std::size_t before = out.size();
+  box_box_point(first, second, query, out);
+  if (out.size() == before) return;
+  const ContactPoint point = out.back();
+  out.pop_back();
+  const int added = box_box_face_manifold(std::get<Box>(first.shape), first.pose, std::get<Box>(second.shape),
+                                          second.pose, point.normal, query.margin, kPlanar, out);
+  if (added == 0) out.push_back(point);
 }
 
 void sphere_halfspace(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
@@ -202,10 +220,10 @@ void box_halfspace(const CollisionShape& first, const CollisionShape& second, Pa
 // [first type][second type], first type ≤ second type.
 constexpr PairFunction kPairTable[2][3][3] = {
     {{sphere_sphere, sphere_box, sphere_halfspace},
-     {nullptr, box_box, box_halfspace<false>},
+     {nullptr, box_box<false>, box_halfspace<false>},
      {nullptr, nullptr, nullptr}},
     {{sphere_sphere, sphere_box, sphere_halfspace},
-     {nullptr, box_box, box_halfspace<true>},
+     {nullptr, box_box<true>, box_halfspace<true>},
      {nullptr, nullptr, nullptr}},
 };
 

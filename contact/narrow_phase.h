@@ -9,9 +9,11 @@
 //   sphere–sphere     closed form (exact; FCL's own sphere–sphere routine is the same formula).
 //   sphere–box        FCL: fcl::distance when separated (FCL's exact sphere–box distance), fcl::collide
 //                     with contacts when penetrating (FCL's sphere–box intersection: depth + normal).
-//   box–box           FCL: fcl::collide (ODE's SAT box–box) when penetrating, keeping the deepest of
-//                     its points; fcl::distance (GJK, libccd) when separated. One point only: a
-//                     full box–box manifold is not generated.
+//   box–box           FCL names the normal: fcl::collide (ODE's SAT box–box) when penetrating or
+//                     touching, fcl::distance (GJK, libccd) when separated. Where a face of either box
+//                     lies along it, our clipping of the faces gives the manifold (up to 4 points, 2 in
+//                     plane scenes; box_box_manifold.h says why not FCL's); an edge–edge contact keeps
+//                     FCL's single point.
 //   sphere–halfspace  closed form: FCL has no distance to a halfspace (nothing for separated pairs),
 //                     and one formula on both sides of contact keeps the gap continuous through 0.
 //   box–halfspace     closed form, a manifold: one point per box vertex whose gap ≤ margin (FCL's
