@@ -1,7 +1,10 @@
 #include "engine/contact_stage/contact_solve.h"
 
+#include "contact/islands.h"
 #include "engine/steppers/stepper.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace csim {
@@ -47,13 +50,11 @@ std::string account(const PgsStatistics& stats, int dimension, double failure_re
 
 }  // namespace
 
-std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
-                           double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c,
-                           std::vector<ContactStatus>* status_scratch) {
-  if (problem.size() == 0) return "";
-  std::vector<ContactStatus> own_status;
-  std::vector<ContactStatus>& status = status_scratch ? *status_scratch : own_status;
-  status.clear();
+namespace {
+
+// One problem: PGS, then for a sparse one that did not converge the dense fallback (header).
+PgsStatistics solve_one(const PgsSolver& pgs, const FrictionContactProblem& problem, Vector& r,
+                        std::vector<ContactStatus>& status, SolverCounters& c) {
   const bool may_fall_back = problem.storage == DelassusStorage::sparse && problem.size() <= kDenseFallbackRows;
   Vector start;
   if (may_fall_back) start = r;
@@ -77,6 +78,80 @@ std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& p
     }
     stats.iterations += sparse_stats.iterations;
     ++c.dense_fallbacks;
+  }
+  return stats;
+}
+
+// An island of fewer rows is stored dense: PgsSolver routes no dense W under 150 rows to the sparse path
+// (pgs_solver.h, route_sparse), and small problems are solved fastest dense (docs/contact-problems.md).
+constexpr int kDenseIslandRows = 150;
+
+// Island by island (contact/islands.h), each to tolerance / √(islands): W being block diagonal over them,
+// the whole residual's square is the sum of theirs, each relative to a scale max(‖b_i‖, ‖W_i r_i‖) no
+// larger than the whole one's, so the whole residual is then within the tolerance. It is computed and
+// decides convergence all the same.
+PgsStatistics solve_islands(const PgsSolver& pgs, const FrictionContactProblem& problem,
+                            const std::vector<std::vector<int>>& islands, Vector& r, std::vector<ContactStatus>& status,
+                            SolverCounters& c) {
+  PgsParameters parameters = pgs.parameters();
+  parameters.tolerance /= std::sqrt(static_cast<double>(islands.size()));
+  const PgsSolver island_solver(parameters);
+  const int d = problem.dimension;
+  status.assign(problem.contacts, ContactStatus::open);
+  PgsStatistics total;
+  bool every_island_converged = true;
+  std::vector<ContactStatus> island_status;
+  for (const std::vector<int>& contacts : islands) {
+    const bool small = d * static_cast<int>(contacts.size()) < kDenseIslandRows;
+    const DelassusStorage storage = small ? DelassusStorage::dense : problem.storage;
+    const FrictionContactProblem island = island_problem(problem, contacts, storage);
+    Vector island_r = gather_island(contacts, d, r);
+    const PgsStatistics s = solve_one(island_solver, island, island_r, island_status, c);
+    scatter_island(contacts, d, island_r, &island_status, r, &status);
+    every_island_converged = every_island_converged && s.converged;
+    total.iterations = std::max(total.iterations, s.iterations);
+    total.rejected_local_solutions += s.rejected_local_solutions;
+    total.polished = total.polished || s.polished;
+    total.polishes += s.polishes;
+    total.sweep_work += s.sweep_work;
+    total.polish_work += s.polish_work;
+    total.polish_factorizations += s.polish_factorizations;
+    total.polish_cut = total.polish_cut || s.polish_cut;
+    total.routed_to_sparse = total.routed_to_sparse || s.routed_to_sparse;
+  }
+  total.residual = PgsSolver::residual(problem, r);
+  total.converged = every_island_converged && total.residual <= pgs.parameters().tolerance;
+  return total;
+}
+
+}  // namespace
+
+std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem, double failure_residual,
+                           double t_next, Vector& r, std::vector<ActiveContact>& active, SolverCounters& c,
+                           std::vector<ContactStatus>* status_scratch) {
+  if (problem.size() == 0) return "";
+  std::vector<ContactStatus> own_status;
+  std::vector<ContactStatus>& status = status_scratch ? *status_scratch : own_status;
+  status.clear();
+  if (r.size() != problem.size()) r.setZero(problem.size());
+  const std::vector<std::vector<int>> islands = find_islands(problem);
+  if (islands.size() <= 1) {
+    const PgsStatistics stats = solve_one(pgs, problem, r, status, c);
+    return account(stats, problem.dimension, failure_residual, t_next, r, status, active, c);
+  }
+  PgsStatistics stats = solve_islands(pgs, problem, islands, r, status, c);
+  if (!stats.converged) {
+    // The whole problem from the islands' iterate; the better of the two is kept.
+    const PgsStatistics island_stats = stats;
+    const Vector island_r = r;
+    const std::vector<ContactStatus> island_status = status;
+    stats = solve_one(pgs, problem, r, status, c);
+    if (!stats.converged && island_stats.residual < stats.residual) {
+      stats.residual = island_stats.residual;
+      r = island_r;
+      status = island_status;
+    }
+    stats.iterations += island_stats.iterations;
   }
   return account(stats, problem.dimension, failure_residual, t_next, r, status, active, c);
 }
