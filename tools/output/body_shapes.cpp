@@ -31,7 +31,8 @@ std::string string_array(const std::string& name, const std::vector<std::string>
   return out + "\n      </Array>\n";
 }
 
-// J(q) v of a material point (m/s): the velocity of the point `local` (body frame, m).
+// J(q) v of a material point (m/s): the velocity of the point `local` (body frame, m). On the run's
+// thread only: a rigid body caches its rotation.
 Eigen::Vector3d point_velocity(const Body& body, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                const Eigen::Vector3d& local) {
   const PointJacobian J = body.point_jacobian(q, local);
@@ -133,10 +134,17 @@ BodyShapes::BodyShapes(const World& world, VtkEncoding encoding) : world_(world)
 
 BodyShapes::Sample BodyShapes::sample(const State& state) const {
   Sample out;
+  out.poses.reserve(drawn_.size());
+  out.velocities.reserve(drawn_.size());
   for (const int i : drawn_) {
     const BodyInstance& b = world_.bodies[i];
-    out.positions.push_back(b.positions(state.q));
-    out.velocities.push_back(state.v.segment(b.velocity_offset, b.body->velocity_size()));
+    const Eigen::VectorXd q = b.positions(state.q);
+    const Eigen::VectorXd v = state.v.segment(b.velocity_offset, b.body->velocity_size());
+    out.poses.push_back(b.body->pose(q));
+    Eigen::Matrix<double, 3, 4> u;
+    u.col(0) = point_velocity(*b.body, q, v, Eigen::Vector3d::Zero());
+    for (int k = 0; k < 3; ++k) u.col(k + 1) = point_velocity(*b.body, q, v, Eigen::Vector3d::Unit(k));
+    out.velocities.push_back(u);
   }
   return out;
 }
@@ -144,22 +152,19 @@ BodyShapes::Sample BodyShapes::sample(const State& state) const {
 void BodyShapes::write(VtkFileText& file, const Sample& sample, double t) const {
   std::vector<double> points(3 * local_points_.size()), velocity(3 * local_points_.size()),
       body_velocity(3 * cells_);
-  std::vector<Eigen::Vector3d> origin_velocity(drawn_.size());
   for (std::size_t k = 0; k < drawn_.size(); ++k) {
-    const Body& body = *world_.bodies[drawn_[k]].body;
-    const Eigen::VectorXd& q = sample.positions[k];
-    const Eigen::VectorXd& v = sample.velocities[k];
-    const Eigen::Isometry3d pose = body.pose(q);
+    const Eigen::Isometry3d& pose = sample.poses[k];
+    const Eigen::Matrix<double, 3, 4>& field = sample.velocities[k];
+    const Eigen::Matrix3d gradient = field.rightCols<3>().colwise() - field.col(0);  // ∂u/∂p, body frame
     for (std::size_t p = first_point_[k]; p < first_point_[k + 1]; ++p) {
       const Eigen::Vector3d x = pose * local_points_[p];
-      const Eigen::Vector3d u = point_velocity(body, q, v, local_points_[p]);
+      const Eigen::Vector3d u = field.col(0) + gradient * local_points_[p];
       std::copy(x.data(), x.data() + 3, points.begin() + 3 * p);
       std::copy(u.data(), u.data() + 3, velocity.begin() + 3 * p);
     }
-    origin_velocity[k] = point_velocity(body, q, v, Eigen::Vector3d::Zero());
   }
   for (std::size_t c = 0; c < cells_; ++c) {
-    const Eigen::Vector3d& u = origin_velocity[cell_body_[c]];
+    const Eigen::Vector3d u = sample.velocities[cell_body_[c]].col(0);
     std::copy(u.data(), u.data() + 3, body_velocity.begin() + 3 * c);
   }
 

@@ -14,6 +14,12 @@
 //   field data  TimeValue      (s) the frame's time;
 //               body_name      (String) the scene's body names, in its body order: body_name[body].
 //
+// The bodies drawn move rigidly: the velocity of their material points is affine in the body-frame
+// coordinates, u(p) = u(0) + Σ_k p_k (u(e_k) − u(0)) (u = v + ω × R p for a rigid body; a point's and a
+// fixed body's are uniform), so a frame keeps four velocities a body, J(q) v at the origin and at the
+// three unit points, and the writer thread places every point from them and the pose: it never asks a
+// body (whose rotation caches belong to the run's thread).
+//
 // A halfspace is drawn as a square patch (a segment in a plane scene) centred on the boundary point
 // nearest its shape frame's origin, of half side 1.5 times the largest distance from that point to any
 // point of the other drawn shapes and of the elastic bodies' meshes at t = 0 (1 m when there is none):
@@ -37,14 +43,16 @@ class BodyShapes {
   // indices, names), encoded once.
   BodyShapes(const World& world, VtkEncoding encoding);
 
-  // What one frame needs of the state, copied on the run's thread: each drawn body's q and v.
+  // What one frame needs of the state, taken on the run's thread: each drawn body's pose and the
+  // velocities (m/s) of its body-frame points 0, e_x, e_y, e_z (columns 0 to 3).
   struct Sample {
-    std::vector<Eigen::VectorXd> positions, velocities;  // per drawn body: its slices of q and v
+    std::vector<Eigen::Isometry3d> poses;
+    std::vector<Eigen::Matrix<double, 3, 4>> velocities;
   };
   Sample sample(const State& state) const;
 
   // The frame's file (the time t in s) into `file`, opened with the series' encoding; `file` refers
-  // to this object's arrays until it is written. The world must be the one given to the constructor.
+  // to this object's arrays until it is written. Reads no body: safe on a writer thread.
   void write(VtkFileText& file, const Sample& sample, double t) const;
   std::string text(const Sample& sample, double t) const;  // the same file as one string
 
