@@ -22,6 +22,10 @@ Shape checks, on the shapes' series (output.shapes: bodies.pvd) against the run'
                       to 1e-9 m²/s) and its cells' body_velocity is the velocity of its origin;
   --sphere NAME R     every point of body NAME is at distance R (m) from its position in bodies.csv,
                       to 1e-12 m (the outline's vertices lie on the sphere, or the circle);
+  --halfspace NAME    the fixed body NAME, all halfspaces, is one square (a segment in the plane) per
+                      shape, of half side 1.5 times the largest distance from its centre to the points
+                      of the first frame of the bodies not named by --halfspace (docs/contract.md), to
+                      1e-12 m, in every frame;
 and the frames' times are those of bodies.csv's rows (to 1e-12 s: bodies.csv has 15 digits).
 """
 import csv
@@ -88,11 +92,14 @@ def content(grid):
 
 def parse_shape_checks(arguments):
     """Splits the command line after SCENE OUT into csim's overrides and the shape checks."""
-    overrides, checks = [], {"bodies": None, "boxes": [], "spheres": []}
+    overrides, checks = [], {"bodies": None, "boxes": [], "spheres": [], "halfspaces": []}
     i = 0
     while i < len(arguments):
         if arguments[i] == "--bodies":
             checks["bodies"] = int(arguments[i + 1])
+            i += 2
+        elif arguments[i] == "--halfspace":
+            checks["halfspaces"].append(arguments[i + 1])
             i += 2
         elif arguments[i] in ("--box", "--sphere"):
             j = i + 2
@@ -144,6 +151,30 @@ def body_points(data, body):
             cell_ids = data.GetCell(c).GetPointIds()
             ids.update(cell_ids.GetId(k) for k in range(cell_ids.GetNumberOfIds()))
     return sorted(ids)
+
+
+def check_halfspaces(data, first, name, checks):
+    """The halfspaces' patches of one frame, sized from the first frame's other points."""
+    failures = []
+    names = data.GetFieldData().GetAbstractArray("body_name")
+    index = {names.GetValue(i): i for i in range(names.GetNumberOfValues())}
+    for body in checks["halfspaces"]:
+        halfspaces = {index[h] for h in checks["halfspaces"]}
+        others = [first.GetPoint(i) for b in set(index.values()) - halfspaces for i in body_points(first, b)]
+        cell_body = data.GetCellData().GetArray("body")
+        cells = [c for c in range(data.GetNumberOfCells()) if int(cell_body.GetValue(c)) == index[body]]
+        if not cells:
+            failures.append(f"{name}: {body}: not drawn")
+        for c in cells:
+            ids = data.GetCell(c).GetPointIds()
+            corners = [data.GetPoint(ids.GetId(k)) for k in range(ids.GetNumberOfIds())]
+            centre = [sum(p[r] for p in corners) / len(corners) for r in range(3)]
+            half = 1.5 * max(math.dist(p, centre) for p in others)
+            sides = [math.dist(corners[k], corners[(k + 1) % len(corners)]) for k in range(len(corners))]
+            sides = sides[:1] if len(corners) == 2 else sides
+            if len(corners) not in (2, 4) or any(abs(x - 2 * half) > 1e-12 * max(1.0, half) for x in sides):
+                failures.append(f"{name}: {body}: cell {c} has sides {sides}, expected {2 * half!r}")
+    return failures
 
 
 def check_shapes(data, name, t, poses, checks):
@@ -221,7 +252,7 @@ def check_shapes(data, name, t, poses, checks):
 def main():
     csim, scene, out = sys.argv[1:4]
     overrides, shape_checks = parse_shape_checks(sys.argv[4:])
-    shapes = shape_checks["bodies"] is not None or shape_checks["boxes"] or shape_checks["spheres"]
+    shapes = any(shape_checks[k] for k in ("boxes", "spheres", "halfspaces")) or shape_checks["bodies"] is not None
     if shapes:
         overrides += ["--set", "output.shapes=true", "--set", "output.bodies=true"]
     for encoding in ENCODINGS:
@@ -246,6 +277,7 @@ def main():
             poses = read_poses(os.path.join(out, encoding, "bodies.csv")) if collection == "bodies.pvd" else None
             if shapes and collection == "bodies.pvd" and len(poses) != len(times):
                 failures.append(f"{encoding}: bodies.csv has {len(poses)} times, bodies.pvd {len(times)}")
+            first = None
             for data_set in sets:
                 name = data_set.get("file")
                 try:
@@ -261,6 +293,8 @@ def main():
                 if shapes and collection == "bodies.pvd":
                     failures += check_shapes(grid, f"{encoding}/{name}", float(data_set.get("timestep")), poses,
                                              shape_checks)
+                    first = first or grid
+                    failures += check_halfspaces(grid, first, f"{encoding}/{name}", shape_checks)
                 if got != expected:
                     differing = sorted(k for k in set(got) | set(expected) if got.get(k) != expected.get(k))
                     failures.append(f"{encoding}/{name}: differs from the ASCII file in {differing}")

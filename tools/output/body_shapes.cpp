@@ -58,8 +58,8 @@ BodyShapes::BodyShapes(const World& world, VtkEncoding encoding) : world_(world)
   for (int i = 0; i < static_cast<int>(world.bodies.size()); ++i)
     if (!world.bodies[i].body->elastic()) drawn_.push_back(i);
 
-  // The scene's extent at t = 0, for the halfspaces' patches: every point of the other outlines, and
-  // of the elastic meshes.
+  // The scene's extent at t = 0, for the halfspaces' patches: every point of the other outlines, the
+  // bodies without shapes, and the elastic meshes' nodes.
   OutlineSettings settings;
   settings.dimension = world.dimension;
   std::vector<Eigen::Vector3d> extent;
@@ -69,6 +69,7 @@ BodyShapes::BodyShapes(const World& world, VtkEncoding encoding) : world_(world)
       continue;
     }
     const Eigen::Isometry3d pose = b.body->pose(initial_positions(b));
+    if (b.shapes.empty()) extent.push_back(pose.translation());
     for (const ShapeInstance& s : b.shapes) {
       if (std::holds_alternative<Halfspace>(s.shape)) continue;
       for (const Eigen::Vector3d& p : shape_outline(s.shape, settings).points) extent.push_back(pose * s.local_pose * p);

@@ -22,7 +22,8 @@
 //
 // A halfspace is drawn as a square patch (a segment in a plane scene) centred on the boundary point
 // nearest its shape frame's origin, of half side 1.5 times the largest distance from that point to any
-// point of the other drawn shapes and of the elastic bodies' meshes at t = 0 (1 m when there is none):
+// point of the drawn shapes other than halfspaces, any body without shapes and the elastic bodies' meshes at t = 0 (1 m
+// when there is none):
 // the patch is the same in every frame, and a body that travels far beyond the scene's start leaves it.
 #pragma once
 
