@@ -22,9 +22,9 @@
 //
 // A halfspace is drawn as a square patch (a segment in a plane scene) centred on the boundary point
 // nearest its shape frame's origin, of half side 1.5 times the largest distance from that point to any
-// point of the drawn shapes other than halfspaces, any body without shapes and the elastic bodies' meshes at t = 0 (1 m
-// when there is none):
-// the patch is the same in every frame, and a body that travels far beyond the scene's start leaves it.
+// point of the drawn shapes other than halfspaces, any body without shapes and the elastic bodies'
+// meshes at t = 0 (1 m when there is none): the patch is the same in every frame, and a body that
+// travels far beyond the scene's start leaves it.
 #pragma once
 
 #include "tools/output/vtk_data_array.h"
