@@ -27,7 +27,7 @@ const char* const kOwnFiles[] = {"summary.json",       "probes.csv",   "bodies.c
                                  "work_precision.png", "stability.md", "stability.csv",
                                  "sweep.csv"};
 const char* const kOwnFolder = "paraview";
-const char* const kOwnFolderExtensions[] = {".vtu", ".pvd"};
+const char* const kOwnFolderExtensions[] = {".vtu", ".vtp", ".pvd"};
 
 bool own_file(const fs::directory_entry& entry, const char* const* first, const char* const* last, bool by_extension) {
   std::error_code error;

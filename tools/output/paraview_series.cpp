@@ -24,11 +24,13 @@ std::string file_stem(const std::string& name) {
   return stem;
 }
 
-std::string frame_name(const std::string& stem, std::size_t frame) {
+std::string frame_name(const std::string& stem, std::size_t frame, const char* extension = ".vtu") {
   char number[32];
-  std::snprintf(number, sizeof number, "_%06zu.vtu", frame);
-  return stem + number;
+  std::snprintf(number, sizeof number, "_%06zu", frame);
+  return stem + number + extension;
 }
+
+const char* const kShapesStem = "bodies";  // the shapes' series: bodies_NNNNNN.vtp, bodies.pvd
 
 // The longest name a folder entry may have on Linux (NAME_MAX); a longer one fails at open().
 constexpr std::size_t kNameMax = 255;
@@ -49,14 +51,16 @@ void remove_paraview_outputs(const std::string& output_directory) {
   std::vector<std::filesystem::path> ours;  // listed first: removing while iterating is unspecified
   for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
     const std::string extension = entry.path().extension().string();
-    if (extension == ".vtu" || extension == ".pvd" || extension == ".tmp") ours.push_back(entry.path());
+    if (extension == ".vtu" || extension == ".vtp" || extension == ".pvd" || extension == ".tmp")
+      ours.push_back(entry.path());
   }
   for (const auto& path : ours) std::filesystem::remove(path, error);
   std::filesystem::remove(folder, error);  // only succeeds when empty: files of the user's stay
 }
 
-std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames) {
+std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std::size_t frames, bool shapes) {
   std::map<std::string, std::string> owners{{"contacts", "the contacts' series"}};  // stem -> whose
+  if (shapes) owners.emplace(kShapesStem, "the shapes' series (output.shapes)");
   for (const BodyInstance& b : world.bodies) {
     if (!b.body->finite_elements()) continue;
     const std::string stem = file_stem(b.name);
@@ -75,17 +79,22 @@ std::optional<ParaviewNameProblem> paraview_name_problem(const World& world, std
 }
 
 ParaviewSeries::ParaviewSeries(const World& world, const std::string& output_directory, VtkEncoding encoding,
-                               const ContactAction& contact_action)
+                               const ContactAction& contact_action, bool shapes)
     : world_(world), directory_((std::filesystem::path(output_directory) / "paraview").string()), encoding_(encoding),
       contact_action_(contact_action) {
   // The caller has checked the names (check_outputs); this is what a series cannot be written without.
-  if (const auto problem = paraview_name_problem(world, 0))
+  if (const auto problem = paraview_name_problem(world, 0, shapes))
     throw std::runtime_error(directory_ + ": body '" + problem->body + "': " + problem->message);
   for (std::size_t i = 0; i < world.bodies.size(); ++i)
     if (const FeBody* body = world.bodies[i].body->finite_elements())
-      series_.push_back({static_cast<int>(i), file_stem(world.bodies[i].name), encode_mesh(body->mesh(), encoding),
-                         {}, ElementFieldsSeries(*body)});
-  series_.push_back({-1, "contacts", {}, {}, {}});
+      series_.push_back({Kind::elastic_body, static_cast<int>(i), file_stem(world.bodies[i].name), ".vtu",
+                         encode_mesh(body->mesh(), encoding), {}, ElementFieldsSeries(*body)});
+  contacts_ = has_elastic_bodies(world);
+  if (contacts_) series_.push_back({Kind::contacts, -1, "contacts", ".vtu", {}, {}, {}});
+  if (shapes) {
+    shapes_.emplace(world, encoding);
+    series_.push_back({Kind::shapes, -1, kShapesStem, ".vtp", {}, {}, {}});
+  }
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
   if (error) throw FileWriteError(directory_, "cannot create the folder", error);
@@ -99,7 +108,8 @@ ParaviewSeries::~ParaviewSeries() {
   const std::filesystem::path folder(directory_);
   for (const Series& s : series_) {
     for (const std::string& file : s.written) std::filesystem::remove(folder / file, ignored);
-    std::filesystem::remove(folder / (frame_name(s.stem, s.written.size()) + kTemporarySuffix), ignored);  // one cut short
+    std::filesystem::remove(folder / (frame_name(s.stem, s.written.size(), s.extension) + kTemporarySuffix),
+                            ignored);  // one cut short
     std::filesystem::remove(folder / (s.stem + ".pvd"), ignored);  // finish() may have written some
   }
   std::filesystem::remove(directory_, ignored);
@@ -143,10 +153,14 @@ void ParaviewSeries::writer_loop() {
 void ParaviewSeries::write_files(const Frame& frame) {
   std::size_t next_body = 0;
   for (Series& s : series_) {
-    const std::string file = frame_name(s.stem, frame.index);
+    const std::string file = frame_name(s.stem, frame.index, s.extension);
     const std::string path = (std::filesystem::path(directory_) / file).string();
-    if (s.body < 0) {
+    if (s.kind == Kind::contacts) {
       write_file_atomically(path, contacts_vtu(frame.contacts, frame.t, encoding_, contact_action_));
+    } else if (s.kind == Kind::shapes) {
+      VtkFileText text(encoding_);
+      shapes_->write(text, frame.shapes, frame.t);
+      write_file_atomically(path, [&text](std::ostream& out) { text.write(out); });
     } else {
       // Streamed: a large body's file is not assembled in memory beside its arrays.
       const Eigen::VectorXd& u = frame.displacement[next_body];
@@ -164,14 +178,15 @@ void ParaviewSeries::write_frame(const World& world, const State& state, double 
   frame.index = times_.size();
   frame.t = t;
   for (const Series& s : series_) {
-    if (s.body < 0) continue;
+    if (s.kind != Kind::elastic_body) continue;
     const BodyInstance& b = world.bodies[s.body];
     const FeBody& body = *b.body->finite_elements();  // a series is only opened for a finite-element body
     frame.displacement.push_back(body.full_displacement(state.q.segment(b.position_offset, body.position_size())));
     // v holds the same free dofs as q, so the same expansion gives the velocity of every dof.
     frame.velocity.push_back(body.full_displacement(state.v.segment(b.velocity_offset, body.velocity_size())));
   }
-  frame.contacts = state.contacts;
+  if (contacts_) frame.contacts = state.contacts;
+  if (shapes_) frame.shapes = shapes_->sample(state);
   {
     std::unique_lock lock(mutex_);
     changed_.wait(lock, [this] { return error_ || queue_.size() < kQueuedFrames; });

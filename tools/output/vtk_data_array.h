@@ -1,4 +1,4 @@
-// The DataArrays of a VTK XML file (.vtu) in one of the three encodings of output.paraview
+// The DataArrays of a VTK XML file (.vtu, .vtp) in one of the three encodings of output.paraview
 // (docs/contract.md):
 //
 //   ascii    inline text, format="ascii": each value in its shortest form that reads back as the same

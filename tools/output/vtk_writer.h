@@ -16,6 +16,7 @@
 //                                     under the quasi-static stepper, force (N, the same components),
 //                                     normal and gap (m) (ContactAction);
 //   DIR/paraview/BODY.pvd, contacts.pvd  the collections, written when the run ends.
+// The shapes of the other bodies (output.shapes: bodies_NNNNNN.vtp, bodies.pvd) are body_shapes.h's.
 //
 // The text builders take plain data and return the file's text; ParaviewSeries (paraview_series.h)
 // writes them. Points are the reference coordinates: ParaView's "Warp By Vector" on

@@ -71,7 +71,7 @@ std::size_t output_rows(const RunSettings& run) {
 
 void check_outputs(const Scene& scene) {
   if (!scene.run.paraview) return;  // output.paraview: none
-  const auto problem = paraview_name_problem(scene.world, output_rows(scene.run));
+  const auto problem = paraview_name_problem(scene.world, output_rows(scene.run), scene.run.shapes);
   if (!problem) return;
   int line = 0;  // of the body's name
   for (const auto& entry : scene.document.root["bodies"])
@@ -137,12 +137,14 @@ RunReport run_scene(const Scene& scene, const RunOptions& options) {
   const double h = run.step;
   const long steps = run.steps;
   const double rate = std::max(run.output_rate, h);
-  // ParaView frames of the elastic bodies, at the rows of probes.csv (docs/contract.md).
+  // ParaView frames of the elastic bodies and of the shapes (output.shapes), at the rows of probes.csv
+  // (docs/contract.md).
   std::unique_ptr<ParaviewSeries> paraview;
-  if (!options.output_directory.empty() && run.paraview && has_elastic_bodies(scene.world))
+  if (!options.output_directory.empty() && run.paraview && (has_elastic_bodies(scene.world) || run.shapes))
     paraview = std::make_unique<ParaviewSeries>(scene.world, options.output_directory, *run.paraview,
                                                 // The quasi-static stepper's impulses are forces × h.
-                                                ContactAction{run.integrator == Integrator::quasi_static, run.step});
+                                                ContactAction{run.integrator == Integrator::quasi_static, run.step},
+                                                run.shapes);
   // The moving bodies' poses at the same rows (output.bodies).
   std::unique_ptr<BodyPoses> poses;
   if (!options.output_directory.empty() && run.body_poses) poses = std::make_unique<BodyPoses>(scene.world);

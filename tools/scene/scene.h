@@ -85,6 +85,9 @@ struct RunSettings {
   // output.paraview: how the ParaView files store their arrays; none: no ParaView files.
   std::optional<VtkEncoding> paraview = VtkEncoding::binary;
   bool body_poses = false;  // output.bodies: DIR/bodies.csv, the moving bodies' poses (body_poses.h)
+  // output.shapes: DIR/paraview/bodies_NNNNNN.vtp, the shapes of the bodies that are not elastic
+  // (body_shapes.h), in the encoding of output.paraview (which may not be none then).
+  bool shapes = false;
   std::vector<ProbeDefinition> probes;
   std::vector<CheckDefinition> checks;
 };

@@ -145,8 +145,9 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
 
 void read_output(const SceneNode& root, RunSettings& run) {
   const SceneNode output = root.section("output");
-  output.allow_only({"rate", "paraview", "bodies"});
+  output.allow_only({"rate", "paraview", "bodies", "shapes"});
   run.body_poses = output.boolean("bodies", false);
+  run.shapes = output.boolean("shapes", false);
   run.output_rate = output.non_negative("rate", run.end_time / 1000.0);
   const std::string paraview = output.string("paraview", "binary");
   if (paraview == "binary") run.paraview = VtkEncoding::binary;
@@ -156,6 +157,9 @@ void read_output(const SceneNode& root, RunSettings& run) {
   else output.fail_at("paraview", "expected binary, zlib, ascii or none, not '" + paraview + "'");
   if (run.paraview == VtkEncoding::zlib && !vtk_compression_available())
     output.fail_at("paraview", "this csim was built without zlib (Debian's zlib1g-dev): use binary or ascii");
+  if (run.shapes && !run.paraview)
+    output.fail_at("shapes", "the shapes are ParaView files, and output.paraview is none: set output.paraview to "
+                             "binary, zlib or ascii, or output.shapes to false");
 }
 
 // The combinations of integrator and scene that an integrator cannot run are refused here, before the
