@@ -3,9 +3,10 @@
 // [repeats] [--scene FILE]); with --scene it writes csim's scene file of these bodies and stops.
 //
 // The bodies: N spheres of radius 0.05 m or cubes of side 0.1 m, 1 kg each, on a grid of ⌈∛N⌉ a side at a
-// spacing of 2.2 radii (spheres) or 1.5 sides (cubes), the lowest layer just above the floor, inside a
+// spacing of 2.5 radii (spheres) or 1.5 sides (cubes), the lowest layer just above the floor, inside a
 // box of four walls whose inner sides are half a spacing from the outer bodies; each body moved across by
-// up to 0.2 radii (spheres) or 0.1 sides (cubes), seeded, so that the columns topple into a pile, and
+// up to 0.2 radii (spheres) or 0.1 sides (cubes), seeded, so that the columns topple into a pile (no two
+// bodies overlap at the start: neighbours stay 2.1 radii apart, turned cubes 0.005 m), and
 // each cube turned about z by a different small angle (0.05 (k mod 7) rad), so that no two faces meet
 // square. Released at rest;
 // gravity 9.81 m/s², Coulomb μ = 0.5 on every contact, e = 0, h = 1e-3.
@@ -20,7 +21,8 @@
 // (median) beside that of a child that only loads the program, and at the end of the run: the pile's top
 // (m), the deepest overlap between two bodies or a body and the box (m), the kinetic energy per body
 // (J); csim also its deepest overlap over the whole run, its contact solves that stopped above the
-// tolerance and its largest final residual. Ratios csim / Bullet from the same repeats.
+// tolerance, its largest final residual and its energy balance (the worst residual of the discrete
+// balance over the run, and what the contacts dissipated). Ratios csim / Bullet from the same repeats.
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 
@@ -61,7 +63,7 @@ Layout layout(bool cubes, int count) {
   l.count = count;
   l.per_side = static_cast<int>(std::ceil(std::cbrt(static_cast<double>(count)) - 1e-9));
   l.size = cubes ? 0.5 * kSide : kRadius;
-  l.spacing = cubes ? 1.5 * kSide : 2.2 * kRadius;
+  l.spacing = cubes ? 1.5 * kSide : 2.5 * kRadius;
   l.inner_half_width = 0.5 * l.per_side * l.spacing;
   std::mt19937 random(1);
   std::uniform_real_distribution<double> across(-1.0, 1.0);
@@ -115,6 +117,8 @@ struct Outcome {
   double kinetic_per_body = NAN;  // J
   long not_converged = -1;     // csim: contact solves above the tolerance
   double max_residual = NAN;   // csim
+  double energy_residual = NAN;  // J, csim: the worst |energy balance| over the run (state.h)
+  double dissipated = NAN;       // J, csim: by the contacts
   bool ok = false;
 };
 
@@ -148,6 +152,8 @@ Outcome run_csim(const Layout& l, int steps) {
   o.kinetic_per_body = s.energy.kinetic / l.count;
   o.not_converged = s.counters.not_converged;
   o.max_residual = s.counters.max_residual;
+  o.energy_residual = s.energy.max_abs_residual;
+  o.dissipated = s.energy.contact_dissipation;
   o.ok = !report.failure;
   return o;
 }
@@ -329,5 +335,7 @@ int main(int argc, char** argv) {
   std::printf("  csim: %ld contact solves above the tolerance 1e-6, largest final residual %.2e; top csim - "
               "Bullet %.4f m\n",
               c.not_converged, c.max_residual, c.top - bullet_runs.back().outcome.top);
+  std::printf("  csim's energy balance: worst residual %.2e J over the run, %.4g J dissipated by the contacts\n",
+              c.energy_residual, c.dissipated);
   return 0;
 }

@@ -78,6 +78,7 @@ void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) c
   if (two_halves_)
     out.add("detections_retaken", state.counters.detections_retaken).add("sparse_solves", state.counters.sparse_solves)
         .add("dense_fallbacks", state.counters.dense_fallbacks);
+  if (!operators_.nonlinear()) out.add("closing_activations", state.counters.closing_activations);
 }
 
 void MoreauJean::initialize(State& state) {
@@ -333,12 +334,32 @@ void MoreauJean::account_energy(State& state) {
 void MoreauJean::detect_solve_update(State& state) {
   detect(state);
   clock_.lap(state.timers.detection);
-  linearize_ties(state, state.v);
-  assemble(state);
-  clock_.lap(state.timers.assembly);
-  stage_.solve(state.contacts, true, parameters_.failure_residual, state.t + parameters_.step, state.counters);
-  clock_.lap(state.timers.solve);
-  update(state);
+  for (int pass = 0;; ++pass) {
+    linearize_ties(state, state.v);
+    assemble(state);
+    clock_.lap(state.timers.assembly);
+    stage_.solve(state.contacts, true, parameters_.failure_residual, state.t + parameters_.step, state.counters);
+    clock_.lap(state.timers.solve);
+    update(state);
+    if (pass == kClosingPasses) break;
+    const int closed = activate_closed_contacts(parameters_.step);
+    if (closed == 0) break;
+    state.counters.closing_activations += closed;
+  }
+}
+
+// The inactive inelastic candidates whose gap the step's motion closes, g + h u_n(v_θ) ≤ touching
+// (header, step 5), activated now. Elastic ones (e > 0) are left to step 2's rule: their impact law
+// has no gap term, so activating them early would bounce them off the air by up to a step's travel.
+int MoreauJean::activate_closed_contacts(double h) {
+  if (!parameters_.close_gaps) return 0;
+  std::vector<int> closed;
+  for (int k = 0; k < stage_.candidate_count(); ++k) {
+    if (stage_.is_active(k) || world_.contact_laws[stage_.candidates()[k].law].restitution > 0.0) continue;
+    if (stage_.predicted_gap(k, v_theta_, h) <= stage_.touching()) closed.push_back(k);
+  }
+  if (!closed.empty()) stage_.activate_more(closed);
+  return static_cast<int>(closed.size());
 }
 
 // Two halves (see the header), after the forward half: detection, contact solve and the backward half

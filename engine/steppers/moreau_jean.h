@@ -18,6 +18,13 @@
 //                      (tie_rows.h), linearized at each iterate, which hold at Newton's convergence;
 //   4. solve           projected Gauss–Seidel on {W, b, μ}, warm-started by contact key;
 //   5. update          v_{k+1} = v_free + A⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
+//                      a linear step whose motion closes an inactive inelastic candidate (its gap at
+//                      q_{k+1}, g + h u_n(v_θ), within the touching band; e = 0 and close_gaps) activates
+//                      it and is solved again from step 3 (at most kClosingPasses times,
+//                      SolverCounters::closing_activations): step 2's rule, at γ = ½ with the free
+//                      motion, misses a contact that a neighbour's impulse pushes shut or that falls
+//                      from between ½ and 1 step's travel away, and the θ-scheme would then carry the
+//                      body into it by up to a step's travel, an overlap that no later step undoes;
 //   6. post            energy balance, reactions, counters, non-finite check.
 //
 // Two halves. A sparse linear World (no finite-strain body, prescription or tie) takes the solves of
@@ -84,6 +91,7 @@ class MoreauJean final : public Stepper {
 
  private:
   static constexpr double kActivationGamma = 0.5;  // γ of step 2's rule g + γ h u_n ≤ 0
+  static constexpr int kClosingPasses = 3;  // solves a linear step may add for the contacts its motion closes
 
   std::unique_ptr<IterationOperator> make_iteration();
   void build_equalities(double t);
@@ -99,6 +107,7 @@ class MoreauJean final : public Stepper {
   void detect(const State& state);
   double detection_margin(const State& state);
   int activate_missed_contacts(double h);
+  int activate_closed_contacts(double h);
   void assemble(const State& state);
   double equality_target(const State& state, int e) const;
   void update(State& state);

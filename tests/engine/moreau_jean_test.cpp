@@ -340,6 +340,40 @@ TEST(MoreauJean, AContactWithinTheTouchingBandKeepsItsGap) {
   EXPECT_NEAR(s.q(2) - s.q(0) - 0.2, gap, 1e-15);
 }
 
+// Three disks in a row, equal masses, e = 0: a at 1 m/s touching b, b at rest g = 1e-4 m from c at rest.
+// Step 2's rule sees no motion between b and c (their free velocities are 0), but a's impulse sends b
+// at ½ m/s, and over h = 1e-3 at θ = ½ the step would carry b 2.5e-4 m, into c by 1.5e-4 m. The step's
+// motion closes the gap, so the contact is activated and the step solved again: b stops on c's surface
+// (its gap closed to round-off, not overlapping), and the three share the momentum.
+TEST(MoreauJean, AContactThatTheStepsMotionClosesIsActivatedAndTheStepSolvedAgain) {
+  const double g = 1e-4, h = 1e-3;
+  World world;
+  world.dimension = 2;
+  world.bodies.push_back(point_mass("a", 2, 1.0, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0)));
+  world.bodies.push_back(point_mass("b", 2, 1.0, Eigen::Vector3d(0.2, 0, 0), Eigen::Vector3d(0, 0, 0)));
+  world.bodies.push_back(point_mass("c", 2, 1.0, Eigen::Vector3d(0.4 + g, 0, 0), Eigen::Vector3d(0, 0, 0)));
+  for (auto& b : world.bodies) {
+    b.shapes.push_back(ShapeInstance{"disk", Sphere{0.1}, Eigen::Isometry3d::Identity()});
+    b.body->bounding_radius = 0.1;
+  }
+  world.finalize_layout();
+  for (const auto& [a, b] : {std::pair{0, 1}, std::pair{1, 2}}) {
+    ContactLaw law;
+    law.body_a = a;
+    law.body_b = b;
+    world.contact_laws.push_back(law);
+  }
+  SteppedWorld run(world, steps_of(h, 0.5));
+  State& s = run.state;
+  run.stepper.step(s);
+  EXPECT_EQ(s.counters.closing_activations, 1);
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_NEAR(s.q(4) - s.q(2) - 0.2, 0.0, 1e-12);  // b on c's surface, neither apart nor into it
+  // a strikes b at gap 0: the θ-scheme's own overlap at an impact, h (1 − θ) · 1 m/s, as before.
+  EXPECT_NEAR(s.q(2) - s.q(0) - 0.2, -h * 0.5, 1e-12);
+  EXPECT_NEAR(s.v(0) + s.v(2) + s.v(4), 1.0, 1e-12);  // momentum
+}
+
 TEST(MoreauJean, NonFiniteStateStopsWithTheTime) {
   World world = oscillator();
   world.springs[0].stiffness = std::numeric_limits<double>::infinity();
