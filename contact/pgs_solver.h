@@ -129,6 +129,7 @@ struct PgsCondensation {
   Eigen::MatrixXd X;                // W_ee⁺ W_ec
   Eigen::VectorXd x_b;              // W_ee⁺ b_e
   Eigen::VectorXd full_scale, r_c, r_e, u_e, product;
+  Eigen::VectorXd full_r;           // the full impulses at a convergence test of the condensed iteration
   // The full W (and its split) that W_ee, X and the condensed W were formed from: a problem whose W
   // is the same to the bit (a lumped World's constant rows, step after step) reuses them.
   Eigen::MatrixXd W;
