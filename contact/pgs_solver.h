@@ -19,7 +19,9 @@
 // the iteration, the polish's candidates alone being compared on the condensed one: the condensed
 // residual weighs each contact's r_c − local_c(r) by its condensed W_cc, and so cannot see an impulse
 // outside its cone along a zero column (a direction the ties hold), which the full W_cc weighs. The
-// full residual's floor is about 1e-16 · W_cc / (condensed W): the ties' cancellation.
+// full residual's floor is about 1e-16 · W_cc / (condensed W): the ties' cancellation. A test at which
+// the condensed residual is at tolerance and the full one above it and no lower than at the previous
+// such test ends the solve, unconverged: more sweeps would not lower it.
 //
 // Convergence (Siconos-style: cheap test first, full residual to confirm):
 //   cheap   : ‖Δr‖ of a sweep, scaled to velocity units by the Delassus diagonal, relative to
