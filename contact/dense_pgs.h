@@ -50,6 +50,20 @@ bool polish(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows
 PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const PgsParameters& parameters,
                                  Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose);
 
+// The condensed contact rows (condensed.contacts, formed from `problem` by solve_with_equalities) solved
+// by the dense path's iteration, whose convergence tests use the full problem's residual
+// (recovered_residual): r_c, the contact impulses, on entry the warm start, on exit the solution.
+PgsStatistics solve_condensed_rows(const FrictionContactProblem& problem, PgsCondensation& condensed,
+                                   const PgsParameters& parameters, Eigen::VectorXd& r_c,
+                                   std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose);
+
+// The equality impulses recovered from the contact impulses r_c (r_e = −W_ee⁺ (b_e + W_ec r_c), then
+// one step of refinement), the full impulse vector written into r, and the full problem's relative
+// residual at r returned. A non-finite r_e (a singular W_ee with inconsistent rows) is set to zero and
+// counted in `rejected`.
+double recovered_residual(const FrictionContactProblem& problem, PgsCondensation& condensed,
+                          const Eigen::VectorXd& r_c, Eigen::VectorXd& r, int& rejected);
+
 // PgsSolver's dense path on a problem with equality rows, condensed out into `condensed`.
 PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const PgsParameters& parameters,
                                     Eigen::VectorXd& r, std::vector<ContactStatus>* status, PgsCondensation& condensed,

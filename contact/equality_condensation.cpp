@@ -79,20 +79,12 @@ void condense(const FrictionContactProblem& problem, PgsCondensation& condensed)
 
 }  // namespace
 
-// Gauss–Seidel on the condensed contact rows, then r_e from r_c, with one step of refinement on the
-// equality rows (W_ee's condition number is 2e4 on the 3D ring tied to a light hub). Converged is
-// decided on the full problem's residual.
-PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const PgsParameters& parameters,
-                                    Eigen::VectorXd& r, std::vector<ContactStatus>* status,
-                                    PgsCondensation& condensed, Eigen::MatrixXd& transpose) {
+double recovered_residual(const FrictionContactProblem& problem, PgsCondensation& condensed,
+                          const Eigen::VectorXd& r_c, Eigen::VectorXd& r, int& rejected) {
   const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   const Eigen::Index m_e = problem.equalities;
-  condense(problem, condensed);
-  Eigen::VectorXd& r_c = condensed.r_c;
   Eigen::VectorXd& r_e = condensed.r_e;
   Eigen::VectorXd& u_e = condensed.u_e;
-  r_c = r.head(m_c);
-  PgsStatistics statistics = solve_contact_rows(condensed.contacts, parameters, r_c, status, transpose);
   Eigen::VectorXd& product = condensed.product;
   r_e.noalias() = condensed.X * r_c;
   r_e = -(condensed.x_b + r_e);
@@ -104,12 +96,27 @@ PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const
   // r_c is finite (the sweeps reject non-finite local results, the polish keeps only a smaller finite
   // residual); r_e is not when W_ee is singular and its rows inconsistent.
   if (!r_e.allFinite()) {
-    ++statistics.rejected_local_solutions;
+    ++rejected;
     r_e.setZero();
   }
+  r.resize(problem.size());
   r.head(m_c) = r_c;
   r.tail(m_e) = r_e;
-  statistics.residual = relative_residual(problem, condensed.symmetric ? problem.W : condensed.W_transpose, r);
+  return relative_residual(problem, condensed.symmetric ? problem.W : condensed.W_transpose, r);
+}
+
+// Gauss–Seidel on the condensed contact rows, then r_e from r_c, with one step of refinement on the
+// equality rows (W_ee's condition number is 2e4 on the 3D ring tied to a light hub). Converged is
+// decided on the full problem's residual, at every test of the iteration (solve_condensed_rows).
+PgsStatistics solve_with_equalities(const FrictionContactProblem& problem, const PgsParameters& parameters,
+                                    Eigen::VectorXd& r, std::vector<ContactStatus>* status,
+                                    PgsCondensation& condensed, Eigen::MatrixXd& transpose) {
+  const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
+  condense(problem, condensed);
+  Eigen::VectorXd& r_c = condensed.r_c;
+  r_c = r.head(m_c);
+  PgsStatistics statistics = solve_condensed_rows(problem, condensed, parameters, r_c, status, transpose);
+  statistics.residual = recovered_residual(problem, condensed, r_c, r, statistics.rejected_local_solutions);
   statistics.converged = statistics.residual <= parameters.tolerance;
   return statistics;
 }

@@ -8,7 +8,9 @@
 //   double residual(const Eigen::VectorXd& r, int settled_from) const   the full relative residual;
 //   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget)   true if r was replaced;
 //   void observe(const SweepResult& swept, double scale)      sees each sweep's increment (scale: m/s);
-//   bool stalled() const                                      false skips a scheduled polish.
+//   bool stalled() const                                      false skips a scheduled polish;
+//   bool at_floor() const                                     true ends the solve after a residual test
+//                                                             above tolerance (its residual cannot fall).
 // The dense path polishes on every schedule (stalled() is true); the sparse path skips while the sweeps
 // converge at a steady rate (sparse_pgs.h).
 #pragma once
@@ -65,6 +67,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
         statistics.converged = true;
         break;
       }
+      if (path.at_floor()) break;
       continue;
     }
     // Cheap test: a sweep that barely moved r, or one after which every contact is settled (the full
@@ -78,6 +81,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
         statistics.converged = true;
         break;
       }
+      if (path.at_floor()) break;
     }
   }
   if (!residual_is_current) {

@@ -15,8 +15,13 @@
 // block instead contracts by W_ce W_ee⁻¹ W_ec / W_cc a sweep, about 1 − 1e-5 for a light ring tied to a
 // hub (W_cc 1e7, condensed 270: the 3D Moreau–Jean ring on 68 × 10 ended at 2.7e-5 after 20000 sweeps,
 // and converges in 67 condensed). Condensed entries at round-off of the full ones are set to zero
-// (equality_condensation.cpp). Convergence is decided on the full problem's residual, whose floor is
-// about 1e-16 · W_cc / (condensed W): the ties' cancellation.
+// (equality_condensation.cpp). Convergence is decided on the full problem's residual at every test of
+// the iteration, the polish's candidates alone being compared on the condensed one: the condensed
+// residual weighs each contact's r_c − local_c(r) by its condensed W_cc, and so cannot see an impulse
+// outside its cone along a zero column (a direction the ties hold), which the full W_cc weighs. The
+// full residual's floor is about 1e-16 · W_cc / (condensed W): the ties' cancellation. A test at which
+// the condensed residual is at tolerance and the full one above it and no lower than at the previous
+// such test ends the solve, unconverged: more sweeps would not lower it.
 //
 // Convergence (Siconos-style: cheap test first, full residual to confirm):
 //   cheap   : ‖Δr‖ of a sweep, scaled to velocity units by the Delassus diagonal, relative to
@@ -129,6 +134,7 @@ struct PgsCondensation {
   Eigen::MatrixXd X;                // W_ee⁺ W_ec
   Eigen::VectorXd x_b;              // W_ee⁺ b_e
   Eigen::VectorXd full_scale, r_c, r_e, u_e, product;
+  Eigen::VectorXd full_r;           // the full impulses at a convergence test of the condensed iteration
   // The full W (and its split) that W_ee, X and the condensed W were formed from: a problem whose W
   // is the same to the bit (a lumped World's constant rows, step after step) reuses them.
   Eigen::MatrixXd W;

@@ -279,6 +279,7 @@ struct SparsePath {
   }
   void observe(const SweepResult& swept, double scale) { window.add(std::sqrt(swept.increment_squared) / scale); }
   bool stalled() const { return !(window.contraction() < kStalled); }
+  bool at_floor() const { return false; }
 };
 
 template <int D>

@@ -690,6 +690,36 @@ TEST(PgsSolver, PolishFindsTheLateralSlipOfANodeHeldAcrossTheGround) {
   EXPECT_GE(sliding_sideways, 1);
 }
 
+// Met in scenes/rolling-ring-3d as a Moreau–Jean transient (theta 1, density 1e-3, at t = 1.01 s): six
+// contacts of the ring tied to its hub, z held on every node, so that the contacts' t2 columns of the
+// condensed W are zero. Reduced to its condensed contact rows (bit for bit what the condensation of the
+// dumped 301-row problem gave) with each t2 row held by one equality row of stiffness a:
+//   W = [S + a E Eᵀ, a E; a Eᵀ, a I], b = (b_condensed, 0),
+// E selecting the t2 rows, which condenses back to S exactly. The polish at sweep 20 left the t2
+// impulses 10 % outside their cones at a condensed residual of 1e-14, blind along those zero columns;
+// the solve stopped there at a full residual of 1.3e-4 with its budget of 20000 sweeps unspent.
+TEST(PgsSolver, CondensedIterationDecidesOnTheFullResidual) {
+  const FrictionContactProblem problem = test::problem_file("ring_tied_hub_held_t2_3d.txt");
+  ASSERT_EQ(problem.equalities, problem.contacts);
+  PgsParameters parameters;
+  parameters.tolerance = 1e-10;
+  parameters.max_iterations = 20000;
+  Eigen::VectorXd r;
+  const PgsStatistics statistics = PgsSolver(parameters).solve(problem, r);
+  ASSERT_TRUE(statistics.converged) << statistics.residual << " after " << statistics.iterations << " sweeps";
+  EXPECT_LE(PgsSolver::residual(problem, r), parameters.tolerance);
+  // The law's impulse set (friction_contact_problem.h): each impulse in its cone, to round-off.
+  const Eigen::VectorXd u = problem.W * r + problem.b;
+  for (int c = 0; c < problem.contacts; ++c) {
+    const double r_n = r(3 * c);
+    const Eigen::Vector2d mu = problem.mu[c];
+    EXPECT_GT(r_n, 0.0) << "contact " << c;  // every contact carries the ring's press
+    EXPECT_LE(std::hypot(r(3 * c + 1) / mu(0), r(3 * c + 2) / mu(1)), (1.0 + 1e-9) * r_n) << "contact " << c;
+  }
+  // The held rows do not move (b_e = 0; a velocity scale of |b| = 11 m/s).
+  EXPECT_LE(u.tail(problem.equalities).cwiseAbs().maxCoeff(), 1e-12 * problem.b.norm());
+}
+
 // The law is u = W r + b row by row; W need not be symmetric (pgs_solver.h). The hand check below reads
 // W's rows only, so that no reading of its columns can pass it.
 // Largest violation of the 2D Coulomb law at r, in velocity units: penetration, tension, complementarity
