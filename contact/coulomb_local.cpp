@@ -246,20 +246,44 @@ Eigen::Vector2d rotated(const Eigen::Vector2d& e, double angle) {
   return Eigen::Vector2d(c * e(0) - s * e(1), s * e(0) + c * e(1));
 }
 
-// Fast path: Newton from e, a handful of iterations. Returns true with e at an admissible root.
+// True if x lies strictly inside the arc from a to b, an arc shorter than π.
+bool inside_arc(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& x) {
+  const auto cross = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) { return p(0) * q(1) - p(1) * q(0); };
+  const double orientation = cross(a, b);
+  return cross(a, x) * orientation > 0 && cross(x, b) * orientation > 0 && x.dot(a + b) > 0;
+}
+
+// Fast path: Newton from e, at most 16 iterations. Returns true with e at an admissible root.
 // Far from a root it steps on h (the angle to −v, which ignores the inadmissible roots); once e is
 // within π/4 of −v it steps on f, whose nearest root is then the admissible one, to save
 // the atan2. The direction is advanced as e ← normalise(e + δ e⊥), a rotation by atan δ: same root,
-// same quadratic convergence, no trigonometric call.
+// same quadratic convergence, no trigonometric call; a step beyond about 70° (|δ| > 3), where the
+// linear model is poor, turns by 45° that way instead.
+// Newton on h alone can cycle where W_nt turns the sliding velocity strongly (Siconos' Rover problems:
+// two directions 60° apart, each step jumping to the other; 8 iterations, the second guess's 8, then
+// the scan). So the latest directions where f < 0 and f > 0 are kept: once they bracket a root of f
+// within a quarter turn, Newton steps on f (no atan2), and a step that would leave the bracket is
+// replaced by the bracket's bisection. The root so found is kept only if admissible; otherwise the
+// caller's next guess and the scan follow, as before.
 bool newton_slip(const SlipEquations& slip, Eigen::Vector2d& e) {
-  constexpr int kMaxIterations = 8;
+  constexpr int kMaxIterations = 16;
+  Eigen::Vector2d negative = Eigen::Vector2d::Zero(), positive = Eigen::Vector2d::Zero();  // f < 0, f > 0
+  bool has_negative = false, has_positive = false;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     const SlipEquations::Point point = slip.at(e);
     const bool near = point.along < 0 && std::abs(point.f) <= -point.along;  // |h| ≤ π/4
     // |sin h| = |f|/|v|: converged when the angle is at round-off level.
     if (near && std::abs(point.f) <= 4 * kEpsilon * point.v.norm()) return SlipEquations::admissible(point);
+    if (point.f < 0) {
+      negative = e;
+      has_negative = true;
+    } else if (point.f > 0) {
+      positive = e;
+      has_positive = true;
+    }
+    const bool bracketed = has_negative && has_positive && negative.dot(positive) > 0;
     double step = 0.0;
-    if (near) {
+    if (near || bracketed) {
       step = -point.f / point.df;
     } else {
       const double h = std::atan2(-point.f, -point.along);
@@ -268,10 +292,25 @@ bool newton_slip(const SlipEquations& slip, Eigen::Vector2d& e) {
           (point.v(0) * point.dv(1) - point.v(1) * point.dv(0)) / point.v.squaredNorm() - 1.0;
       step = -h / dh;
     }
-    // A step beyond about 70° (tan 70° ≈ 3) means the linear model is poor: leave it to the scan.
-    if (!(std::abs(step) <= 3.0)) return false;
-    e = (e + step * Eigen::Vector2d(-e(1), e(0))).normalized();
-    if (std::abs(step) <= 4 * kEpsilon) return SlipEquations::admissible(slip.at(e));
+    // A step beyond about 70° (tan 70° ≈ 3) means the linear model is poor: turn by 45° that way.
+    if (!(std::abs(step) <= 3.0)) {
+      if (std::isnan(step)) return false;
+      step = step > 0 ? 1.0 : -1.0;
+    }
+    Eigen::Vector2d next = (e + step * Eigen::Vector2d(-e(1), e(0))).normalized();
+    if (std::abs(step) <= 4 * kEpsilon) {
+      e = next;
+      return SlipEquations::admissible(slip.at(e));
+    }
+    if (bracketed && !inside_arc(negative, positive, next)) {
+      // The bracket at round-off width: its ends are the root.
+      if (std::abs(negative(0) * positive(1) - negative(1) * positive(0)) <= 4 * kEpsilon) {
+        e = negative;
+        return SlipEquations::admissible(slip.at(e));
+      }
+      next = (negative + positive).normalized();
+    }
+    e = next;
   }
   return false;
 }

@@ -8,7 +8,8 @@
 //   slip  : u_n = 0 and r_t = r_n·M s on the boundary of D, M = diag(μ1, μ2), |s| = 1, with s
 //           opposite to M u_t (maximal dissipation). In 2D, s = ±1 in closed form; in 3D, s = (cos φ,
 //           sin φ) is found as the root in φ of s × (M u_t(φ)) = 0 with s·(M u_t) < 0 (Newton from the
-//           decoupled guess, bracketed bisection as fallback). When W_nt = 0 and W_tt ∝ I (point masses)
+//           decoupled guess, safeguarded by bisection once two iterates bracket a root; a scan of the
+//           circle as fallback). When W_nt = 0 and W_tt ∝ I (point masses)
 //           the first guess is exact.
 // μ = 0 (or μ_i = 0) reduces to the frictionless (or unidirectional) law exactly.
 #pragma once
