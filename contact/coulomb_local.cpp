@@ -382,8 +382,26 @@ double cone_ratio(const Eigen::Vector3d& r, const Eigen::Vector2d& mu) {
 
 }  // namespace
 
-ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
-                             const Eigen::Vector2d& mu, Eigen::Vector3d& r) {
+namespace {
+
+// True if r' (scaled coordinates) slips by the unit-μ law to round-off: r'_n > 0, |r'_t| = r'_n,
+// u'_n = 0 and u'_t opposite to r'_t, each within 16 ε of the scale of its terms (Newton's roots pass
+// it with a margin: they stop at 4 ε in the angle).
+bool slips_to_round_off(const Eigen::Matrix3d& W_scaled, const Eigen::Vector3d& q_scaled, const Eigen::Vector3d& r) {
+  constexpr double kRoundOff = 16 * kEpsilon;
+  if (!(r(0) > 0)) return false;
+  const double tangential = r.tail<2>().norm();
+  if (!(std::abs(tangential - r(0)) <= kRoundOff * r(0))) return false;
+  const Eigen::Vector3d u = W_scaled * r + q_scaled;
+  const Eigen::Vector3d u_scale = W_scaled.cwiseAbs() * r.cwiseAbs() + q_scaled.cwiseAbs();
+  if (!(std::abs(u(0)) <= kRoundOff * u_scale(0))) return false;
+  const double along = r(1) * u(1) + r(2) * u(2);
+  const double across = r(1) * u(2) - r(2) * u(1);
+  return along <= 0 && std::abs(across) <= kRoundOff * tangential * u_scale.tail<2>().norm();
+}
+
+ContactStatus solve_local_3d_from(const Eigen::Matrix3d& W, const Eigen::Vector3d& q, const Eigen::Vector2d& mu,
+                                  Eigen::Vector3d& r, const Eigen::Vector3d* start) {
   if (!W.allFinite() || !q.allFinite() || mu.hasNaN()) {
     r.setConstant(kNaN);
     return ContactStatus::open;
@@ -447,8 +465,27 @@ ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
 
   // Second guess, when the first fails: the direction of the (rejected) stick impulse, good when
   // the coupling W_nt turns the sliding direction a lot.
+  // A start that already slips by the law to round-off is the answer as it is: so a Gauss–Seidel
+  // contact whose impulse is its local solution keeps it to the bit, sweep after sweep, as it would
+  // with a solve that ignores the start (the settled contacts of pgs_local.h rely on it). Otherwise
+  // Newton from the start's slip direction (in a converging Gauss–Seidel, the previous sweep's: one or
+  // two steps from the root), then from the first guess.
+  if (start != nullptr && slips_to_round_off(W_scaled, q_scaled, start->cwiseQuotient(scale))) {
+    r = *start;
+    return ContactStatus::slip;
+  }
   Eigen::Vector2d e = guess;
-  bool found = newton_slip(slip, e);
+  bool found = false;
+  if (start != nullptr && (*start)(0) > 0) {
+    e = Eigen::Vector2d((*start)(1) / mu(0), (*start)(2) / mu(1));
+    const double norm = e.norm();
+    if (norm > 0 && std::isfinite(norm)) {
+      e /= norm;
+      found = newton_slip(slip, e);
+    }
+    if (!found) e = guess;
+  }
+  if (!found) found = newton_slip(slip, e);
   if (!found && stick_computable) {
     e = Eigen::Vector2d(r_stick(1) / mu(0), r_stick(2) / mu(1));
     if (e.norm() > 0) {
@@ -477,6 +514,18 @@ ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
   }
   r = best.r;
   return status_of(r(0), cone_ratio(r, mu));
+}
+
+}  // namespace
+
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r) {
+  return solve_local_3d_from(W, q, mu, r, nullptr);
+}
+
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r, const Eigen::Vector3d& start) {
+  return solve_local_3d_from(W, q, mu, r, &start);
 }
 
 }  // namespace csim

@@ -40,5 +40,11 @@ ContactStatus solve_local_2d(const Eigen::Matrix2d& W, const Eigen::Vector2d& q,
                              Eigen::Vector2d& r);
 ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
                              const Eigen::Vector2d& mu, Eigen::Vector3d& r);
+// The same, with `start` an impulse believed near the solution (N·s, the contact's impulse before this
+// solve, as a Gauss–Seidel sweep has it): when start slips (r_n > 0, r_t ≠ 0) the slip root is searched
+// by Newton from its direction first, then as above. Where the law has one solution the result is
+// the same up to round-off; where it has several, the root nearest the start is favoured.
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r, const Eigen::Vector3d& start);
 
 }  // namespace csim

@@ -136,7 +136,7 @@ double relative_residual(const FrictionContactProblem& problem, const BlockRows<
     product += product_squared<D>(problem, c, b_c, W_cc, r_c);
     if (c >= settled_from) continue;
     Vector<D> r_local;
-    solve_local<D>(W_cc, b_c, problem.mu[c], r_local);
+    solve_local<D>(W_cc, b_c, problem.mu[c], r_local, r_c);
     if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
     law += (W_cc * (r_c - r_local)).squaredNorm();
   }
