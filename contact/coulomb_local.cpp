@@ -315,6 +315,12 @@ bool newton_slip(const SlipEquations& slip, Eigen::Vector2d& e) {
   return false;
 }
 
+// True if e is an admissible root to round-off: Newton's first test, without its step.
+bool is_slip_root(const SlipEquations& slip, const Eigen::Vector2d& e) {
+  const SlipEquations::Point point = slip.at(e);
+  return point.along < 0 && std::abs(point.f) <= 4 * kEpsilon * point.v.norm() && SlipEquations::admissible(point);
+}
+
 // Root of f in the arc [e_a, e_a rotated by width] (f changes sign over it), by Newton safeguarded with
 // bisection, to machine precision in the angle.
 Eigen::Vector2d refine_slip_root(const SlipEquations& slip, const Eigen::Vector2d& e_a, double f_a,
@@ -465,25 +471,28 @@ ContactStatus solve_local_3d_from(const Eigen::Matrix3d& W, const Eigen::Vector3
 
   // Second guess, when the first fails: the direction of the (rejected) stick impulse, good when
   // the coupling W_nt turns the sliding direction a lot.
-  // A start that already slips by the law to round-off is the answer as it is: so a Gauss–Seidel
+  // The first guess when it is the root already (decoupled contacts: a point mass on a plane). Else a
+  // start that already slips by the law to round-off is the answer as it is: so a Gauss–Seidel
   // contact whose impulse is its local solution keeps it to the bit, sweep after sweep, as it would
   // with a solve that ignores the start (the settled contacts of pgs_local.h rely on it). Otherwise
   // Newton from the start's slip direction (in a converging Gauss–Seidel, the previous sweep's: one or
   // two steps from the root), then from the first guess.
-  if (start != nullptr && slips_to_round_off(W_scaled, q_scaled, start->cwiseQuotient(scale))) {
-    r = *start;
-    return ContactStatus::slip;
-  }
   Eigen::Vector2d e = guess;
-  bool found = false;
-  if (start != nullptr && (*start)(0) > 0) {
-    e = Eigen::Vector2d((*start)(1) / mu(0), (*start)(2) / mu(1));
-    const double norm = e.norm();
-    if (norm > 0 && std::isfinite(norm)) {
-      e /= norm;
-      found = newton_slip(slip, e);
+  bool found = is_slip_root(slip, e);
+  if (!found && start != nullptr) {
+    if (slips_to_round_off(W_scaled, q_scaled, start->cwiseQuotient(scale))) {
+      r = *start;
+      return ContactStatus::slip;
     }
-    if (!found) e = guess;
+    if ((*start)(0) > 0) {
+      e = Eigen::Vector2d((*start)(1) / mu(0), (*start)(2) / mu(1));
+      const double norm = e.norm();
+      if (norm > 0 && std::isfinite(norm)) {
+        e /= norm;
+        found = newton_slip(slip, e);
+      }
+      if (!found) e = guess;
+    }
   }
   if (!found) found = newton_slip(slip, e);
   if (!found && stick_computable) {
