@@ -8,9 +8,13 @@
 //   double residual(const Eigen::VectorXd& r, int settled_from) const   the full relative residual;
 //   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget)   true if r was replaced;
 //   void observe(const SweepResult& swept, double scale)      sees each sweep's increment (scale: m/s);
-//   bool stalled() const                                      false skips a scheduled polish.
-// The dense path polishes on every schedule (stalled() is true); the sparse path skips while the sweeps
-// converge at a steady rate (sparse_pgs.h).
+//   bool stalled() const                                      false skips a scheduled polish;
+//   bool retries_skipped_polish() const                       true: a skipped polish is tried again
+//                                                             kFirstPolish sweeps later (until the next
+//                                                             scheduled one).
+// The sparse path skips while the sweeps converge at a steady rate (sparse_pgs.h) and waits for the next
+// schedule; the dense path skips only while that rate reaches the tolerance within kSweepsForSkip
+// sweeps (pgs_solver.cpp), and tries again kFirstPolish sweeps later.
 #pragma once
 
 #include "contact/pgs_local.h"
@@ -18,6 +22,7 @@
 #include "contact/polish_budget.h"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace csim::pgs_local {
@@ -29,6 +34,38 @@ constexpr int kPolishInterval = 200;
 // Delassus). A dense sweep costs 2 m² flops for m rows and an LU of the polish 2 m³/3, so the polish's
 // budget (PgsParameters) lets it factor a few hundred rows at sweep 20 and more at later attempts.
 constexpr int kFirstPolish = 20;
+
+// The contraction per sweep of the relative increments ‖Δr‖ / scale, from the last kWindow + 1 sweeps:
+// (increment_k / increment_{k−kWindow})^(1/kWindow); infinite until kWindow + 1 sweeps are known or
+// when an increment is zero (a sweep that moved nothing is followed by the full residual's test).
+// A sweep stores its sums as they are (‖Δr‖², (m/s)², and the scale, m/s): the square roots and
+// quotients are taken only when the contraction is asked for, at a scheduled polish.
+class ContractionWindow {
+ public:
+  void add(double increment_squared, double scale) {
+    const int slot = static_cast<int>(next_ % (kWindow + 1));
+    increments_squared_[slot] = increment_squared;
+    scales_[slot] = scale;
+    ++next_;
+  }
+  // The newest relative increment (0 before any).
+  double newest() const { return next_ > 0 ? relative((next_ - 1) % (kWindow + 1)) : 0.0; }
+  double contraction() const {
+    if (next_ < kWindow + 1) return std::numeric_limits<double>::infinity();
+    const double newest = relative((next_ - 1) % (kWindow + 1)), oldest = relative(next_ % (kWindow + 1));
+    if (!(oldest > 0.0) || !(newest > 0.0)) return std::numeric_limits<double>::infinity();
+    return std::pow(newest / oldest, 1.0 / kWindow);
+  }
+
+ private:
+  static constexpr int kWindow = 10;
+  double relative(long slot) const { return std::sqrt(increments_squared_[slot]) / scales_[slot]; }
+  // Read only where written (next_ counts the writes): left uninitialized, so that a solve of a few
+  // sweeps does not pay for clearing them.
+  double increments_squared_[kWindow + 1];
+  double scales_[kWindow + 1];
+  long next_ = 0;
+};
 
 template <int D, class Path>
 PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters& parameters, Path& path,
@@ -49,6 +86,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
 
   const double norm_b = problem.b.norm();
   bool residual_is_current = false;
+  int retry_at = -1;  // the sweep at which a skipped polish is tried again
   for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
     const SweepResult swept = path.sweep(r, statistics.rejected_local_solutions);
     statistics.iterations = iteration;
@@ -57,7 +95,10 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
     const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
     path.observe(swept, scale);
     // A stalled iteration: try the polish every kPolishInterval sweeps.
-    if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish) && path.stalled()) {
+    const bool polish_due = iteration % kPolishInterval == 0 || iteration == kFirstPolish || iteration == retry_at;
+    if (parameters.polish && polish_due && !path.stalled()) {
+      if (path.retries_skipped_polish()) retry_at = iteration + kFirstPolish;
+    } else if (parameters.polish && polish_due) {
       statistics.residual = path.residual(r, swept.settled_from);
       residual_is_current = true;
       polish_now();
