@@ -13,8 +13,8 @@
 //                                                             kFirstPolish sweeps later (until the next
 //                                                             scheduled one).
 // The sparse path skips while the sweeps converge at a steady rate (sparse_pgs.h) and waits for the next
-// schedule; the dense path skips only while that rate reaches the tolerance within kSweepsForSkip
-// sweeps (pgs_solver.cpp), and tries again kFirstPolish sweeps later.
+// schedule; the dense path skips only while that rate reaches the tolerance within ten sweeps
+// (pgs_solver.cpp), and tries again kFirstPolish sweeps later.
 #pragma once
 
 #include "contact/pgs_local.h"
@@ -42,14 +42,16 @@ constexpr int kFirstPolish = 20;
 // quotients are taken only when the contraction is asked for, at a scheduled polish.
 class ContractionWindow {
  public:
+  static constexpr int kWindow = 10;
   void add(double increment_squared, double scale) {
     const int slot = static_cast<int>(next_ % (kWindow + 1));
     increments_squared_[slot] = increment_squared;
     scales_[slot] = scale;
     ++next_;
   }
-  // The newest relative increment (0 before any).
+  // The newest relative increment, and the one kWindow sweeps before it (0 until known).
   double newest() const { return next_ > 0 ? relative((next_ - 1) % (kWindow + 1)) : 0.0; }
+  double oldest() const { return next_ >= kWindow + 1 ? relative(next_ % (kWindow + 1)) : 0.0; }
   double contraction() const {
     if (next_ < kWindow + 1) return std::numeric_limits<double>::infinity();
     const double newest = relative((next_ - 1) % (kWindow + 1)), oldest = relative(next_ % (kWindow + 1));
@@ -58,7 +60,6 @@ class ContractionWindow {
   }
 
  private:
-  static constexpr int kWindow = 10;
   double relative(long slot) const { return std::sqrt(increments_squared_[slot]) / scales_[slot]; }
   // Read only where written (next_ counts the writes): left uninitialized, so that a solve of a few
   // sweeps does not pay for clearing them.

@@ -20,13 +20,13 @@ namespace dense_pgs {
 namespace {
 
 // A scheduled polish of the dense path is skipped when the sweeps, at the rate of the last ten, reach
-// the tolerance within this many more sweeps, and tried again kFirstPolish sweeps later (pgs_iteration.h).
+// the tolerance within ten more sweeps, and tried again kFirstPolish sweeps later (pgs_iteration.h).
 // On a few contacts a sweep costs a few local solves and a polish several factorizations and their
 // local solves: Siconos' NESpheres_10_1 polished at sweep 20 for 65k instructions, about as many as
-// its twenty sweeps; Rover1039 for 17k, four sweeps. A slower rate than this predicts (a stack that
-// settles its statuses late) costs at most kFirstPolish sweeps before the polish is tried again.
-constexpr double kSweepsForSkip = 10.0;
-
+// its twenty sweeps. A slower rate than this predicts (a stack that settles its statuses late) costs
+// at most kFirstPolish sweeps before the polish is tried again. With the window's ten sweeps, "the
+// tolerance within ten sweeps at the rate newest/oldest per ten" is tolerance/newest ≥ newest/oldest:
+// no pow or log (whose first call in a process costs more than a small solve: the dynamic linker).
 // The dense path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's rows, the
 // polish of dense_polish.cpp on every schedule unless the sweeps are about to finish (above).
 template <int D>
@@ -47,11 +47,10 @@ struct DensePath {
     return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
   }
   void observe(const SweepResult& swept, double scale) { window.add(swept.increment_squared, scale); }
-  // Sweeps to the tolerance at the window's rate: log(tolerance / increment) / log(rate).
   bool stalled() const {
-    const double rate = window.contraction(), increment = window.newest();
-    if (!(rate < 1.0) || !(increment > 0.0)) return true;
-    return !(std::log(parameters.tolerance / increment) >= kSweepsForSkip * std::log(rate));
+    const double newest = window.newest(), oldest = window.oldest();
+    if (!(newest > 0.0) || !(newest < oldest)) return true;
+    return !(parameters.tolerance * oldest >= newest * newest);
   }
   bool retries_skipped_polish() const { return true; }
 };
