@@ -44,28 +44,28 @@ class ContractionWindow {
  public:
   static constexpr int kWindow = 10;
   void add(double increment_squared, double scale) {
-    const int slot = static_cast<int>(next_ % (kWindow + 1));
-    increments_squared_[slot] = increment_squared;
-    scales_[slot] = scale;
-    ++next_;
+    increments_squared_[slot_] = increment_squared;
+    scales_[slot_] = scale;
+    slot_ = slot_ == kWindow ? 0 : slot_ + 1;
+    if (count_ <= kWindow) ++count_;
   }
   // The newest relative increment, and the one kWindow sweeps before it (0 until known).
-  double newest() const { return next_ > 0 ? relative((next_ - 1) % (kWindow + 1)) : 0.0; }
-  double oldest() const { return next_ >= kWindow + 1 ? relative(next_ % (kWindow + 1)) : 0.0; }
+  double newest() const { return count_ > 0 ? relative(slot_ == 0 ? kWindow : slot_ - 1) : 0.0; }
+  double oldest() const { return count_ > kWindow ? relative(slot_) : 0.0; }
   double contraction() const {
-    if (next_ < kWindow + 1) return std::numeric_limits<double>::infinity();
-    const double newest = relative((next_ - 1) % (kWindow + 1)), oldest = relative(next_ % (kWindow + 1));
-    if (!(oldest > 0.0) || !(newest > 0.0)) return std::numeric_limits<double>::infinity();
-    return std::pow(newest / oldest, 1.0 / kWindow);
+    const double newest_increment = newest(), oldest_increment = oldest();
+    if (!(oldest_increment > 0.0) || !(newest_increment > 0.0)) return std::numeric_limits<double>::infinity();
+    return std::pow(newest_increment / oldest_increment, 1.0 / kWindow);
   }
 
  private:
-  double relative(long slot) const { return std::sqrt(increments_squared_[slot]) / scales_[slot]; }
-  // Read only where written (next_ counts the writes): left uninitialized, so that a solve of a few
-  // sweeps does not pay for clearing them.
+  double relative(int slot) const { return std::sqrt(increments_squared_[slot]) / scales_[slot]; }
+  // Read only where written (count_ says how many are): left uninitialized, so that a solve of a few
+  // sweeps does not pay for clearing them. slot_ is the next to write, which once the window is full
+  // holds the oldest.
   double increments_squared_[kWindow + 1];
   double scales_[kWindow + 1];
-  long next_ = 0;
+  int slot_ = 0, count_ = 0;
 };
 
 template <int D, class Path>
