@@ -246,20 +246,44 @@ Eigen::Vector2d rotated(const Eigen::Vector2d& e, double angle) {
   return Eigen::Vector2d(c * e(0) - s * e(1), s * e(0) + c * e(1));
 }
 
-// Fast path: Newton from e, a handful of iterations. Returns true with e at an admissible root.
+// True if x lies strictly inside the arc from a to b, an arc shorter than π.
+bool inside_arc(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& x) {
+  const auto cross = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) { return p(0) * q(1) - p(1) * q(0); };
+  const double orientation = cross(a, b);
+  return cross(a, x) * orientation > 0 && cross(x, b) * orientation > 0 && x.dot(a + b) > 0;
+}
+
+// Fast path: Newton from e, at most 16 iterations. Returns true with e at an admissible root.
 // Far from a root it steps on h (the angle to −v, which ignores the inadmissible roots); once e is
 // within π/4 of −v it steps on f, whose nearest root is then the admissible one, to save
 // the atan2. The direction is advanced as e ← normalise(e + δ e⊥), a rotation by atan δ: same root,
-// same quadratic convergence, no trigonometric call.
+// same quadratic convergence, no trigonometric call; a step beyond about 70° (|δ| > 3), where the
+// linear model is poor, turns by 45° that way instead.
+// Newton on h alone can cycle where W_nt turns the sliding velocity strongly (Siconos' Rover problems:
+// two directions 60° apart, each step jumping to the other; 8 iterations, the second guess's 8, then
+// the scan). So the latest directions where f < 0 and f > 0 are kept: once they bracket a root of f
+// within a quarter turn, Newton steps on f (no atan2), and a step that would leave the bracket is
+// replaced by the bracket's bisection. The root so found is kept only if admissible; otherwise the
+// caller's next guess and the scan follow, as before.
 bool newton_slip(const SlipEquations& slip, Eigen::Vector2d& e) {
-  constexpr int kMaxIterations = 8;
+  constexpr int kMaxIterations = 16;
+  Eigen::Vector2d negative = Eigen::Vector2d::Zero(), positive = Eigen::Vector2d::Zero();  // f < 0, f > 0
+  bool has_negative = false, has_positive = false;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     const SlipEquations::Point point = slip.at(e);
     const bool near = point.along < 0 && std::abs(point.f) <= -point.along;  // |h| ≤ π/4
     // |sin h| = |f|/|v|: converged when the angle is at round-off level.
     if (near && std::abs(point.f) <= 4 * kEpsilon * point.v.norm()) return SlipEquations::admissible(point);
+    if (point.f < 0) {
+      negative = e;
+      has_negative = true;
+    } else if (point.f > 0) {
+      positive = e;
+      has_positive = true;
+    }
+    const bool bracketed = has_negative && has_positive && negative.dot(positive) > 0;
     double step = 0.0;
-    if (near) {
+    if (near || bracketed) {
       step = -point.f / point.df;
     } else {
       const double h = std::atan2(-point.f, -point.along);
@@ -268,12 +292,33 @@ bool newton_slip(const SlipEquations& slip, Eigen::Vector2d& e) {
           (point.v(0) * point.dv(1) - point.v(1) * point.dv(0)) / point.v.squaredNorm() - 1.0;
       step = -h / dh;
     }
-    // A step beyond about 70° (tan 70° ≈ 3) means the linear model is poor: leave it to the scan.
-    if (!(std::abs(step) <= 3.0)) return false;
-    e = (e + step * Eigen::Vector2d(-e(1), e(0))).normalized();
-    if (std::abs(step) <= 4 * kEpsilon) return SlipEquations::admissible(slip.at(e));
+    // A step beyond about 70° (tan 70° ≈ 3) means the linear model is poor: turn by 45° that way.
+    if (!(std::abs(step) <= 3.0)) {
+      if (std::isnan(step)) return false;
+      step = step > 0 ? 1.0 : -1.0;
+    }
+    Eigen::Vector2d next = (e + step * Eigen::Vector2d(-e(1), e(0))).normalized();
+    if (std::abs(step) <= 4 * kEpsilon) {
+      e = next;
+      return SlipEquations::admissible(slip.at(e));
+    }
+    if (bracketed && !inside_arc(negative, positive, next)) {
+      // The bracket at round-off width: its ends are the root.
+      if (std::abs(negative(0) * positive(1) - negative(1) * positive(0)) <= 4 * kEpsilon) {
+        e = negative;
+        return SlipEquations::admissible(slip.at(e));
+      }
+      next = (negative + positive).normalized();
+    }
+    e = next;
   }
   return false;
+}
+
+// True if e is an admissible root to round-off: Newton's first test, without its step.
+bool is_slip_root(const SlipEquations& slip, const Eigen::Vector2d& e) {
+  const SlipEquations::Point point = slip.at(e);
+  return point.along < 0 && std::abs(point.f) <= 4 * kEpsilon * point.v.norm() && SlipEquations::admissible(point);
 }
 
 // Root of f in the arc [e_a, e_a rotated by width] (f changes sign over it), by Newton safeguarded with
@@ -343,8 +388,26 @@ double cone_ratio(const Eigen::Vector3d& r, const Eigen::Vector2d& mu) {
 
 }  // namespace
 
-ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
-                             const Eigen::Vector2d& mu, Eigen::Vector3d& r) {
+namespace {
+
+// True if r' (scaled coordinates) slips by the unit-μ law to round-off: r'_n > 0, |r'_t| = r'_n,
+// u'_n = 0 and u'_t opposite to r'_t, each within 16 ε of the scale of its terms (Newton's roots pass
+// it with a margin: they stop at 4 ε in the angle).
+bool slips_to_round_off(const Eigen::Matrix3d& W_scaled, const Eigen::Vector3d& q_scaled, const Eigen::Vector3d& r) {
+  constexpr double kRoundOff = 16 * kEpsilon;
+  if (!(r(0) > 0)) return false;
+  const double tangential = r.tail<2>().norm();
+  if (!(std::abs(tangential - r(0)) <= kRoundOff * r(0))) return false;
+  const Eigen::Vector3d u = W_scaled * r + q_scaled;
+  const Eigen::Vector3d u_scale = W_scaled.cwiseAbs() * r.cwiseAbs() + q_scaled.cwiseAbs();
+  if (!(std::abs(u(0)) <= kRoundOff * u_scale(0))) return false;
+  const double along = r(1) * u(1) + r(2) * u(2);
+  const double across = r(1) * u(2) - r(2) * u(1);
+  return along <= 0 && std::abs(across) <= kRoundOff * tangential * u_scale.tail<2>().norm();
+}
+
+ContactStatus solve_local_3d_from(const Eigen::Matrix3d& W, const Eigen::Vector3d& q, const Eigen::Vector2d& mu,
+                                  Eigen::Vector3d& r, const Eigen::Vector3d* start) {
   if (!W.allFinite() || !q.allFinite() || mu.hasNaN()) {
     r.setConstant(kNaN);
     return ContactStatus::open;
@@ -408,8 +471,30 @@ ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
 
   // Second guess, when the first fails: the direction of the (rejected) stick impulse, good when
   // the coupling W_nt turns the sliding direction a lot.
+  // The first guess when it is the root already (decoupled contacts: a point mass on a plane). Else a
+  // start that already slips by the law to round-off is the answer as it is: so a Gauss–Seidel
+  // contact whose impulse is its local solution keeps it to the bit, sweep after sweep, as it would
+  // with a solve that ignores the start (the settled contacts of pgs_local.h rely on it). Otherwise
+  // Newton from the start's slip direction (in a converging Gauss–Seidel, the previous sweep's: one or
+  // two steps from the root), then from the first guess.
   Eigen::Vector2d e = guess;
-  bool found = newton_slip(slip, e);
+  bool found = is_slip_root(slip, e);
+  if (!found && start != nullptr) {
+    if (slips_to_round_off(W_scaled, q_scaled, start->cwiseQuotient(scale))) {
+      r = *start;
+      return ContactStatus::slip;
+    }
+    if ((*start)(0) > 0) {
+      e = Eigen::Vector2d((*start)(1) / mu(0), (*start)(2) / mu(1));
+      const double norm = e.norm();
+      if (norm > 0 && std::isfinite(norm)) {
+        e /= norm;
+        found = newton_slip(slip, e);
+      }
+      if (!found) e = guess;
+    }
+  }
+  if (!found) found = newton_slip(slip, e);
   if (!found && stick_computable) {
     e = Eigen::Vector2d(r_stick(1) / mu(0), r_stick(2) / mu(1));
     if (e.norm() > 0) {
@@ -438,6 +523,18 @@ ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
   }
   r = best.r;
   return status_of(r(0), cone_ratio(r, mu));
+}
+
+}  // namespace
+
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r) {
+  return solve_local_3d_from(W, q, mu, r, nullptr);
+}
+
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r, const Eigen::Vector3d& start) {
+  return solve_local_3d_from(W, q, mu, r, &start);
 }
 
 }  // namespace csim

@@ -8,7 +8,8 @@
 //   slip  : u_n = 0 and r_t = r_n·M s on the boundary of D, M = diag(μ1, μ2), |s| = 1, with s
 //           opposite to M u_t (maximal dissipation). In 2D, s = ±1 in closed form; in 3D, s = (cos φ,
 //           sin φ) is found as the root in φ of s × (M u_t(φ)) = 0 with s·(M u_t) < 0 (Newton from the
-//           decoupled guess, bracketed bisection as fallback). When W_nt = 0 and W_tt ∝ I (point masses)
+//           decoupled guess, safeguarded by bisection once two iterates bracket a root; a scan of the
+//           circle as fallback). When W_nt = 0 and W_tt ∝ I (point masses)
 //           the first guess is exact.
 // μ = 0 (or μ_i = 0) reduces to the frictionless (or unidirectional) law exactly.
 #pragma once
@@ -39,5 +40,11 @@ ContactStatus solve_local_2d(const Eigen::Matrix2d& W, const Eigen::Vector2d& q,
                              Eigen::Vector2d& r);
 ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
                              const Eigen::Vector2d& mu, Eigen::Vector3d& r);
+// The same, with `start` an impulse believed near the solution (N·s, the contact's impulse before this
+// solve, as a Gauss–Seidel sweep has it): when start slips (r_n > 0, r_t ≠ 0) the slip root is searched
+// by Newton from its direction first, then as above. Where the law has one solution the result is
+// the same up to round-off; where it has several, the root nearest the start is favoured.
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r, const Eigen::Vector3d& start);
 
 }  // namespace csim

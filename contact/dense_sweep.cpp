@@ -64,7 +64,7 @@ void add_contact_sums(const FrictionContactProblem& problem, const Eigen::Matrix
     sums.product += product_squared<D>(problem, first, b_c, W_cc, r_c);
     if (c >= settled_from) continue;
     Vector<D> r_local;
-    solve_local<D>(W_cc, b_c, problem.mu[c], r_local);
+    solve_local<D>(W_cc, b_c, problem.mu[c], r_local, r_c);
     if (!r_local.allFinite()) {
       sums.law = std::numeric_limits<double>::infinity();
       return;

@@ -9,10 +9,15 @@
 //   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget)   true if r was replaced;
 //   void observe(const SweepResult& swept, double scale)      sees each sweep's increment (scale: m/s);
 //   bool stalled() const                                      false skips a scheduled polish;
+//   bool retries_skipped_polish() const                       true: a skipped polish is tried again
+//                                                             kFirstPolish sweeps later (until the next
+//                                                             scheduled one);
 //   bool at_floor() const                                     true ends the solve after a residual test
 //                                                             above tolerance (its residual cannot fall).
-// The dense path polishes on every schedule (stalled() is true); the sparse path skips while the sweeps
-// converge at a steady rate (sparse_pgs.h).
+// The sparse path skips while the sweeps converge at a steady rate (sparse_pgs.h) and waits for the next
+// schedule; the dense path skips only while that rate reaches the tolerance within ten sweeps
+// (pgs_solver.cpp), and tries again kFirstPolish sweeps later; the condensed path polishes on every
+// schedule.
 #pragma once
 
 #include "contact/pgs_local.h"
@@ -20,6 +25,7 @@
 #include "contact/polish_budget.h"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace csim::pgs_local {
@@ -31,6 +37,39 @@ constexpr int kPolishInterval = 200;
 // Delassus). A dense sweep costs 2 m² flops for m rows and an LU of the polish 2 m³/3, so the polish's
 // budget (PgsParameters) lets it factor a few hundred rows at sweep 20 and more at later attempts.
 constexpr int kFirstPolish = 20;
+
+// The contraction per sweep of the relative increments ‖Δr‖ / scale, from the last kWindow + 1 sweeps:
+// (increment_k / increment_{k−kWindow})^(1/kWindow); infinite until kWindow + 1 sweeps are known or
+// when an increment is zero (a sweep that moved nothing is followed by the full residual's test).
+// A sweep stores its sums as they are (‖Δr‖², (m/s)², and the scale, m/s): the square roots and
+// quotients are taken only when the contraction is asked for, at a scheduled polish.
+class ContractionWindow {
+ public:
+  static constexpr int kWindow = 10;
+  void add(double increment_squared, double scale) {
+    increments_squared_[slot_] = increment_squared;
+    scales_[slot_] = scale;
+    slot_ = slot_ == kWindow ? 0 : slot_ + 1;
+    if (count_ <= kWindow) ++count_;
+  }
+  // The newest relative increment, and the one kWindow sweeps before it (0 until known).
+  double newest() const { return count_ > 0 ? relative(slot_ == 0 ? kWindow : slot_ - 1) : 0.0; }
+  double oldest() const { return count_ > kWindow ? relative(slot_) : 0.0; }
+  double contraction() const {
+    const double newest_increment = newest(), oldest_increment = oldest();
+    if (!(oldest_increment > 0.0) || !(newest_increment > 0.0)) return std::numeric_limits<double>::infinity();
+    return std::pow(newest_increment / oldest_increment, 1.0 / kWindow);
+  }
+
+ private:
+  double relative(int slot) const { return std::sqrt(increments_squared_[slot]) / scales_[slot]; }
+  // Read only where written (count_ says how many are): left uninitialized, so that a solve of a few
+  // sweeps does not pay for clearing them. slot_ is the next to write, which once the window is full
+  // holds the oldest.
+  double increments_squared_[kWindow + 1];
+  double scales_[kWindow + 1];
+  int slot_ = 0, count_ = 0;
+};
 
 template <int D, class Path>
 PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters& parameters, Path& path,
@@ -51,6 +90,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
 
   const double norm_b = problem.b.norm();
   bool residual_is_current = false;
+  int retry_at = -1;  // the sweep at which a skipped polish is tried again
   for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
     const SweepResult swept = path.sweep(r, statistics.rejected_local_solutions);
     statistics.iterations = iteration;
@@ -59,7 +99,10 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
     const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
     path.observe(swept, scale);
     // A stalled iteration: try the polish every kPolishInterval sweeps.
-    if (parameters.polish && (iteration % kPolishInterval == 0 || iteration == kFirstPolish) && path.stalled()) {
+    const bool polish_due = iteration % kPolishInterval == 0 || iteration == kFirstPolish || iteration == retry_at;
+    if (parameters.polish && polish_due && !path.stalled()) {
+      if (path.retries_skipped_polish()) retry_at = iteration + kFirstPolish;
+    } else if (parameters.polish && polish_due) {
       statistics.residual = path.residual(r, swept.settled_from);
       residual_is_current = true;
       polish_now();

@@ -21,12 +21,14 @@ using Matrix = Eigen::Matrix<double, D, D>;
 // boundary to the same precision is at the stick/slip threshold, where both descriptions hold.
 constexpr double kBoundaryTolerance = 1e-9;
 
+// `start`: the contact's impulse before this solve (a 3D slip is searched from its direction first).
 template <int D>
-ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::Vector2d& mu, Vector<D>& r) {
+ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::Vector2d& mu, Vector<D>& r,
+                          const Vector<D>& start) {
   if constexpr (D == 2) {
     return solve_local_2d(W, q, mu(0), r);
   } else {
-    return solve_local_3d(W, q, mu, r);
+    return solve_local_3d(W, q, mu, r, start);
   }
 }
 
@@ -82,9 +84,9 @@ template <int D>
 void update_contact(int c, const Matrix<D>& W_cc, const Vector<D>& frozen, const Vector<D>& b_c,
                     const Eigen::Vector2d& mu, double omega, double* r_c, SweepResult& result, int& rejected) {
   Eigen::Map<Vector<D>> r_contact(r_c);
-  Vector<D> r_local;
-  solve_local<D>(W_cc, frozen, mu, r_local);
   const Vector<D> r_old = r_contact;
+  Vector<D> r_local;
+  solve_local<D>(W_cc, frozen, mu, r_local, r_old);
   if (!r_local.allFinite()) {
     ++rejected;
     result.settled_from = c + 1;

@@ -19,13 +19,22 @@ namespace csim {
 namespace dense_pgs {
 namespace {
 
+// A scheduled polish of the dense path is skipped when the sweeps, at the rate of the last ten, reach
+// the tolerance within ten more sweeps, and tried again kFirstPolish sweeps later (pgs_iteration.h).
+// On a few contacts a sweep costs a few local solves and a polish several factorizations and their
+// local solves: Siconos' NESpheres_10_1 polished at sweep 20 for 65k instructions, about as many as
+// its twenty sweeps. A slower rate than this predicts (a stack that settles its statuses late) costs
+// at most kFirstPolish sweeps before the polish is tried again. With the window's ten sweeps, "the
+// tolerance within ten sweeps at the rate newest/oldest per ten" is tolerance/newest ≥ newest/oldest:
+// no pow or log (whose first call in a process costs more than a small solve: the dynamic linker).
 // The dense path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's rows, the
-// polish of dense_polish.cpp on every schedule.
+// polish of dense_polish.cpp on every schedule unless the sweeps are about to finish (above).
 template <int D>
 struct DensePath {
   const FrictionContactProblem& problem;
   const Eigen::MatrixXd& W_rows;
   const PgsParameters& parameters;
+  pgs_local::ContractionWindow window{};
 
   double sweep_flops() const { return 2.0 * static_cast<double>(W_rows.size()); }
   SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
@@ -37,8 +46,13 @@ struct DensePath {
   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
     return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
   }
-  void observe(const SweepResult&, double) const {}
-  bool stalled() const { return true; }
+  void observe(const SweepResult& swept, double scale) { window.add(swept.increment_squared, scale); }
+  bool stalled() const {
+    const double newest = window.newest(), oldest = window.oldest();
+    if (!(newest > 0.0) || !(newest < oldest)) return true;
+    return !(parameters.tolerance * oldest >= newest * newest);
+  }
+  bool retries_skipped_polish() const { return true; }
   bool at_floor() const { return false; }
 };
 
@@ -86,6 +100,7 @@ struct CondensedPath {
   }
   void observe(const SweepResult&, double) const {}
   bool stalled() const { return true; }
+  bool retries_skipped_polish() const { return false; }
 };
 
 }  // namespace

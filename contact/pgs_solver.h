@@ -34,7 +34,10 @@
 //   impulse is kept) and counted.
 // Polish: after 20 sweeps without convergence, then every 200, and at the end (unless the last polish
 // came after the last sweep: never two polishes without a sweep between), the iterate is
-// finished by direct methods, each result kept only when its full residual is smaller:
+// finished by direct methods, each result kept only when its full residual is smaller. On the dense
+// path a scheduled polish is skipped while the sweeps, at the rate of their last ten increments,
+// would reach the tolerance within 10 more sweeps, and tried again 20 sweeps later (pgs_solver.cpp);
+// the sparse path's rule is its own (sparse_pgs.h). The polish:
 //   1. an active-set iteration: the statuses of the iterate (open, stick, slip with its current
 //      direction) turn the law into a square linear system solved directly (partial-pivot LU with a
 //      step of refinement; where the system is singular, as a hyperstatic contact set's stick rows

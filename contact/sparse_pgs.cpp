@@ -136,7 +136,7 @@ double relative_residual(const FrictionContactProblem& problem, const BlockRows<
     product += product_squared<D>(problem, c, b_c, W_cc, r_c);
     if (c >= settled_from) continue;
     Vector<D> r_local;
-    solve_local<D>(W_cc, b_c, problem.mu[c], r_local);
+    solve_local<D>(W_cc, b_c, problem.mu[c], r_local, r_c);
     if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
     law += (W_cc * (r_c - r_local)).squaredNorm();
   }
@@ -236,28 +236,6 @@ bool polish(const FrictionContactProblem& problem, const BlockRows<D>& W, Eigen:
 // by 0.999 or more and is polished on schedule; so is any solve that ends unconverged.
 constexpr double kStalled = 0.99;
 
-// The contraction per sweep of the relative increments ‖Δr‖, from the last kWindow + 1 sweeps:
-// (increment_k / increment_{k−kWindow})^(1/kWindow); infinite until kWindow + 1 sweeps are known or
-// when an increment is zero (a sweep that moved nothing is followed by the full residual's test).
-class ContractionWindow {
- public:
-  void add(double increment) {
-    increments_[next_ % (kWindow + 1)] = increment;
-    ++next_;
-  }
-  double contraction() const {
-    if (next_ < kWindow + 1) return std::numeric_limits<double>::infinity();
-    const double newest = increments_[(next_ - 1) % (kWindow + 1)], oldest = increments_[next_ % (kWindow + 1)];
-    if (!(oldest > 0.0) || !(newest > 0.0)) return std::numeric_limits<double>::infinity();
-    return std::pow(newest / oldest, 1.0 / kWindow);
-  }
-
- private:
-  static constexpr int kWindow = 10;
-  double increments_[kWindow + 1] = {};
-  long next_ = 0;
-};
-
 // The sparse path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's block rows,
 // the polish above, skipped on schedule while the sweeps converge at a steady rate.
 template <int D>
@@ -265,7 +243,7 @@ struct SparsePath {
   const FrictionContactProblem& problem;
   const BlockRows<D>& W;
   const PgsParameters& parameters;
-  ContractionWindow window;
+  pgs_local::ContractionWindow window;
 
   double sweep_flops() const { return 2.0 * static_cast<double>(W.W.nonZeros()); }
   SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
@@ -277,8 +255,9 @@ struct SparsePath {
   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
     return csim::polish<D>(problem, W, r, residual, parameters.tolerance, budget);
   }
-  void observe(const SweepResult& swept, double scale) { window.add(std::sqrt(swept.increment_squared) / scale); }
+  void observe(const SweepResult& swept, double scale) { window.add(swept.increment_squared, scale); }
   bool stalled() const { return !(window.contraction() < kStalled); }
+  bool retries_skipped_polish() const { return false; }
   bool at_floor() const { return false; }
 };
 

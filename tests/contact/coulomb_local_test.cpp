@@ -289,6 +289,52 @@ TEST(CoulombLocal3d, RandomSpdDelassusSatisfiesTheLaw) {
   EXPECT_GT(slips, 50);
 }
 
+// The solve from a start (a Gauss–Seidel contact's previous impulse): the same law whatever the start,
+// on Delassus blocks with a strong normal–tangential coupling (W_nt up to 0.9 √(W_nn W_tt), where
+// Newton from the first guess alone can cycle between two directions), and a start that is the
+// solution comes back unchanged to the bit (what a settled contact of pgs_local.h relies on).
+TEST(CoulombLocal3d, SolveFromAStartSatisfiesTheLawAndKeepsASolution) {
+  std::mt19937 generator(20261207);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  std::uniform_real_distribution<double> friction(0.05, 1.5);
+  int slips = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    // W = L Lᵀ with a dominant first column of L's tangential rows: a strongly coupled block.
+    Eigen::Matrix3d L = Eigen::Matrix3d::Zero();
+    L(0, 0) = 0.2 + std::abs(entry(generator));
+    L(1, 0) = 2.0 * entry(generator);
+    L(2, 0) = 2.0 * entry(generator);
+    L(1, 1) = 0.1 + std::abs(entry(generator));
+    L(2, 1) = entry(generator);
+    L(2, 2) = 0.1 + std::abs(entry(generator));
+    const Eigen::Matrix3d W = L * L.transpose();
+    const Eigen::Vector3d q(-std::abs(entry(generator)) - 0.1, 2 * entry(generator), 2 * entry(generator));
+    // Even trials isotropic, odd ones orthotropic.
+    const double mu1 = friction(generator);
+    const Eigen::Vector2d mu_used = trial % 2 == 0 ? Eigen::Vector2d(mu1, mu1) : Eigen::Vector2d(mu1, friction(generator));
+    Eigen::Vector3d reference;
+    solve_local_3d(W, q, mu_used, reference);
+    ASSERT_TRUE(satisfies_law_3d(W, q, mu_used, reference, 1e-11)) << "trial " << trial;
+    // Starts: near the solution, at a quarter turn of it, and the reversed impulse.
+    const double c = std::cos(1.5), s = std::sin(1.5);
+    const Eigen::Vector3d turned(reference(0), c * reference(1) - s * reference(2), s * reference(1) + c * reference(2));
+    for (const Eigen::Vector3d& start :
+         {Eigen::Vector3d(reference * (1.0 + 1e-3)), turned, Eigen::Vector3d(reference(0), -reference(1), -reference(2))}) {
+      Eigen::Vector3d r;
+      solve_local_3d(W, q, mu_used, r, start);
+      ASSERT_TRUE(satisfies_law_3d(W, q, mu_used, r, 1e-11)) << "trial " << trial << ", start " << start.transpose();
+      // Every problem of this sample has one solution (so the start cannot pick another branch):
+      // the solves agree to round-off.
+      EXPECT_LE((r - reference).norm(), 1e-10 * reference.norm()) << "trial " << trial;
+    }
+    Eigen::Vector3d again;
+    const ContactStatus status = solve_local_3d(W, q, mu_used, again, reference);
+    EXPECT_EQ(again, reference) << "trial " << trial;
+    slips += status == ContactStatus::slip;
+  }
+  EXPECT_GT(slips, 100);  // the sample exercises the slip search
+}
+
 TEST(CoulombLocal3d, AnisotropicFrictionSatisfiesTheLaw) {
   const Eigen::Vector2d mu(0.3, 0.1);
   Eigen::Matrix3d W;
