@@ -35,10 +35,25 @@ class MarginCollisionObject : public fcl::CollisionObjectd {
   }
 };
 
-// Half size (m) of the world AABB of a sphere or box at `pose`.
+// Half size (m) of the world AABB of a shape other than a halfspace at `pose`.
 Eigen::Vector3d world_half_size(const Shape& shape, const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3d& R = pose.linear();
   if (const auto* box = std::get_if<Box>(&shape)) {
-    return pose.linear().cwiseAbs() * box->half_extents;
+    return R.cwiseAbs() * box->half_extents;
+  }
+  if (const auto* capsule = std::get_if<Capsule>(&shape)) {  // the segment's box, widened by the radius
+    return (capsule->half_length * R.col(2).cwiseAbs()).array() + capsule->radius;
+  }
+  if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+    // A disk of radius r across axis a reaches r·√(1 − a_i²) along axis i.
+    const Eigen::Vector3d a = R.col(2);
+    const Eigen::Vector3d disk = (Eigen::Vector3d::Ones() - a.cwiseProduct(a)).cwiseMax(0.0).cwiseSqrt();
+    return cylinder->half_length * a.cwiseAbs() + cylinder->radius * disk;
+  }
+  if (const auto* convex = std::get_if<Convex>(&shape)) {  // about the shape's origin, the pose's translation
+    Eigen::Vector3d half = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& v : convex->vertices) half = half.cwiseMax((R * v).cwiseAbs());
+    return half;
   }
   return Eigen::Vector3d::Constant(std::get<Sphere>(shape).radius);
 }
@@ -48,11 +63,20 @@ int id_of(const fcl::CollisionObjectd* object) {
   return static_cast<int>(reinterpret_cast<std::intptr_t>(object->getUserData()));
 }
 
-void check_shape(const Shape& shape, bool fixed) {
+void check_shape(const Shape& shape, bool fixed, bool planar) {
   if (const auto* sphere = std::get_if<Sphere>(&shape)) {
     if (!(sphere->radius > 0.0)) throw std::invalid_argument("Sphere radius must be > 0");
   } else if (const auto* box = std::get_if<Box>(&shape)) {
     if (!(box->half_extents.minCoeff() > 0.0)) throw std::invalid_argument("Box half extents must be > 0");
+  } else if (const auto* capsule = std::get_if<Capsule>(&shape)) {
+    if (!(capsule->radius > 0.0 && capsule->half_length >= 0.0))
+      throw std::invalid_argument("Capsule radius must be > 0 and half length >= 0");
+  } else if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+    if (!(cylinder->radius > 0.0 && cylinder->half_length > 0.0))
+      throw std::invalid_argument("Cylinder radius and half length must be > 0");
+  } else if (const auto* convex = std::get_if<Convex>(&shape)) {
+    if (convex->vertices.size() < 4 || convex->faces.size() < 4)
+      throw std::invalid_argument("Convex needs a hull of at least 4 vertices and 4 faces (make_convex)");
   } else {
     if (!(std::get<Halfspace>(shape).normal.norm() > 0.0)) {
       throw std::invalid_argument("Halfspace normal must be non-zero");
@@ -60,6 +84,9 @@ void check_shape(const Shape& shape, bool fixed) {
     // Halfspace pairs are only formed with non-fixed objects (see collision_world.h).
     if (!fixed) throw std::invalid_argument("a Halfspace must be on a fixed body");
   }
+  if (planar && (std::holds_alternative<Capsule>(shape) || std::holds_alternative<Cylinder>(shape) ||
+                 std::holds_alternative<Convex>(shape)))
+    throw std::invalid_argument("capsules, cylinders and convex hulls are 3D shapes: not in a plane scene");
 }
 
 // Unit normal, offset scaled alike: the same solid, and the narrow phase may assume |n| = 1.
@@ -217,7 +244,7 @@ CollisionWorld::CollisionWorld(bool planar) : impl_(std::make_unique<Impl>(plana
 CollisionWorld::~CollisionWorld() = default;
 
 int CollisionWorld::add_object(int body, const Shape& shape, bool fixed) {
-  check_shape(shape, fixed);
+  check_shape(shape, fixed, impl_->planar);
   const int id = object_count();
   Impl::Object& object = impl_->objects.emplace_back();
   object.instance.id = id;

@@ -2,7 +2,7 @@
 // by a public header, because it exposes FCL types).
 //
 // One function per shape pair, MuJoCo-style, in a table indexed by the Shape variant index
-// (Sphere < Box < Halfspace). Each function is written for its canonical order; a pair met in the
+// (Sphere < Box < Capsule < Cylinder < Convex < Halfspace). The pair functions share pair_query.h. Each function is written for its canonical order; a pair met in the
 // other order is computed swapped and then flipped (points exchanged, normal negated).
 //
 // Who computes what (lengths in m):
@@ -12,10 +12,15 @@
 //   box–box           FCL: fcl::collide (ODE's SAT box–box) when penetrating, keeping the deepest of
 //                     its points; fcl::distance (GJK, libccd) when separated. One point only: a
 //                     full box–box manifold is not generated.
+//   the other pairs of sphere, box, capsule, cylinder and convex hull
+//                     FCL: GJK distance when separated, its penetration query when overlapping, and
+//                     a measurement at a small separation when touching (gjk_pairs.h). One point.
 //   sphere–halfspace  closed form: FCL has no distance to a halfspace (nothing for separated pairs),
 //                     and one formula on both sides of contact keeps the gap continuous through 0.
 //   box–halfspace     closed form, a manifold: one point per box vertex whose gap ≤ margin (FCL's
 //                     box–halfspace gives a single penetrating point and nothing when separated).
+//   capsule–, cylinder–, convex–halfspace  closed forms, manifolds (halfspace_pairs.h), for the
+//                     reason of box–halfspace.
 //   halfspace–halfspace  none.
 //
 // Box vertices (feature index of box–halfspace contacts), in the box frame with half extents h:
@@ -49,7 +54,7 @@ struct CollisionShape {
   std::shared_ptr<fcl::CollisionGeometryd> geometry;
 };
 
-// The FCL geometry for a sphere or a box (null for a halfspace).
+// The FCL geometry of a shape (null for a halfspace).
 std::shared_ptr<fcl::CollisionGeometryd> make_fcl_geometry(const Shape& shape);
 
 // Corner `vertex` of a box in its own frame (numbering above).
