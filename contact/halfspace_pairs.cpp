@@ -53,7 +53,7 @@ void cylinder_halfspace(const CollisionShape& first, const CollisionShape& secon
   const double reach = cylinder.half_length * std::abs(plane.normal.dot(axis)) + cylinder.radius * sin_tilt;
   if (plane.normal.dot(c) - plane.offset - reach > query.margin) return;
 
-  for (int rim = 0; rim < 2; ++rim) {
+  for (int rim = 0; rim < 2 && std::abs(plane.normal.dot(axis)) >= kFaceDown; ++rim) {
     for (int j = 0; j < kRimPoints; ++j) {
       const Eigen::Vector3d arm = R * cylinder_rim_point(cylinder, rim, j);
       add_plane_contact(arm + c, plane, query.margin, kRimPoints * rim + j, &arm, out);
