@@ -50,9 +50,13 @@ Eigen::Vector3d world_half_size(const Shape& shape, const Eigen::Isometry3d& pos
     const Eigen::Vector3d disk = (Eigen::Vector3d::Ones() - a.cwiseProduct(a)).cwiseMax(0.0).cwiseSqrt();
     return cylinder->half_length * a.cwiseAbs() + cylinder->radius * disk;
   }
-  if (const auto* convex = std::get_if<Convex>(&shape)) {  // about the shape's origin, the pose's translation
+  // A hull or a mesh: about the shape's origin, the pose's translation.
+  const std::vector<Eigen::Vector3d>* vertices = nullptr;
+  if (const auto* convex = std::get_if<Convex>(&shape)) vertices = &convex->vertices;
+  if (const auto* mesh = std::get_if<TriangleMesh>(&shape)) vertices = &mesh->vertices;
+  if (vertices) {
     Eigen::Vector3d half = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& v : convex->vertices) half = half.cwiseMax((R * v).cwiseAbs());
+    for (const Eigen::Vector3d& v : *vertices) half = half.cwiseMax((R * v).cwiseAbs());
     return half;
   }
   return Eigen::Vector3d::Constant(std::get<Sphere>(shape).radius);
@@ -77,6 +81,13 @@ void check_shape(const Shape& shape, bool fixed, bool planar) {
   } else if (const auto* convex = std::get_if<Convex>(&shape)) {
     if (convex->vertices.size() < 4 || convex->faces.size() < 4)
       throw std::invalid_argument("Convex needs a hull of at least 4 vertices and 4 faces (make_convex)");
+  } else if (const auto* mesh = std::get_if<TriangleMesh>(&shape)) {
+    if (mesh->triangles.empty()) throw std::invalid_argument("a TriangleMesh needs at least one triangle");
+    for (const auto& t : mesh->triangles)
+      for (int v : t)
+        if (v < 0 || v >= static_cast<int>(mesh->vertices.size()))
+          throw std::invalid_argument("a TriangleMesh's triangle names a vertex it does not have");
+    if (!fixed) throw std::invalid_argument("a TriangleMesh must be on a fixed body (mesh–mesh contact is not computed)");
   } else {
     if (!(std::get<Halfspace>(shape).normal.norm() > 0.0)) {
       throw std::invalid_argument("Halfspace normal must be non-zero");
@@ -85,8 +96,8 @@ void check_shape(const Shape& shape, bool fixed, bool planar) {
     if (!fixed) throw std::invalid_argument("a Halfspace must be on a fixed body");
   }
   if (planar && (std::holds_alternative<Capsule>(shape) || std::holds_alternative<Cylinder>(shape) ||
-                 std::holds_alternative<Convex>(shape)))
-    throw std::invalid_argument("capsules, cylinders and convex hulls are 3D shapes: not in a plane scene");
+                 std::holds_alternative<Convex>(shape) || std::holds_alternative<TriangleMesh>(shape)))
+    throw std::invalid_argument("capsules, cylinders, convex hulls and triangle meshes are 3D shapes: not in a plane scene");
 }
 
 // Unit normal, offset scaled alike: the same solid, and the narrow phase may assume |n| = 1.

@@ -72,7 +72,7 @@ Projection project(const Eigen::Vector3d& x, const Eigen::Vector3d& surface_norm
   const auto* box_shape = std::get_if<Box>(&shape);
   if (!box_shape)
     throw std::invalid_argument("node-to-surface contact takes spheres, boxes and halfspaces, not a capsule, "
-                                "cylinder or convex hull");
+                                "cylinder, convex hull or mesh");
   const Box& box = *box_shape;
   Eigen::Vector3d local = pose.inverse() * x;
   Eigen::Vector3d h = box.half_extents;
@@ -282,8 +282,8 @@ void shape_face_contacts(const std::vector<Eigen::Vector3d>& positions, const De
   } else if (std::holds_alternative<Halfspace>(shape)) {
     return;  // a halfspace has no point features
   } else {
-    throw std::invalid_argument("face contact takes spheres, boxes and halfspaces, not a capsule, cylinder or "
-                                "convex hull");
+    throw std::invalid_argument("face contact takes spheres, boxes and halfspaces, not a capsule, cylinder, "
+                                "convex hull or mesh");
   }
   for (int k = feature_count - 1; k >= 0; --k) {  // features −1 − k ascending, as keys are sorted
     Eigen::Vector3d x = features[k];

@@ -59,48 +59,53 @@ void gjk_pair(const CollisionShape& first, const CollisionShape& second, PairQue
     return;
   }
 
-  // Touching or overlapping: choose the translation u·s that leaves a gap of about kProbeGap.
-  Eigen::Vector3d u;
-  double s = kProbeGap;
-  if (gap >= 0.0) {
-    u = separating_guess(first, second, witness[1] - witness[0]);
-  } else {
+  // Touching or overlapping: directions u to translate along, by s, to a gap of about kProbeGap.
+  Eigen::Vector3d guesses[3];
+  double starts[3] = {kProbeGap, kProbeGap, kProbeGap};
+  int guess_count = 0;
+  if (gap < 0.0) {
     auto& collision = query.fcl.collision_result;
     collision.clear();
     fcl::collide(first.geometry.get(), first.pose, second.geometry.get(), second.pose,
                  query.fcl.collision_request, collision);
     if (collision.numContacts() > 0 && collision.getContact(0).normal.norm() > 0.0) {
-      u = collision.getContact(0).normal.normalized();  // FCL's normal points from first to second
-      s += std::max(collision.getContact(0).penetration_depth, 0.0);
-    } else {
-      u = separating_guess(first, second, Eigen::Vector3d::Zero());
+      guesses[guess_count] = collision.getContact(0).normal.normalized();  // from first to second
+      starts[guess_count++] += std::max(collision.getContact(0).penetration_depth, 0.0);
     }
   }
-  // The first separation measures the normal n; a second one along n makes u = n to GJK's precision,
-  // where the first guess may be far off (coincident witness points, MPR's normal on curved shapes).
-  bool refined = false;
-  for (int pull = 0; pull < kMaxPulls; ++pull) {
-    Eigen::Isometry3d moved = second.pose;
-    moved.translation() += s * u;
-    const double measured = gjk_distance(first, second, moved, query);
-    if (measured <= 0.0) {  // still overlapping along u: go further
-      s *= 2.0;
-      continue;
+  // MPR's normal of two touching faces may lie in their plane, and so may the witness direction of
+  // two faces a round-off apart, where no translation separates them: then the line of centres.
+  if (gap >= 0.0 && (witness[1] - witness[0]).norm() > 0.0) guesses[guess_count++] = (witness[1] - witness[0]).normalized();
+  guesses[guess_count++] = separating_guess(first, second, Eigen::Vector3d::Zero());
+  for (int g = 0; g < guess_count; ++g) {
+    Eigen::Vector3d u = guesses[g];
+    double s = starts[g];
+    // The first separation measures the normal n; a second one along n makes u = n to GJK's precision,
+    // where the guess may be far off (coincident witness points, MPR's normal on curved shapes).
+    bool refined = false;
+    for (int pull = 0; pull < kMaxPulls; ++pull) {
+      Eigen::Isometry3d moved = second.pose;
+      moved.translation() += s * u;
+      const double measured = gjk_distance(first, second, moved, query);
+      if (measured <= 0.0) {  // still overlapping along u: go further
+        s *= 2.0;
+        continue;
+      }
+      const Eigen::Vector3d n = (witness[1] - witness[0]).normalized();
+      const double contact_gap = measured - s * u.dot(n);
+      if (!refined) {
+        refined = true;
+        u = n;
+        s = kProbeGap + std::max(-contact_gap, 0.0);
+        continue;
+      }
+      if (contact_gap > query.margin) return;
+      const Eigen::Vector3d on_second = witness[1] - s * u;
+      add_contact(on_second - contact_gap * n, on_second, n, contact_gap, 0, out);
+      return;
     }
-    const Eigen::Vector3d n = (witness[1] - witness[0]).normalized();
-    const double contact_gap = measured - s * u.dot(n);
-    if (!refined) {
-      refined = true;
-      u = n;
-      s = kProbeGap + std::max(-contact_gap, 0.0);
-      continue;
-    }
-    if (contact_gap > query.margin) return;
-    const Eigen::Vector3d on_second = witness[1] - s * u;
-    add_contact(on_second - contact_gap * n, on_second, n, contact_gap, 0, out);
-    return;
   }
-  // Not reached for convex shapes of positive size: a translation past the sum of their sizes separates them.
+  // Not reached for convex shapes of positive size and a guess with a component along the normal.
 }
 
 }  // namespace csim

@@ -14,8 +14,10 @@
 // about kProbeGap, where GJK's distance d′ and normal n are good, and translated back: the gap is
 // d′ − s (u·n) and the second shape's point moves back by −s u. Exact for flat faces and for u = n;
 // otherwise the closest points slide by O(s·|u − n|²). Hence two separations: the first along a
-// guess (the witness direction; when overlapping, MPR's normal, its depth added to s; lacking both,
-// the line of centres), the second along the n the first measured. One point per pair (feature 0).
+// guess, the second along the n the first measured. The guesses, each until one separates the shapes
+// within kMaxPulls doublings of s: when overlapping, MPR's normal (its depth added to s); when
+// touching, the witness direction; then the line of centres (two faces in contact may give an MPR
+// normal or a witness direction of round-off in their plane). One point per pair (feature 0).
 #pragma once
 
 #include "contact/pair_query.h"

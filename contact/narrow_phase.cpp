@@ -2,13 +2,16 @@
 
 #include "contact/gjk_pairs.h"
 #include "contact/halfspace_pairs.h"
+#include "contact/mesh_pairs.h"
 #include "contact/pair_query.h"
 
+#include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
 #include <fcl/geometry/shape/capsule.h>
 #include <fcl/geometry/shape/convex.h>
 #include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/sphere.h>
+#include <fcl/math/bv/OBBRSS.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
@@ -26,7 +29,8 @@ static_assert(std::is_same_v<std::variant_alternative_t<0, Shape>, Sphere> &&
                   std::is_same_v<std::variant_alternative_t<2, Shape>, Capsule> &&
                   std::is_same_v<std::variant_alternative_t<3, Shape>, Cylinder> &&
                   std::is_same_v<std::variant_alternative_t<4, Shape>, Convex> &&
-                  std::is_same_v<std::variant_alternative_t<5, Shape>, Halfspace>,
+                  std::is_same_v<std::variant_alternative_t<5, Shape>, TriangleMesh> &&
+                  std::is_same_v<std::variant_alternative_t<6, Shape>, Halfspace>,
               "the pair table below is indexed by Shape's alternative order");
 
 // Below this separation (m) GJK's witness points (each good to ~1e-16 m) no longer give the normal to
@@ -176,21 +180,24 @@ void box_halfspace(const CollisionShape& first, const CollisionShape& second, Pa
   }
 }
 
-// [planar][first type][second type], first type ≤ second type. Capsules, cylinders and hulls are 3D
-// only (CollisionWorld refuses them in a plane scene).
-constexpr PairFunction kPairTable[2][6][6] = {
-    {{sphere_sphere, sphere_box, gjk_pair, gjk_pair, gjk_pair, sphere_halfspace},
-     {nullptr, box_box, gjk_pair, gjk_pair, gjk_pair, box_halfspace<false>},
-     {nullptr, nullptr, gjk_pair, gjk_pair, gjk_pair, capsule_halfspace},
-     {nullptr, nullptr, nullptr, gjk_pair, gjk_pair, cylinder_halfspace},
-     {nullptr, nullptr, nullptr, nullptr, gjk_pair, convex_halfspace},
-     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr}},
-    {{sphere_sphere, sphere_box, nullptr, nullptr, nullptr, sphere_halfspace},
-     {nullptr, box_box, nullptr, nullptr, nullptr, box_halfspace<true>},
-     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
-     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
-     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
-     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr}},
+// [planar][first type][second type], first type ≤ second type. Capsules, cylinders, hulls and meshes
+// are 3D only (CollisionWorld refuses them in a plane scene); meshes and halfspaces are fixed, so never
+// meet each other.
+constexpr PairFunction kPairTable[2][7][7] = {
+    {{sphere_sphere, sphere_box, gjk_pair, gjk_pair, gjk_pair, shape_mesh, sphere_halfspace},
+     {nullptr, box_box, gjk_pair, gjk_pair, gjk_pair, shape_mesh, box_halfspace<false>},
+     {nullptr, nullptr, gjk_pair, gjk_pair, gjk_pair, shape_mesh, capsule_halfspace},
+     {nullptr, nullptr, nullptr, gjk_pair, gjk_pair, shape_mesh, cylinder_halfspace},
+     {nullptr, nullptr, nullptr, nullptr, gjk_pair, shape_mesh, convex_halfspace},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr}},
+    {{sphere_sphere, sphere_box, nullptr, nullptr, nullptr, nullptr, sphere_halfspace},
+     {nullptr, box_box, nullptr, nullptr, nullptr, nullptr, box_halfspace<true>},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr}},
 };
 
 void flip(ContactPoint& c) {
@@ -212,24 +219,39 @@ void project_to_plane(ContactPoint& c) {
 }  // namespace
 
 std::shared_ptr<fcl::CollisionGeometryd> make_fcl_geometry(const Shape& shape) {
+  // Each with its local box computed (aabb_center, aabb_radius): mesh_pairs.cpp reads it.
+  std::shared_ptr<fcl::CollisionGeometryd> geometry;
   if (const auto* sphere = std::get_if<Sphere>(&shape)) {
-    return std::make_shared<fcl::Sphered>(sphere->radius);
+    geometry = std::make_shared<fcl::Sphered>(sphere->radius);
+  } else if (const auto* box = std::get_if<Box>(&shape)) {
+    geometry = std::make_shared<fcl::Boxd>(2.0 * box->half_extents);  // FCL takes full side lengths
+  } else if (const auto* capsule = std::get_if<Capsule>(&shape)) {
+    geometry = std::make_shared<fcl::Capsuled>(capsule->radius, 2.0 * capsule->half_length);
+  } else if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+    geometry = std::make_shared<fcl::Cylinderd>(cylinder->radius, 2.0 * cylinder->half_length);
   }
-  if (const auto* box = std::get_if<Box>(&shape)) {
-    return std::make_shared<fcl::Boxd>(2.0 * box->half_extents);  // FCL takes full side lengths
+  if (geometry) {
+    geometry->computeLocalAABB();
+    return geometry;
   }
-  if (const auto* capsule = std::get_if<Capsule>(&shape)) {
-    return std::make_shared<fcl::Capsuled>(capsule->radius, 2.0 * capsule->half_length);
-  }
-  if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
-    return std::make_shared<fcl::Cylinderd>(cylinder->radius, 2.0 * cylinder->half_length);
+  if (const auto* mesh = std::get_if<TriangleMesh>(&shape)) {
+    auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+    std::vector<fcl::Triangle> triangles;
+    for (const auto& t : mesh->triangles) triangles.emplace_back(t[0], t[1], t[2]);
+    model->beginModel();
+    model->addSubModel(mesh->vertices, triangles);
+    model->endModel();
+    model->computeLocalAABB();
+    return model;
   }
   if (const auto* convex = std::get_if<Convex>(&shape)) {
     // FCL's faces: for each, its vertex count then its vertex indices.
     auto faces = std::make_shared<std::vector<int>>();
     for (const auto& f : convex->faces) faces->insert(faces->end(), {3, f[0], f[1], f[2]});
-    return std::make_shared<fcl::Convexd>(std::make_shared<const std::vector<Eigen::Vector3d>>(convex->vertices),
-                                          static_cast<int>(convex->faces.size()), faces);
+    auto hull = std::make_shared<fcl::Convexd>(std::make_shared<const std::vector<Eigen::Vector3d>>(convex->vertices),
+                                               static_cast<int>(convex->faces.size()), faces);
+    hull->computeLocalAABB();  // mesh_pairs.cpp reads the local box
+    return hull;
   }
   return nullptr;
 }

@@ -2,7 +2,7 @@
 // by a public header, because it exposes FCL types).
 //
 // One function per shape pair, MuJoCo-style, in a table indexed by the Shape variant index
-// (Sphere < Box < Capsule < Cylinder < Convex < Halfspace). The pair functions share pair_query.h. Each function is written for its canonical order; a pair met in the
+// (Sphere < Box < Capsule < Cylinder < Convex < TriangleMesh < Halfspace). The pair functions share pair_query.h. Each function is written for its canonical order; a pair met in the
 // other order is computed swapped and then flipped (points exchanged, normal negated).
 //
 // Who computes what (lengths in m):
@@ -19,9 +19,12 @@
 //                     and one formula on both sides of contact keeps the gap continuous through 0.
 //   box–halfspace     closed form, a manifold: one point per box vertex whose gap ≤ margin (FCL's
 //                     box–halfspace gives a single penetrating point and nothing when separated).
+//   the convex shapes against a triangle mesh  FCL's BVH for the triangles near the shape, then per
+//                     triangle the shape's feature points over it and GJK's closest points
+//                     (mesh_pairs.h). A manifold.
 //   capsule–, cylinder–, convex–halfspace  closed forms, manifolds (halfspace_pairs.h), for the
 //                     reason of box–halfspace.
-//   halfspace–halfspace  none.
+//   halfspace–halfspace, mesh–mesh, mesh–halfspace  none (all fixed).
 //
 // Box vertices (feature index of box–halfspace contacts), in the box frame with half extents h:
 //   3D: vertex i = ((i&1 ? +1 : −1) hx, (i&2 ? +1 : −1) hy, (i&4 ? +1 : −1) hz), i = 0..7;

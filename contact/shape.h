@@ -39,6 +39,15 @@ struct Convex {
   std::vector<std::array<int, 3>> faces;
 };
 
+// A one-sided surface of triangles (shape frame, m): each triangle counter-clockwise seen from the
+// side that bodies meet (its outward normal (v1 − v0) × (v2 − v0)). Always on a fixed body (a
+// terrain); bodies touch it from the side its triangles face, no deeper than their own size
+// (mesh_pairs.h). 3D scenes only.
+struct TriangleMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
 // The solid { x : n·x ≤ offset } in the shape frame: material below the boundary plane, outward
 // normal n (unit). Used for grounds and walls; always on a fixed body.
 struct Halfspace {
@@ -48,6 +57,6 @@ struct Halfspace {
 
 // Halfspace last: the narrow phase's pair table (narrow_phase.h) is indexed by this order, and every
 // X–halfspace function takes the halfspace second.
-using Shape = std::variant<Sphere, Box, Capsule, Cylinder, Convex, Halfspace>;
+using Shape = std::variant<Sphere, Box, Capsule, Cylinder, Convex, TriangleMesh, Halfspace>;
 
 }  // namespace csim

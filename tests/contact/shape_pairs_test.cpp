@@ -378,6 +378,89 @@ TEST(ConvexPairs, TetrahedronOnABoxFace) {
 }
 
 // ---------------------------------------------------------------------------------------------------
+// shapes against a triangle mesh (contact/mesh_pairs.h)
+
+// The square [−1, 1]² of z = 0 in two triangles split along the diagonal y = x, counter-clockwise
+// seen from +z: triangle 0 below the diagonal (y < x), triangle 1 above it. Placed on the incline.
+const Placed kTerrain{TriangleMesh{{{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{{0, 1, 2}}, {{0, 2, 3}}}},
+                      kIncline.pose, true};
+
+// Height above the terrain's plane (the incline's local z = 0, not its offset 0.1).
+double terrain_height(const Eigen::Vector3d& x) { return kUp.dot(x - kIncline.pose.translation()); }
+
+TEST(MeshPairs, SphereAboveATriangle) {
+  for (double gap : {0.05, 1e-10, 0.0, -0.01}) {
+    SCOPED_TRACE(gap);
+    const Eigen::Vector3d centre = kIncline.pose * Eigen::Vector3d(0.5, -0.5, 0.1 + gap);
+    const Placed sphere{Sphere{0.1}, translation(centre)};
+    const auto contacts = detect(sphere, kTerrain, 0.1);
+    ASSERT_EQ(contacts.size(), 1u);  // 0.7 m from the diagonal: triangle 0 only, its closest points
+    EXPECT_EQ(contacts[0].key.feature, 0);
+    EXPECT_NEAR(contacts[0].gap, gap, kFcl);
+    expect_near(contacts[0].normal, -kUp, kFcl);
+    // GJK's witness on the sphere's curved support (the triangle has no closed form in FCL): to
+    // √(tolerance · r) ≈ 3e-7 m along the surface.
+    expect_near(contacts[0].point_a, centre - 0.1 * kUp, 1e-6);
+  }
+  expect_no_contact({Sphere{0.1}, translation(kIncline.pose * Eigen::Vector3d(0.5, -0.5, 0.1 + 0.11))}, kTerrain, 0.1);
+}
+
+TEST(MeshPairs, BoxRestsOnItsBottomVerticesAcrossBothTriangles) {
+  // A box turned 0.3 rad about the normal over the diagonal: its bottom vertices fall in either
+  // triangle; each is reported once, in the triangle it projects into, with its exact gap and arm.
+  const Box shape{{0.3, 0.2, 0.1}};
+  constexpr int K = 8 + 1;  // feature points per triangle, and the closest points
+  for (double gap : {0.02, 0.0, -0.005}) {
+    SCOPED_TRACE(gap);
+    const Placed box{shape, kIncline.pose * translation({0.1, 0.05, 0.1 + gap}) * rotation(0.3, {0, 0, 1})};
+    std::vector<int> expected;
+    for (int t = 0; t < 2; ++t)
+      for (int i = 0; i < 4; ++i) {
+        const Eigen::Vector3d local = kIncline.pose.inverse() * (box.pose * box_vertex(shape, i, false));
+        if ((local.y() < local.x()) == (t == 0)) expected.push_back(t * K + i);
+      }
+    ASSERT_EQ(expected.size(), 4u);
+    ASSERT_LT(expected[0], K);  // the diagonal splits them
+    ASSERT_GE(expected[3], K);
+    std::vector<int> vertices;
+    int closest = 0;
+    for (const ContactPoint& c : detect(box, kTerrain, 0.05)) {
+      if (c.key.feature % K == K - 1) {  // the closest points of the box and the triangle
+        ++closest;
+        EXPECT_NEAR(c.gap, gap, kFcl);
+        continue;
+      }
+      vertices.push_back(c.key.feature);
+      const int i = c.key.feature % K;
+      const Eigen::Vector3d vertex = box.pose * box_vertex(shape, i, false);
+      EXPECT_NEAR(c.gap, terrain_height(vertex), kExact);
+      EXPECT_NEAR(c.gap, gap, kExact);
+      expect_near(c.arm_a, box.pose.linear() * box_vertex(shape, i, false), kExact);
+      expect_near(c.normal, -kUp, kExact);
+    }
+    EXPECT_EQ(vertices, expected);
+    EXPECT_EQ(closest, 2);
+  }
+}
+
+TEST(MeshPairs, CapsuleLyingGivesItsCapsWithExactGaps) {
+  constexpr int K = 2 + 1;
+  const Placed lying{Capsule{0.1, 0.3}, kIncline.pose * translation({0.5, -0.6, 0.1 + 0.01}) * kAlongX};
+  std::vector<int> caps;
+  for (const ContactPoint& c : detect(lying, kTerrain, 0.05)) {
+    EXPECT_NEAR(c.gap, 0.01, c.key.feature % K == K - 1 ? kFcl : kExact);
+    if (c.key.feature % K < K - 1) caps.push_back(c.key.feature);
+  }
+  EXPECT_EQ(caps, (std::vector<int>{0, 1}));  // both caps over triangle 0
+}
+
+TEST(MeshPairs, AMeshOnlyOnAFixedBody) {
+  CollisionWorld world(false);
+  EXPECT_THROW(world.add_object(0, kTerrain.shape, false), std::invalid_argument);
+  EXPECT_THROW(world.add_object(0, TriangleMesh{{{0, 0, 0}}, {{{0, 1, 2}}}}, true), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------------------
 // broad phase and set-up
 
 TEST(ShapeBounds, TiltedCylinderRimReachesASphere) {

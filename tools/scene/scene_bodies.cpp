@@ -6,7 +6,8 @@
 //   shapes: NAME: {type: box, size: [...]} | {type: sphere, radius} | {type: halfspace, normal, offset}
 //           | 3D only: {type: capsule, radius, length} (length: of its cylindrical part, along the
 //           shape's z) | {type: cylinder, radius, length} (along z) | {type: convex, vertices:
-//           [[x, y, z], ...]} (their hull), each with an optional position and angle in the body frame;
+//           [[x, y, z], ...]} (their hull) | {type: mesh, file: F.obj | F.stl} (fixed bodies; the file
+//           beside the scene), each with an optional position and angle in the body frame;
 //   prescribed: {COMPONENT: value | [[t, value], ...]}: the component's displacement from the
 //           reference position (m, or rad for rz) as a constant or a table interpolated linearly in
 //           time (a ground moved along a path, a hub held at its centre; 3D rotations rx, ry, rz: the
@@ -20,9 +21,11 @@
 #include "engine/bodies/rigid_body_2d.h"
 #include "engine/bodies/rigid_body_3d.h"
 #include "contact/convex_hull.h"
+#include "tools/scene/mesh_file.h"
 #include "tools/scene/scene_parts.h"
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
@@ -57,10 +60,18 @@ ShapeInstance read_shape(const std::string& name, const SceneNode& node, int dim
   } else if (type == "sphere") {
     node.allow_only({"type", "radius", "position", "angle", "axis"});
     shape.shape = Sphere{node.positive("radius")};
-  } else if (type == "capsule" || type == "cylinder" || type == "convex") {
+  } else if (type == "capsule" || type == "cylinder" || type == "convex" || type == "mesh") {
     if (dimension == 2)
       node.fail_at("type", "a " + type + " is a 3D shape (a plane scene takes box, sphere and halfspace)");
-    if (type == "convex") {
+    if (type == "mesh") {
+      node.allow_only({"type", "file", "position", "angle", "axis"});
+      const std::filesystem::path scene_folder = std::filesystem::path(node.document().file).parent_path();
+      try {
+        shape.shape = read_mesh_file((scene_folder / node.string("file")).string());
+      } catch (const std::runtime_error& e) {
+        node.fail_at("file", e.what());
+      }
+    } else if (type == "convex") {
       node.allow_only({"type", "vertices", "position", "angle", "axis"});
       std::vector<Eigen::Vector3d> points;
       for (const SceneNode& item : node.child("vertices").items()) points.push_back(item.as_vector(3, 3));
@@ -83,7 +94,7 @@ ShapeInstance read_shape(const std::string& name, const SceneNode& node, int dim
     if (normal.norm() == 0.0) node.fail_at("normal", "must not be zero");
     shape.shape = Halfspace{normal.normalized(), node.number("offset", 0.0)};
   } else {
-    node.fail_at("type", "unknown shape type '" + type + "' (available: box, sphere, halfspace, capsule, cylinder, convex)");
+    node.fail_at("type", "unknown shape type '" + type + "' (available: box, sphere, halfspace, capsule, cylinder, convex, mesh)");
   }
   if (node.has("position")) shape.local_pose.translation() = node.vector("position", dimension, dimension);
   shape.local_pose.linear() = rotation(node, dimension);
@@ -102,6 +113,8 @@ double bounding_radius(const std::vector<ShapeInstance>& shapes) {
       radius = std::max(radius, offset + std::hypot(cylinder->half_length, cylinder->radius));
     else if (const auto* convex = std::get_if<Convex>(&s.shape))
       for (const Eigen::Vector3d& v : convex->vertices) radius = std::max(radius, offset + v.norm());
+    else if (const auto* mesh = std::get_if<TriangleMesh>(&s.shape))
+      for (const Eigen::Vector3d& v : mesh->vertices) radius = std::max(radius, offset + v.norm());
     else radius = std::numeric_limits<double>::infinity();
   }
   return radius;
@@ -210,6 +223,11 @@ void read_body(const std::string& name, const SceneNode& node, World& world,
   b.body->bounding_radius = bounding_radius(b.shapes);
   if (!b.body->fixed() && !std::isfinite(b.body->bounding_radius))
     node.fail("a halfspace can only belong to a fixed body");
+  if (!b.body->fixed() && node.has("shapes"))
+    for (const auto& [shape_name, shape_node] : node.child("shapes").entries())
+      if (shape_node.string("type") == "mesh")
+        shape_node.fail_at("type", "a mesh can only belong to a fixed body (a terrain): mesh–mesh contact is not "
+                                   "computed; give a moving body a convex shape");
 
   // Reference configuration, then the initial state.
   const int nq = b.body->position_size(), nv = b.body->velocity_size();

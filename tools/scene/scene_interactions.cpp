@@ -132,7 +132,7 @@ struct SideSummary {
   int count = 0;                   // bodies
   int without_shapes = -1;         // a body with neither shapes nor an elastic surface, or −1
   std::vector<int> elastic;        // its first two elastic bodies
-  int hull_shaped = -1;            // a body with a capsule, cylinder or convex shape, or −1
+  int hull_shaped = -1;            // a body with a capsule, cylinder, convex or mesh shape, or −1
 };
 
 SideSummary summarize(const World& world, int body, int group) {
@@ -149,7 +149,8 @@ SideSummary summarize(const World& world, int body, int group) {
     for (const ShapeInstance& shape : instance.shapes)
       if (side.hull_shaped < 0 && (std::holds_alternative<Capsule>(shape.shape) ||
                                    std::holds_alternative<Cylinder>(shape.shape) ||
-                                   std::holds_alternative<Convex>(shape.shape)))
+                                   std::holds_alternative<Convex>(shape.shape) ||
+                                   std::holds_alternative<TriangleMesh>(shape.shape)))
         side.hull_shaped = b;
   }
   return side;
@@ -259,7 +260,7 @@ void read_contacts(const SceneNode& root, World& world) {
       if (!sides[k].elastic.empty() && sides[1 - k].hull_shaped >= 0)
         node.fail_at("between", "elastic body '" + world.bodies[sides[k].elastic[0]].name + "' against body '" +
                                     world.bodies[sides[1 - k].hull_shaped].name +
-                                    "', which has a capsule, cylinder or convex shape: node-to-surface contact "
+                                    "', which has a capsule, cylinder, convex or mesh shape: node-to-surface contact "
                                     "takes spheres, boxes and halfspaces; use one of those");
     const bool has_elastic = !sides[0].elastic.empty() || !sides[1].elastic.empty();
     const std::string features = node.string("features", "nodes");

@@ -3,10 +3,15 @@
 // a turned shape without inertia, an elastic body against them) with the file, line and key.
 #include "engine/bodies/body.h"
 #include "tests/tools/scene/scene_file_test.h"
+#include "tools/scene/mesh_file.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace csim {
@@ -118,6 +123,74 @@ TEST_F(SceneShapes, AnElasticBodyAgainstACapsuleIsRefusedAtTheLaw) {
   const std::string message = error_of(write(text));
   EXPECT_NE(message.find(".yaml:10: contacts.touch.between: elastic body 'block' against body 'thing'"),
             std::string::npos) << message;
+}
+
+// A file beside the test's scene files, removed at the end of the test.
+class MeshFiles : public SceneFileTest {
+ protected:
+  std::string file(const std::string& name, const std::string& bytes) {
+    const auto path = std::filesystem::temp_directory_path() / ("csim_mesh_" + name);
+    std::ofstream(path, std::ios::binary) << bytes;
+    paths_.push_back(path);
+    return path.string();
+  }
+  void TearDown() override {
+    for (const auto& p : paths_) std::filesystem::remove(p);
+    SceneFileTest::TearDown();
+  }
+
+ private:
+  std::vector<std::filesystem::path> paths_;
+};
+
+TEST_F(MeshFiles, ObjQuadsSplitIntoFansWithSlashedAndNegativeIndices) {
+  const TriangleMesh mesh = read_mesh_file(file("quad.obj",
+      "# a unit square and a triangle\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\n"
+      "f 1/1/1 2/2/1 3/3/1 4/4/1\nf -4 -3 -1\n"));
+  ASSERT_EQ(mesh.vertices.size(), 4u);
+  ASSERT_EQ(mesh.triangles.size(), 3u);
+  EXPECT_EQ(mesh.triangles[0], (std::array<int, 3>{0, 1, 2}));
+  EXPECT_EQ(mesh.triangles[1], (std::array<int, 3>{0, 2, 3}));
+  EXPECT_EQ(mesh.triangles[2], (std::array<int, 3>{0, 1, 3}));
+}
+
+TEST_F(MeshFiles, StlAsciiAndBinaryGiveTheSameMergedMesh) {
+  const TriangleMesh ascii = read_mesh_file(file("two.stl",
+      "solid two\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 1 1 0\n"
+      "  endloop\n endfacet\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 1 0\n"
+      "   vertex 0 1 0\n  endloop\n endfacet\nendsolid two\n"));
+  std::string bytes(84 + 2 * 50, '\0');
+  const std::uint32_t count = 2;
+  std::memcpy(&bytes[80], &count, 4);
+  const float corners[2][9] = {{0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 0, 1, 1, 0, 0, 1, 0}};
+  for (int t = 0; t < 2; ++t) std::memcpy(&bytes[84 + 50 * t + 12], corners[t], 36);
+  const TriangleMesh binary = read_mesh_file(file("two_binary.STL", bytes));
+  for (const TriangleMesh* mesh : {&ascii, &binary}) {
+    ASSERT_EQ(mesh->vertices.size(), 4u);  // the shared corners merged
+    ASSERT_EQ(mesh->triangles.size(), 2u);
+    EXPECT_EQ(mesh->triangles[1], (std::array<int, 3>{0, 2, 3}));
+    EXPECT_EQ(mesh->vertices[3], Eigen::Vector3d(0, 1, 0));
+  }
+}
+
+TEST_F(MeshFiles, MalformedFilesNameTheFileAndLine) {
+  const std::string obj = file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+  try {
+    read_mesh_file(obj);
+    FAIL() << "accepted a face naming vertex 3 of 2";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), obj + ":3: face index 3 names no vertex defined before it");
+  }
+  EXPECT_THROW(read_mesh_file(file("short.stl", "solid x\n")), std::runtime_error);
+  EXPECT_THROW(read_mesh_file(file("mesh.ply", "ply\n")), std::runtime_error);
+  // In a scene: at the shape's file key; and a mesh on a moving body is refused at its type.
+  const std::string missing = error_of(write(scene("{type: mesh, file: /nonexistent/terrain.obj}", ", inertia: [1, 1, 1]")));
+  EXPECT_NE(missing.find("bodies.thing.shapes.body.file: /nonexistent/terrain.obj: cannot be read"), std::string::npos)
+      << missing;
+  const std::string moving = error_of(write(scene("{type: mesh, file: " + file("ok.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n") + "}",
+                                                  ", inertia: [1, 1, 1]")));
+  EXPECT_NE(moving.find("bodies.thing.shapes.body.type: a mesh can only belong to a fixed body"), std::string::npos)
+      << moving;
 }
 
 }  // namespace
