@@ -46,7 +46,8 @@ void feature_points(const CollisionShape& shape, const Eigen::Vector3d& n, std::
     for (int rim = 0; rim < 2; ++rim)
       for (int j = 0; j < kRimPoints; ++j) {
         if (face_down) material(cylinder_rim_point(*cylinder, rim, j));
-        else points.push_back({}), points.back().point.setConstant(std::numeric_limits<double>::quiet_NaN());
+        else points.push_back({Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()), 0.0, false,
+                               Eigen::Vector3d::Zero()});
       }
   }
 }
