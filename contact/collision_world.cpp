@@ -35,10 +35,29 @@ class MarginCollisionObject : public fcl::CollisionObjectd {
   }
 };
 
-// Half size (m) of the world AABB of a sphere or box at `pose`.
+// Half size (m) of the world AABB of a shape other than a halfspace at `pose`.
 Eigen::Vector3d world_half_size(const Shape& shape, const Eigen::Isometry3d& pose) {
+  const Eigen::Matrix3d& R = pose.linear();
   if (const auto* box = std::get_if<Box>(&shape)) {
-    return pose.linear().cwiseAbs() * box->half_extents;
+    return R.cwiseAbs() * box->half_extents;
+  }
+  if (const auto* capsule = std::get_if<Capsule>(&shape)) {  // the segment's box, widened by the radius
+    return (capsule->half_length * R.col(2).cwiseAbs()).array() + capsule->radius;
+  }
+  if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+    // A disk of radius r across axis a reaches r·√(1 − a_i²) along axis i.
+    const Eigen::Vector3d a = R.col(2);
+    const Eigen::Vector3d disk = (Eigen::Vector3d::Ones() - a.cwiseProduct(a)).cwiseMax(0.0).cwiseSqrt();
+    return cylinder->half_length * a.cwiseAbs() + cylinder->radius * disk;
+  }
+  // A hull or a mesh: about the shape's origin, the pose's translation.
+  const std::vector<Eigen::Vector3d>* vertices = nullptr;
+  if (const auto* convex = std::get_if<Convex>(&shape)) vertices = &convex->vertices;
+  if (const auto* mesh = std::get_if<TriangleMesh>(&shape)) vertices = &mesh->vertices;
+  if (vertices) {
+    Eigen::Vector3d half = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& v : *vertices) half = half.cwiseMax((R * v).cwiseAbs());
+    return half;
   }
   return Eigen::Vector3d::Constant(std::get<Sphere>(shape).radius);
 }
@@ -48,11 +67,27 @@ int id_of(const fcl::CollisionObjectd* object) {
   return static_cast<int>(reinterpret_cast<std::intptr_t>(object->getUserData()));
 }
 
-void check_shape(const Shape& shape, bool fixed) {
+void check_shape(const Shape& shape, bool fixed, bool planar) {
   if (const auto* sphere = std::get_if<Sphere>(&shape)) {
     if (!(sphere->radius > 0.0)) throw std::invalid_argument("Sphere radius must be > 0");
   } else if (const auto* box = std::get_if<Box>(&shape)) {
     if (!(box->half_extents.minCoeff() > 0.0)) throw std::invalid_argument("Box half extents must be > 0");
+  } else if (const auto* capsule = std::get_if<Capsule>(&shape)) {
+    if (!(capsule->radius > 0.0 && capsule->half_length >= 0.0))
+      throw std::invalid_argument("Capsule radius must be > 0 and half length >= 0");
+  } else if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+    if (!(cylinder->radius > 0.0 && cylinder->half_length > 0.0))
+      throw std::invalid_argument("Cylinder radius and half length must be > 0");
+  } else if (const auto* convex = std::get_if<Convex>(&shape)) {
+    if (convex->vertices.size() < 4 || convex->faces.size() < 4)
+      throw std::invalid_argument("Convex needs a hull of at least 4 vertices and 4 faces (make_convex)");
+  } else if (const auto* mesh = std::get_if<TriangleMesh>(&shape)) {
+    if (mesh->triangles.empty()) throw std::invalid_argument("a TriangleMesh needs at least one triangle");
+    for (const auto& t : mesh->triangles)
+      for (int v : t)
+        if (v < 0 || v >= static_cast<int>(mesh->vertices.size()))
+          throw std::invalid_argument("a TriangleMesh's triangle names a vertex it does not have");
+    if (!fixed) throw std::invalid_argument("a TriangleMesh must be on a fixed body (mesh–mesh contact is not computed)");
   } else {
     if (!(std::get<Halfspace>(shape).normal.norm() > 0.0)) {
       throw std::invalid_argument("Halfspace normal must be non-zero");
@@ -60,6 +95,9 @@ void check_shape(const Shape& shape, bool fixed) {
     // Halfspace pairs are only formed with non-fixed objects (see collision_world.h).
     if (!fixed) throw std::invalid_argument("a Halfspace must be on a fixed body");
   }
+  if (planar && (std::holds_alternative<Capsule>(shape) || std::holds_alternative<Cylinder>(shape) ||
+                 std::holds_alternative<Convex>(shape) || std::holds_alternative<TriangleMesh>(shape)))
+    throw std::invalid_argument("capsules, cylinders, convex hulls and triangle meshes are 3D shapes: not in a plane scene");
 }
 
 // Unit normal, offset scaled alike: the same solid, and the narrow phase may assume |n| = 1.
@@ -217,7 +255,7 @@ CollisionWorld::CollisionWorld(bool planar) : impl_(std::make_unique<Impl>(plana
 CollisionWorld::~CollisionWorld() = default;
 
 int CollisionWorld::add_object(int body, const Shape& shape, bool fixed) {
-  check_shape(shape, fixed);
+  check_shape(shape, fixed, impl_->planar);
   const int id = object_count();
   Impl::Object& object = impl_->objects.emplace_back();
   object.instance.id = id;

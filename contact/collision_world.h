@@ -7,7 +7,9 @@
 //
 // Manifolds: FCL returns one point per pair. A box resting flat on a halfspace needs its vertices, so
 // box–halfspace contacts are generated per box vertex (feature = vertex index; 4 in-plane corners in
-// plane scenes, 8 in 3D), each with its exact gap. The other pairs give one point (feature 0).
+// plane scenes, 8 in 3D), each with its exact gap; so do the capsule's end caps, the cylinder's rim
+// points and the convex hull's vertices against a halfspace (halfspace_pairs.h). The other pairs
+// give one point (feature 0).
 //
 // Plane scenes (planar = true) live in z = 0 of FCL's 3D world: normals and points have z = 0.
 // Objects of the same body never collide, nor do two fixed objects.
@@ -40,7 +42,8 @@ class CollisionWorld {
 
   // Registers a shape carried by `body` (any id of the caller's; `fixed` bodies never move).
   // Returns the object id (0, 1, 2, ... in call order). Throws std::invalid_argument for a
-  // non-positive size, a zero halfspace normal, or a halfspace on a non-fixed body.
+  // non-positive size, a zero halfspace normal, a halfspace on a non-fixed body, or a capsule,
+  // cylinder or convex hull in a plane world.
   int add_object(int body, const Shape& shape, bool fixed);
 
   // A deformable surface (deformable_surface.h) of `body`, with its nodes' world positions (m).

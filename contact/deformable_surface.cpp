@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace csim {
 
@@ -68,7 +69,11 @@ Projection project(const Eigen::Vector3d& x, const Eigen::Vector3d& surface_norm
     return {length - sphere->radius, pose.translation() + sphere->radius * n, n};
   }
   // Box: outside, the clamped point; inside (or on it within round-off), a face (entry_axis).
-  const Box& box = std::get<Box>(shape);
+  const auto* box_shape = std::get_if<Box>(&shape);
+  if (!box_shape)
+    throw std::invalid_argument("node-to-surface contact takes spheres, boxes and halfspaces, not a capsule, "
+                                "cylinder, convex hull or mesh");
+  const Box& box = *box_shape;
   Eigen::Vector3d local = pose.inverse() * x;
   Eigen::Vector3d h = box.half_extents;
   const int axes = planar ? 2 : 3;
@@ -274,8 +279,11 @@ void shape_face_contacts(const std::vector<Eigen::Vector3d>& positions, const De
       const double sz = planar ? 0.0 : ((k & 4) ? 1.0 : -1.0);
       features[feature_count++] = pose * Eigen::Vector3d(sx * h.x(), sy * h.y(), sz * h.z());
     }
-  } else {
+  } else if (std::holds_alternative<Halfspace>(shape)) {
     return;  // a halfspace has no point features
+  } else {
+    throw std::invalid_argument("face contact takes spheres, boxes and halfspaces, not a capsule, cylinder, "
+                                "convex hull or mesh");
   }
   for (int k = feature_count - 1; k >= 0; --k) {  // features −1 − k ascending, as keys are sorted
     Eigen::Vector3d x = features[k];

@@ -24,6 +24,8 @@
 // at every update, gave the same box at many times the cost (the refit was 5 % of a rolling ring's
 // instructions).
 // In plane scenes the box spans z = ±½, like the thin shapes' boxes; nodes and normals stay in z = 0.
+// The rigid shape is a sphere, a box or a halfspace: the functions below throw std::invalid_argument
+// for a capsule, a cylinder, a convex hull or a mesh (the scene loader refuses such a law before the first step).
 #pragma once
 
 #include "contact/boundary_curve.h"

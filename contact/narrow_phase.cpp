@@ -1,9 +1,18 @@
 #include "contact/narrow_phase.h"
 
 #include "contact/box_box_manifold.h"
+#include "contact/gjk_pairs.h"
+#include "contact/halfspace_pairs.h"
+#include "contact/mesh_pairs.h"
+#include "contact/pair_query.h"
 
+#include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
 #include <fcl/geometry/shape/sphere.h>
+#include <fcl/math/bv/OBBRSS.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
@@ -18,7 +27,11 @@ namespace {
 
 static_assert(std::is_same_v<std::variant_alternative_t<0, Shape>, Sphere> &&
                   std::is_same_v<std::variant_alternative_t<1, Shape>, Box> &&
-                  std::is_same_v<std::variant_alternative_t<2, Shape>, Halfspace>,
+                  std::is_same_v<std::variant_alternative_t<2, Shape>, Capsule> &&
+                  std::is_same_v<std::variant_alternative_t<3, Shape>, Cylinder> &&
+                  std::is_same_v<std::variant_alternative_t<4, Shape>, Convex> &&
+                  std::is_same_v<std::variant_alternative_t<5, Shape>, TriangleMesh> &&
+                  std::is_same_v<std::variant_alternative_t<6, Shape>, Halfspace>,
               "the pair table below is indexed by Shape's alternative order");
 
 // Below this separation (m) GJK's witness points (each good to ~1e-16 m) no longer give the normal to
@@ -26,39 +39,6 @@ static_assert(std::is_same_v<std::variant_alternative_t<0, Shape>, Sphere> &&
 constexpr double kTouchingGap = 1e-6;
 // How far (m) touching boxes are pushed into each other to let the SAT name the contact axis.
 constexpr double kProbeDepth = 1e-5;
-
-struct PairQuery {
-  double margin;  // m
-  NarrowPhase::FclScratch& fcl;
-};
-
-// A pair function appends contacts between `first` and `second`, normal from first to second,
-// feature set, keys and frames left to the caller.
-using PairFunction = void (*)(const CollisionShape& first, const CollisionShape& second,
-                              PairQuery& query, std::vector<ContactPoint>& out);
-
-void add_contact(const Eigen::Vector3d& point_first, const Eigen::Vector3d& point_second,
-                 const Eigen::Vector3d& normal, double gap, int feature,
-                 std::vector<ContactPoint>& out) {
-  ContactPoint& c = out.emplace_back();
-  c.key.feature = feature;
-  c.point_a = point_first;
-  c.point_b = point_second;
-  c.normal = normal;
-  c.gap = gap;
-}
-
-// The halfspace { x : n·x ≤ offset } in world coordinates (unit n).
-struct WorldPlane {
-  Eigen::Vector3d normal;
-  double offset;  // m
-};
-
-WorldPlane world_plane(const CollisionShape& instance) {
-  const auto& halfspace = std::get<Halfspace>(instance.shape);
-  const Eigen::Vector3d n = instance.pose.linear() * halfspace.normal;
-  return {n, halfspace.offset + n.dot(instance.pose.translation())};
-}
 
 // FCL's deepest penetration point as a contact (pos is FCL's midpoint between the two surfaces), the
 // second shape taken at `second_pose`.
@@ -217,14 +197,24 @@ void box_halfspace(const CollisionShape& first, const CollisionShape& second, Pa
   }
 }
 
-// [first type][second type], first type ≤ second type.
-constexpr PairFunction kPairTable[2][3][3] = {
-    {{sphere_sphere, sphere_box, sphere_halfspace},
-     {nullptr, box_box<false>, box_halfspace<false>},
-     {nullptr, nullptr, nullptr}},
-    {{sphere_sphere, sphere_box, sphere_halfspace},
-     {nullptr, box_box<true>, box_halfspace<true>},
-     {nullptr, nullptr, nullptr}},
+// [planar][first type][second type], first type ≤ second type. Capsules, cylinders, hulls and meshes
+// are 3D only (CollisionWorld refuses them in a plane scene); meshes and halfspaces are fixed, so never
+// meet each other.
+constexpr PairFunction kPairTable[2][7][7] = {
+    {{sphere_sphere, sphere_box, gjk_pair, gjk_pair, gjk_pair, shape_mesh, sphere_halfspace},
+     {nullptr, box_box<false>, gjk_pair, gjk_pair, gjk_pair, shape_mesh, box_halfspace<false>},
+     {nullptr, nullptr, gjk_pair, gjk_pair, gjk_pair, shape_mesh, capsule_halfspace},
+     {nullptr, nullptr, nullptr, gjk_pair, gjk_pair, shape_mesh, cylinder_halfspace},
+     {nullptr, nullptr, nullptr, nullptr, gjk_pair, shape_mesh, convex_halfspace},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr}},
+    {{sphere_sphere, sphere_box, nullptr, nullptr, nullptr, nullptr, sphere_halfspace},
+     {nullptr, box_box<true>, nullptr, nullptr, nullptr, nullptr, box_halfspace<true>},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+     {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr}},
 };
 
 void flip(ContactPoint& c) {
@@ -246,11 +236,39 @@ void project_to_plane(ContactPoint& c) {
 }  // namespace
 
 std::shared_ptr<fcl::CollisionGeometryd> make_fcl_geometry(const Shape& shape) {
+  // Each with its local box computed (aabb_center, aabb_radius): mesh_pairs.cpp reads it.
+  std::shared_ptr<fcl::CollisionGeometryd> geometry;
   if (const auto* sphere = std::get_if<Sphere>(&shape)) {
-    return std::make_shared<fcl::Sphered>(sphere->radius);
+    geometry = std::make_shared<fcl::Sphered>(sphere->radius);
+  } else if (const auto* box = std::get_if<Box>(&shape)) {
+    geometry = std::make_shared<fcl::Boxd>(2.0 * box->half_extents);  // FCL takes full side lengths
+  } else if (const auto* capsule = std::get_if<Capsule>(&shape)) {
+    geometry = std::make_shared<fcl::Capsuled>(capsule->radius, 2.0 * capsule->half_length);
+  } else if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+    geometry = std::make_shared<fcl::Cylinderd>(cylinder->radius, 2.0 * cylinder->half_length);
   }
-  if (const auto* box = std::get_if<Box>(&shape)) {
-    return std::make_shared<fcl::Boxd>(2.0 * box->half_extents);  // FCL takes full side lengths
+  if (geometry) {
+    geometry->computeLocalAABB();
+    return geometry;
+  }
+  if (const auto* mesh = std::get_if<TriangleMesh>(&shape)) {
+    auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+    std::vector<fcl::Triangle> triangles;
+    for (const auto& t : mesh->triangles) triangles.emplace_back(t[0], t[1], t[2]);
+    model->beginModel();
+    model->addSubModel(mesh->vertices, triangles);
+    model->endModel();
+    model->computeLocalAABB();
+    return model;
+  }
+  if (const auto* convex = std::get_if<Convex>(&shape)) {
+    // FCL's faces: for each, its vertex count then its vertex indices.
+    auto faces = std::make_shared<std::vector<int>>();
+    for (const auto& f : convex->faces) faces->insert(faces->end(), {3, f[0], f[1], f[2]});
+    auto hull = std::make_shared<fcl::Convexd>(std::make_shared<const std::vector<Eigen::Vector3d>>(convex->vertices),
+                                               static_cast<int>(convex->faces.size()), faces);
+    hull->computeLocalAABB();  // mesh_pairs.cpp reads the local box
+    return hull;
   }
   return nullptr;
 }

@@ -2,7 +2,7 @@
 // by a public header, because it exposes FCL types).
 //
 // One function per shape pair, MuJoCo-style, in a table indexed by the Shape variant index
-// (Sphere < Box < Halfspace). Each function is written for its canonical order; a pair met in the
+// (Sphere < Box < Capsule < Cylinder < Convex < TriangleMesh < Halfspace). The pair functions share pair_query.h. Each function is written for its canonical order; a pair met in the
 // other order is computed swapped and then flipped (points exchanged, normal negated).
 //
 // Who computes what (lengths in m):
@@ -14,11 +14,19 @@
 //                     lies along it, our clipping of the faces gives the manifold (up to 4 points, 2 in
 //                     plane scenes; box_box_manifold.h says why not FCL's); an edge–edge contact keeps
 //                     FCL's single point.
+//   the other pairs of sphere, box, capsule, cylinder and convex hull
+//                     FCL: GJK distance when separated, its penetration query when overlapping, and
+//                     a measurement at a small separation when touching (gjk_pairs.h). One point.
 //   sphere–halfspace  closed form: FCL has no distance to a halfspace (nothing for separated pairs),
 //                     and one formula on both sides of contact keeps the gap continuous through 0.
 //   box–halfspace     closed form, a manifold: one point per box vertex whose gap ≤ margin (FCL's
 //                     box–halfspace gives a single penetrating point and nothing when separated).
-//   halfspace–halfspace  none.
+//   the convex shapes against a triangle mesh  FCL's BVH for the triangles near the shape, then per
+//                     triangle the shape's feature points over it and GJK's closest points
+//                     (mesh_pairs.h). A manifold.
+//   capsule–, cylinder–, convex–halfspace  closed forms, manifolds (halfspace_pairs.h), for the
+//                     reason of box–halfspace.
+//   halfspace–halfspace, mesh–mesh, mesh–halfspace  none (all fixed).
 //
 // Box vertices (feature index of box–halfspace contacts), in the box frame with half extents h:
 //   3D: vertex i = ((i&1 ? +1 : −1) hx, (i&2 ? +1 : −1) hy, (i&4 ? +1 : −1) hz), i = 0..7;
@@ -51,7 +59,7 @@ struct CollisionShape {
   std::shared_ptr<fcl::CollisionGeometryd> geometry;
 };
 
-// The FCL geometry for a sphere or a box (null for a halfspace).
+// The FCL geometry of a shape (null for a halfspace).
 std::shared_ptr<fcl::CollisionGeometryd> make_fcl_geometry(const Shape& shape);
 
 // Corner `vertex` of a box in its own frame (numbering above).

@@ -21,12 +21,16 @@ import time
 
 INTEGRATORS = ["moreau-jean", "quasi-static", "ida", "ida-events", "generalized-alpha"]
 WINDOW_STEPS = 10
-SHORT_WINDOW = {"rolling-ring", "rolling-ring-3d", "sdnv104-quad8"}
+# rounded-shapes-incline and terrain-mesh: over two minutes under ida (measured; not investigated).
+SHORT_WINDOW = {"rolling-ring", "rolling-ring-3d", "sdnv104-quad8", "rounded-shapes-incline", "terrain-mesh"}
 
 # (scene, integrator) -> why it does not pass, and the outcome it has: "checks" (exit 1, an evaluated
 # check fails) or "stops" (exit 2 during the run: a numerical failure with its message).
 REGULARIZED = "ida's regularized law: "
 EXPECTED = {
+    ("rounded-shapes-at-rest", "ida"): ("checks", REGULARIZED + "the penalty layer lets each body sink by m g / (k × its "
+                                        "points), 4.9e-8 m, beyond the 1e-9 m checks (the scene test runs ida with "
+                                        "sink_tolerance 1e-7)"),
     ("bouncing-ball", "ida"): ("checks", REGULARIZED + "the penalty dashpot only approximates Newton's restitution "
                                "(regularized_law.h: the no-tension clamp makes the rebound livelier than e)"),
     ("box-on-block", "ida"): ("checks", REGULARIZED + "the box rides on the soft penalty layer of the block "

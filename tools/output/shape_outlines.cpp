@@ -96,6 +96,71 @@ ShapeOutline halfspace_outline(const Halfspace& halfspace, const OutlineSettings
   return out;
 }
 
+ShapeOutline capsule_outline(const Capsule& capsule, const OutlineSettings&) {
+  // The sphere's UV rings, the southern half moved down by the half length and the northern up, the
+  // equator taken twice (the cylinder between): a closed surface of the capsule's points.
+  ShapeOutline out;
+  const double r = capsule.radius, l = capsule.half_length, pi = std::numbers::pi;
+  out.points.emplace_back(0.0, 0.0, -r - l);
+  out.points.emplace_back(0.0, 0.0, r + l);
+  std::vector<std::pair<double, double>> rings;  // (polar angle from −z, z shift)
+  for (int ring = 1; ring < kSphereRings; ++ring) {
+    const double polar = pi * ring / kSphereRings;
+    if (2 * ring <= kSphereRings) rings.emplace_back(polar, -l);
+    if (2 * ring >= kSphereRings) rings.emplace_back(polar, l);
+  }
+  for (const auto& [polar, shift] : rings)
+    for (int k = 0; k < kSphereSegments; ++k) {
+      const double azimuth = 2.0 * pi * k / kSphereSegments;
+      out.points.emplace_back(r * std::sin(polar) * std::cos(azimuth), r * std::sin(polar) * std::sin(azimuth),
+                              -r * std::cos(polar) + shift);
+    }
+  const int count = static_cast<int>(rings.size());
+  const auto at = [](int ring, int k) { return 2 + ring * kSphereSegments + k % kSphereSegments; };
+  for (int k = 0; k < kSphereSegments; ++k) {
+    out.polygons.push_back({0, at(0, k + 1), at(0, k)});
+    for (int ring = 0; ring + 1 < count; ++ring)
+      out.polygons.push_back({at(ring, k), at(ring, k + 1), at(ring + 1, k + 1), at(ring + 1, k)});
+    out.polygons.push_back({1, at(count - 1, k), at(count - 1, k + 1)});
+  }
+  return out;
+}
+
+ShapeOutline cylinder_outline(const Cylinder& cylinder, const OutlineSettings&) {
+  // kSphereSegments points on each rim (bottom first), the two caps and the side's quadrilaterals.
+  ShapeOutline out;
+  const double r = cylinder.radius, l = cylinder.half_length, pi = std::numbers::pi;
+  for (const double z : {-l, l})
+    for (int k = 0; k < kSphereSegments; ++k) {
+      const double azimuth = 2.0 * pi * k / kSphereSegments;
+      out.points.emplace_back(r * std::cos(azimuth), r * std::sin(azimuth), z);
+    }
+  std::vector<int> bottom, top;
+  for (int k = 0; k < kSphereSegments; ++k) {
+    bottom.push_back(kSphereSegments - 1 - k);  // clockwise seen from +z: counter-clockwise from below
+    top.push_back(kSphereSegments + k);
+    const int next = (k + 1) % kSphereSegments;
+    out.polygons.push_back({k, next, kSphereSegments + next, kSphereSegments + k});
+  }
+  out.polygons.push_back(bottom);
+  out.polygons.push_back(top);
+  return out;
+}
+
+ShapeOutline convex_outline(const Convex& convex, const OutlineSettings&) {
+  ShapeOutline out;
+  out.points = convex.vertices;
+  for (const auto& face : convex.faces) out.polygons.push_back({face[0], face[1], face[2]});
+  return out;
+}
+
+ShapeOutline mesh_outline(const TriangleMesh& mesh, const OutlineSettings&) {
+  ShapeOutline out;
+  out.points = mesh.vertices;
+  for (const auto& triangle : mesh.triangles) out.polygons.push_back({triangle[0], triangle[1], triangle[2]});
+  return out;
+}
+
 ShapeOutline shape_outline(const Shape& shape, const OutlineSettings& settings) {
   return std::visit(
       [&settings](const auto& s) -> ShapeOutline {
@@ -103,6 +168,10 @@ ShapeOutline shape_outline(const Shape& shape, const OutlineSettings& settings) 
         if constexpr (std::is_same_v<T, Sphere>) return sphere_outline(s, settings);
         else if constexpr (std::is_same_v<T, Box>) return box_outline(s, settings);
         else if constexpr (std::is_same_v<T, Halfspace>) return halfspace_outline(s, settings);
+        else if constexpr (std::is_same_v<T, Capsule>) return capsule_outline(s, settings);
+        else if constexpr (std::is_same_v<T, Cylinder>) return cylinder_outline(s, settings);
+        else if constexpr (std::is_same_v<T, Convex>) return convex_outline(s, settings);
+        else if constexpr (std::is_same_v<T, TriangleMesh>) return mesh_outline(s, settings);
         else static_assert(kNoOutline<T>, "shape_outline: give this shape an outline function (shape_outlines.h)");
       },
       shape);

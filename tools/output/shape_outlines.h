@@ -9,6 +9,11 @@
 //   Halfspace  not drawable whole: 3D: a square of half side `halfspace_half_side`, centred on the
 //              boundary point nearest the shape frame's origin (offset · n); plane scenes: the boundary
 //              line's segment of that half length about the same point.
+//   Capsule    the sphere's UV rings split at the equator, the halves moved by ∓half_length along z
+//              (the equator ring taken twice, the cylinder between them).
+//   Cylinder   kSphereSegments points on each rim, the two caps and the side's quadrilaterals.
+//   Convex     its hull's vertices and triangles; TriangleMesh: its vertices and triangles.
+// The last four are 3D only (their scenes are refused in the plane).
 //
 // Polygons run counter-clockwise seen from outside the solid (from +n for a halfspace; from +z in a
 // plane scene), so that ParaView's normals point out of the material.
@@ -42,6 +47,10 @@ constexpr int kDiskSides = 32;
 ShapeOutline sphere_outline(const Sphere& sphere, const OutlineSettings& settings);
 ShapeOutline box_outline(const Box& box, const OutlineSettings& settings);
 ShapeOutline halfspace_outline(const Halfspace& halfspace, const OutlineSettings& settings);
+ShapeOutline capsule_outline(const Capsule& capsule, const OutlineSettings& settings);
+ShapeOutline cylinder_outline(const Cylinder& cylinder, const OutlineSettings& settings);
+ShapeOutline convex_outline(const Convex& convex, const OutlineSettings& settings);
+ShapeOutline mesh_outline(const TriangleMesh& mesh, const OutlineSettings& settings);
 
 // The outline of whichever alternative `shape` holds.
 ShapeOutline shape_outline(const Shape& shape, const OutlineSettings& settings);

@@ -3,8 +3,11 @@
 //   mass (kg), inertia (2D: kg·m² about the centre of mass; 3D: principal [I1, I2, I3]; default from a
 //   single box or sphere shape), position (reference configuration, m), angle (deg, about z, or about
 //   `axis` in 3D), initial_displacement (m), velocity (m/s), angular_velocity (rad/s; 3D: body frame)
-//   shapes: NAME: {type: box, size: [...]} | {type: sphere, radius} | {type: halfspace, normal, offset},
-//           each with an optional position and angle in the body frame;
+//   shapes: NAME: {type: box, size: [...]} | {type: sphere, radius} | {type: halfspace, normal, offset}
+//           | 3D only: {type: capsule, radius, length} (length: of its cylindrical part, along the
+//           shape's z) | {type: cylinder, radius, length} (along z) | {type: convex, vertices:
+//           [[x, y, z], ...]} (their hull) | {type: mesh, file: F.obj | F.stl} (fixed bodies; the file
+//           beside the scene), each with an optional position and angle in the body frame;
 //   prescribed: {COMPONENT: value | [[t, value], ...]}: the component's displacement from the
 //           reference position (m, or rad for rz) as a constant or a table interpolated linearly in
 //           time (a ground moved along a path, a hub held at its centre; 3D rotations rx, ry, rz: the
@@ -17,10 +20,14 @@
 #include "engine/bodies/point_mass.h"
 #include "engine/bodies/rigid_body_2d.h"
 #include "engine/bodies/rigid_body_3d.h"
+#include "contact/convex_hull.h"
+#include "tools/scene/mesh_file.h"
 #include "tools/scene/scene_parts.h"
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace csim::scene_parts {
@@ -53,13 +60,41 @@ ShapeInstance read_shape(const std::string& name, const SceneNode& node, int dim
   } else if (type == "sphere") {
     node.allow_only({"type", "radius", "position", "angle", "axis"});
     shape.shape = Sphere{node.positive("radius")};
+  } else if (type == "capsule" || type == "cylinder" || type == "convex" || type == "mesh") {
+    if (dimension == 2)
+      node.fail_at("type", "a " + type + " is a 3D shape (a plane scene takes box, sphere and halfspace)");
+    if (type == "mesh") {
+      node.allow_only({"type", "file", "position", "angle", "axis"});
+      const std::filesystem::path scene_folder = std::filesystem::path(node.document().file).parent_path();
+      try {
+        shape.shape = read_mesh_file((scene_folder / node.string("file")).string());
+      } catch (const std::runtime_error& e) {
+        node.fail_at("file", e.what());
+      }
+    } else if (type == "convex") {
+      node.allow_only({"type", "vertices", "position", "angle", "axis"});
+      std::vector<Eigen::Vector3d> points;
+      for (const SceneNode& item : node.child("vertices").items()) points.push_back(item.as_vector(3, 3));
+      try {
+        shape.shape = make_convex(points);
+      } catch (const std::invalid_argument& e) {
+        node.fail_at("vertices", e.what());
+      }
+    } else {
+      node.allow_only({"type", "radius", "length", "position", "angle", "axis"});
+      const double radius = node.positive("radius");
+      const double length = type == "capsule" ? node.number("length") : node.positive("length");
+      if (!(length >= 0.0)) node.fail_at("length", "must be >= 0 (the length of the capsule's cylindrical part)");
+      if (type == "capsule") shape.shape = Capsule{radius, 0.5 * length};
+      else shape.shape = Cylinder{radius, 0.5 * length};
+    }
   } else if (type == "halfspace") {
     node.allow_only({"type", "normal", "offset", "position", "angle", "axis"});
     Eigen::Vector3d normal = node.vector("normal", dimension, dimension);
     if (normal.norm() == 0.0) node.fail_at("normal", "must not be zero");
     shape.shape = Halfspace{normal.normalized(), node.number("offset", 0.0)};
   } else {
-    node.fail_at("type", "unknown shape type '" + type + "' (available: box, sphere, halfspace)");
+    node.fail_at("type", "unknown shape type '" + type + "' (available: box, sphere, halfspace, capsule, cylinder, convex, mesh)");
   }
   if (node.has("position")) shape.local_pose.translation() = node.vector("position", dimension, dimension);
   shape.local_pose.linear() = rotation(node, dimension);
@@ -72,26 +107,75 @@ double bounding_radius(const std::vector<ShapeInstance>& shapes) {
     const double offset = s.local_pose.translation().norm();
     if (const auto* sphere = std::get_if<Sphere>(&s.shape)) radius = std::max(radius, offset + sphere->radius);
     else if (const auto* box = std::get_if<Box>(&s.shape)) radius = std::max(radius, offset + box->half_extents.norm());
+    else if (const auto* capsule = std::get_if<Capsule>(&s.shape))
+      radius = std::max(radius, offset + capsule->half_length + capsule->radius);
+    else if (const auto* cylinder = std::get_if<Cylinder>(&s.shape))
+      radius = std::max(radius, offset + std::hypot(cylinder->half_length, cylinder->radius));
+    else if (const auto* convex = std::get_if<Convex>(&s.shape))
+      for (const Eigen::Vector3d& v : convex->vertices) radius = std::max(radius, offset + v.norm());
+    else if (const auto* mesh = std::get_if<TriangleMesh>(&s.shape))
+      for (const Eigen::Vector3d& v : mesh->vertices) radius = std::max(radius, offset + v.norm());
     else radius = std::numeric_limits<double>::infinity();
   }
   return radius;
 }
 
-// Inertia about the centre of mass from a single centred box or sphere: 2D about z, 3D principal.
+// Principal inertia (kg·m², about x, y, z of the shape frame) of a uniform solid capsule: its
+// cylinder and two hemispheres, each hemisphere moved from its centroid (3r/8 from its flat face) to
+// the capsule's centre by the parallel-axis theorem.
+Eigen::Vector3d capsule_inertia(const Capsule& capsule, double mass) {
+  const double r = capsule.radius, h = capsule.half_length;
+  const double cylinder_volume = M_PI * r * r * 2.0 * h, ball_volume = 4.0 / 3.0 * M_PI * r * r * r;
+  const double m_cylinder = mass * cylinder_volume / (cylinder_volume + ball_volume);
+  const double m_ball = mass - m_cylinder;
+  const double across = m_cylinder * ((2.0 * h) * (2.0 * h) / 12.0 + r * r / 4.0) +
+                        m_ball * (0.4 * r * r + h * h + 0.75 * h * r);
+  const double along = 0.5 * m_cylinder * r * r + 0.4 * m_ball * r * r;
+  return {across, across, along};
+}
+
+// Inertia about the centre of mass from a single centred shape: 2D about z, 3D principal. A convex
+// hull's centroid must lie at its shape's origin and its principal axes along the shape's axes.
 Eigen::Vector3d default_inertia(const SceneNode& node, double mass, const std::vector<ShapeInstance>& shapes,
                                 int dimension) {
   if (shapes.size() == 1 && shapes[0].local_pose.translation().isZero()) {
-    if (const auto* box = std::get_if<Box>(&shapes[0].shape)) {
+    const Shape& shape = shapes[0].shape;
+    // The new shapes' inertia is about their own axes: a turned one needs it given.
+    const bool turned = !shapes[0].local_pose.linear().isIdentity();
+    if (turned && !std::holds_alternative<Box>(shape) && !std::holds_alternative<Sphere>(shape))
+      node.fail_at("inertia", "required: the body's only shape is turned in the body frame (angle), so its "
+                              "principal axes are not the body's");
+    if (const auto* box = std::get_if<Box>(&shape)) {
       const Eigen::Vector3d s = 2.0 * box->half_extents;
       return mass / 12.0 * Eigen::Vector3d(s.y() * s.y() + s.z() * s.z(), s.x() * s.x() + s.z() * s.z(),
                                            s.x() * s.x() + s.y() * s.y());
     }
-    if (const auto* sphere = std::get_if<Sphere>(&shapes[0].shape)) {
+    if (const auto* sphere = std::get_if<Sphere>(&shape)) {
       const double r2 = sphere->radius * sphere->radius;
       return Eigen::Vector3d::Constant(dimension == 2 ? 0.5 * mass * r2 : 0.4 * mass * r2);
     }
+    if (const auto* capsule = std::get_if<Capsule>(&shape)) return capsule_inertia(*capsule, mass);
+    if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+      const double r2 = cylinder->radius * cylinder->radius, l = 2.0 * cylinder->half_length;
+      const double across = mass * (3.0 * r2 + l * l) / 12.0;
+      return {across, across, 0.5 * mass * r2};
+    }
+    if (const auto* convex = std::get_if<Convex>(&shape)) {
+      const ConvexMassProperties p = convex_mass_properties(*convex);
+      const Eigen::Matrix3d inertia = mass / p.volume * p.inertia_per_density;
+      const double size = std::cbrt(p.volume);
+      if (p.centroid.norm() > 1e-9 * size)
+        node.fail_at("inertia", "required: the convex hull's centroid (" + std::to_string(p.centroid.x()) + ", " +
+                                    std::to_string(p.centroid.y()) + ", " + std::to_string(p.centroid.z()) +
+                                    ") is not at its shape's origin");
+      const Eigen::Matrix3d off_diagonal = inertia - Eigen::Matrix3d(inertia.diagonal().asDiagonal());
+      if (off_diagonal.cwiseAbs().maxCoeff() > 1e-9 * inertia.diagonal().maxCoeff())
+        node.fail_at("inertia", "required: the convex hull's principal axes are not its shape's axes");
+      return inertia.diagonal();
+    }
   }
-  node.fail_at("inertia", "required (it has no default unless the body has one centred box or sphere)");
+  node.fail_at("inertia", "required (it has no default unless the body has one shape at its origin, "
+                          "other than a halfspace)");
 }
 
 // One body, its position moved by `offset` (m: a copy's place in its grid, copies_of).
@@ -139,6 +223,11 @@ void read_body(const std::string& name, const SceneNode& node, World& world,
   b.body->bounding_radius = bounding_radius(b.shapes);
   if (!b.body->fixed() && !std::isfinite(b.body->bounding_radius))
     node.fail("a halfspace can only belong to a fixed body");
+  if (!b.body->fixed() && node.has("shapes"))
+    for (const auto& [shape_name, shape_node] : node.child("shapes").entries())
+      if (shape_node.string("type") == "mesh")
+        shape_node.fail_at("type", "a mesh can only belong to a fixed body (a terrain): mesh–mesh contact is not "
+                                   "computed; give a moving body a convex shape");
 
   // Reference configuration, then the initial state.
   const int nq = b.body->position_size(), nv = b.body->velocity_size();

@@ -132,6 +132,7 @@ struct SideSummary {
   int count = 0;                   // bodies
   int without_shapes = -1;         // a body with neither shapes nor an elastic surface, or −1
   std::vector<int> elastic;        // its first two elastic bodies
+  int hull_shaped = -1;            // a body with a capsule, cylinder, convex or mesh shape, or −1
 };
 
 SideSummary summarize(const World& world, int body, int group) {
@@ -145,6 +146,12 @@ SideSummary summarize(const World& world, int body, int group) {
     } else if (instance.shapes.empty() && side.without_shapes < 0) {
       side.without_shapes = b;
     }
+    for (const ShapeInstance& shape : instance.shapes)
+      if (side.hull_shaped < 0 && (std::holds_alternative<Capsule>(shape.shape) ||
+                                   std::holds_alternative<Cylinder>(shape.shape) ||
+                                   std::holds_alternative<Convex>(shape.shape) ||
+                                   std::holds_alternative<TriangleMesh>(shape.shape)))
+        side.hull_shaped = b;
   }
   return side;
 }
@@ -248,6 +255,13 @@ void read_contacts(const SceneNode& root, World& world) {
       node.fail_at("between", "contact between two elastic bodies ('" + world.bodies[x].name + "' and '" +
                                   world.bodies[y].name + "') is not supported yet (node-to-surface contact works "
                                   "against rigid shapes)");
+    // Node-to-surface contact projects onto spheres, boxes and halfspaces only (deformable_surface.h).
+    for (int k = 0; k < 2; ++k)
+      if (!sides[k].elastic.empty() && sides[1 - k].hull_shaped >= 0)
+        node.fail_at("between", "elastic body '" + world.bodies[sides[k].elastic[0]].name + "' against body '" +
+                                    world.bodies[sides[1 - k].hull_shaped].name +
+                                    "', which has a capsule, cylinder, convex or mesh shape: node-to-surface contact "
+                                    "takes spheres, boxes and halfspaces; use one of those");
     const bool has_elastic = !sides[0].elastic.empty() || !sides[1].elastic.empty();
     const std::string features = node.string("features", "nodes");
     if (features == "faces") law.features = SurfaceFeatures::faces;

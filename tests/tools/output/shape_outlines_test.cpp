@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <map>
 #include <numbers>
 #include <utility>
@@ -131,6 +132,50 @@ TEST(ShapeOutlines, PlaneHalfspaceIsASegmentOfItsBoundaryLine) {
   }
   EXPECT_NEAR((outline.points[0] - outline.points[1]).norm(), 2.0 * s, 1e-15);
   EXPECT_NEAR((0.5 * (outline.points[0] + outline.points[1]) - offset * n).norm(), 0.0, 1e-15);
+}
+
+TEST(ShapeOutlines, CapsuleIsAClosedSurfaceOnTheCapsule) {
+  const double r = 0.2, l = 0.5;
+  const ShapeOutline outline = capsule_outline(Capsule{r, l}, {});
+  expect_closed(outline);
+  for (const Eigen::Vector3d& p : outline.points) {  // distance r from the axis segment
+    const Eigen::Vector3d on_axis(0.0, 0.0, std::clamp(p.z(), -l, l));
+    EXPECT_NEAR((p - on_axis).norm(), r, 1e-15);
+  }
+  // Inscribed: less than the capsule's volume, more than the inscribed sphere polyhedron plus the
+  // inscribed prism of the cylinder part.
+  const double volume = signed_volume(outline);
+  const double pi = std::numbers::pi;
+  EXPECT_LT(volume, 4.0 / 3.0 * pi * r * r * r + pi * r * r * 2.0 * l);
+  EXPECT_GT(volume, signed_volume(sphere_outline(Sphere{r}, {})) + 2.0 * l * 0.5 * kSphereSegments * r * r *
+                                                                       std::sin(2.0 * pi / kSphereSegments) * 0.999);
+}
+
+TEST(ShapeOutlines, CylinderIsTheInscribedPrism) {
+  const double r = 0.2, l = 0.5, pi = std::numbers::pi;
+  const ShapeOutline outline = cylinder_outline(Cylinder{r, l}, {});
+  expect_closed(outline);
+  for (const Eigen::Vector3d& p : outline.points) {
+    EXPECT_NEAR(std::hypot(p.x(), p.y()), r, 1e-15);
+    EXPECT_NEAR(std::abs(p.z()), l, 0.0);
+  }
+  // The regular prism: base area n r² sin(2π/n) / 2, height 2l.
+  EXPECT_NEAR(signed_volume(outline), 0.5 * kSphereSegments * r * r * std::sin(2.0 * pi / kSphereSegments) * 2.0 * l,
+              1e-15);
+}
+
+TEST(ShapeOutlines, ConvexAndMeshAreTheirOwnTriangles) {
+  // A tetrahedron with outward counter-clockwise faces: volume 1/6.
+  Convex tetrahedron;
+  tetrahedron.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tetrahedron.faces = {{{0, 2, 1}}, {{0, 1, 3}}, {{0, 3, 2}}, {{1, 2, 3}}};
+  const ShapeOutline outline = convex_outline(tetrahedron, {});
+  expect_closed(outline);
+  EXPECT_NEAR(signed_volume(outline), 1.0 / 6.0, 1e-15);
+  TriangleMesh mesh;
+  mesh.vertices = tetrahedron.vertices;
+  mesh.triangles = tetrahedron.faces;
+  EXPECT_EQ(mesh_outline(mesh, {}).polygons, outline.polygons);
 }
 
 TEST(ShapeOutlines, TheVariantGivesItsAlternativesOutline) {
