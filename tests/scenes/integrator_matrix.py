@@ -21,7 +21,8 @@ import time
 
 INTEGRATORS = ["moreau-jean", "quasi-static", "ida", "ida-events", "generalized-alpha"]
 WINDOW_STEPS = 10
-# rounded-shapes-incline and terrain-mesh: over two minutes under ida (measured; not investigated).
+# rounded-shapes-incline: over two minutes under ida (measured; not investigated); its checks read t.
+# terrain-mesh: ida refuses triangle meshes (ida_integrator.cpp).
 SHORT_WINDOW = {"rolling-ring", "rolling-ring-3d", "sdnv104-quad8", "rounded-shapes-incline", "terrain-mesh"}
 
 # (scene, integrator) -> why it does not pass, and the outcome it has: "checks" (exit 1, an evaluated
@@ -31,6 +32,9 @@ EXPECTED = {
     ("rounded-shapes-at-rest", "ida"): ("checks", REGULARIZED + "the penalty layer lets each body sink by m g / (k × its "
                                         "points), 4.9e-8 m, beyond the 1e-9 m checks (the scene test runs ida with "
                                         "sink_tolerance 1e-7)"),
+    ("rounded-shapes-incline", "ida"): ("checks", REGULARIZED + "over the short window the rolls lag the closed "
+                                        "forms by 1.4e-4 and the normal force is 3e-4 off (penalty and regularized "
+                                        "Coulomb), against checks of 1e-9 and 1e-6"),
     ("bouncing-ball", "ida"): ("checks", REGULARIZED + "the penalty dashpot only approximates Newton's restitution "
                                "(regularized_law.h: the no-tension clamp makes the rebound livelier than e)"),
     ("box-on-block", "ida"): ("checks", REGULARIZED + "the box rides on the soft penalty layer of the block "
