@@ -17,8 +17,8 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
                 int dimension, int size, Vector& r, std::vector<ContactStatus>* status = nullptr);
 
 // Solves, accounts in state.counters, and copies the impulses and statuses back into `active`.
-// A problem whose W splits into islands (contact/islands.h: contacts that share no moving body) is solved
-// island by island, each to tolerance / √(islands), an island of fewer than 150 rows stored dense; the
+// A problem of at least 150 rows whose W splits into islands (contact/islands.h: contacts that share no
+// moving body) is solved island by island, each to tolerance / √(islands), an island of fewer than 150 rows stored dense; the
 // whole problem's residual then decides convergence, and a split solve that misses it is followed by a
 // solve of the whole problem from its iterate (the better of the two kept). The counters see one solve,
 // its sweeps the most any island took.
