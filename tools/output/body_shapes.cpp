@@ -4,20 +4,12 @@
 #include "tools/output/shape_outlines.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cstdint>
 #include <variant>
 
 namespace csim {
 
 namespace {
-
-// Shortest text that reads back as the same double (as the ParaView files' TimeValue, vtk_writer.cpp).
-void put_number(std::string& out, double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, result.ptr);
-}
 
 // A vtkStringArray as VTK's XML writer stores it in ASCII: each string's bytes as numbers, each string
 // ended by a 0 (always as text, as the TimeValue beside it).
@@ -169,15 +161,8 @@ void BodyShapes::write(VtkFileText& file, const Sample& sample, double t) const 
     std::copy(u.data(), u.data() + 3, body_velocity.begin() + 3 * c);
   }
 
-  file.open("PolyData", "");
-  std::string& xml = file.xml();
-  xml +=
-      "  <PolyData>\n"
-      "    <FieldData>\n"
-      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">";
-  put_number(xml, t);
-  xml += "</DataArray>\n" + field_data_ + "    </FieldData>\n";
-  xml += "    <Piece NumberOfPoints=\"" + std::to_string(local_points_.size()) + "\" NumberOfVerts=\"" +
+  file.open_dataset("PolyData", "", t, field_data_);
+  file.xml() += "    <Piece NumberOfPoints=\"" + std::to_string(local_points_.size()) + "\" NumberOfVerts=\"" +
          std::to_string(verts_) + "\" NumberOfLines=\"" + std::to_string(lines_) +
          "\" NumberOfStrips=\"0\" NumberOfPolys=\"" + std::to_string(polys_) + "\">\n";
   file.xml() += "      <PointData Vectors=\"velocity\">\n";

@@ -25,11 +25,9 @@ constexpr std::size_t kBlockSize = 32768;
 // 1.1 to 14 times the time (docs/output.md).
 constexpr int kCompressionLevel = 1;
 
-void put_number(std::string& out, double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, result.ptr);
-}
+// Beside the header's put_number(double): ascii_values finds both overloads here (this one alone would
+// hide it, and the doubles would be written as integers).
+using csim::put_number;
 
 void put_number(std::string& out, std::int64_t value) {
   char buffer[24];
@@ -137,6 +135,21 @@ EncodedArray encode_array(VtkEncoding encoding, const char* type, const std::str
   else if (t == "UInt8") out.data = integer_block<std::uint8_t>(values, compress);
   else throw std::logic_error("encode_array: unsupported integer type " + t);
   return out;
+}
+
+void put_number(std::string& out, double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+
+void VtkFileText::open_dataset(const std::string& type, const std::string& prolog, double t,
+                               const std::string& field_data) {
+  open(type, prolog);
+  xml_ += "  <" + type + ">\n    <FieldData>\n"
+          "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">";
+  put_number(xml_, t);
+  xml_ += "</DataArray>\n" + field_data + "    </FieldData>\n";
 }
 
 void VtkFileText::open(const std::string& type, const std::string& prolog) {

@@ -49,6 +49,9 @@ EncodedArray encode_array(VtkEncoding encoding, const char* type, const std::str
                           const std::vector<std::int64_t>& values,
                           const std::vector<std::string>& component_names = {});
 
+// The shortest text that reads back as the same double (a TimeValue, a .pvd's timestep, an ascii value).
+void put_number(std::string& out, double value);
+
 // The text of one VTK XML file. open() writes the root element; array() a DataArray (inline, or a
 // reference into the appended data); finish() the appended data and the closing of the root, as one
 // string, or write() the same bytes to a stream without assembling them: a large frame's arrays are
@@ -60,6 +63,10 @@ class VtkFileText {
   VtkFileText& operator=(const VtkFileText&) = delete;
   // The XML declaration, `prolog` (comment lines), and <VTKFile type="TYPE" ...>.
   void open(const std::string& type, const std::string& prolog);
+  // open(), then the dataset element <TYPE> and its FieldData: the time t (s) as TimeValue, always as
+  // text (ParaView reads it when one file is opened without its .pvd), then `field_data` (whole
+  // DataArray elements). The caller writes the <Piece> that follows.
+  void open_dataset(const std::string& type, const std::string& prolog, double t, const std::string& field_data = "");
   std::string& xml() { return xml_; }  // for the elements between the arrays
   // An array the caller keeps until finish() (a series' mesh), or one handed over: its data is copied
   // once, into the file's text.

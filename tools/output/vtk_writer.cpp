@@ -2,20 +2,12 @@
 
 #include "tools/output/vtk_data_array.h"
 
-#include <charconv>
 #include <cmath>
 #include <stdexcept>
 
 namespace csim {
 
 namespace {
-
-// Shortest text that reads back as the same double (the time in the head and the .pvd).
-void put_number(std::string& out, double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, result.ptr);
-}
 
 std::string escaped(const std::string& text) {  // for an attribute value in double quotes
   std::string out;
@@ -51,15 +43,8 @@ void open_grid(VtkFileText& file, double t, std::size_t points, std::size_t cell
                const std::vector<std::string>& comments = {}) {
   std::string prolog;
   for (const std::string& c : comments) prolog += comment_line(c);
-  file.open("UnstructuredGrid", prolog);
-  std::string& out = file.xml();
-  out +=
-      "  <UnstructuredGrid>\n"
-      "    <FieldData>\n"
-      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">";
-  put_number(out, t);
-  out += "</DataArray>\n    </FieldData>\n";
-  out += "    <Piece NumberOfPoints=\"" + std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(cells) +
+  file.open_dataset("UnstructuredGrid", prolog, t);
+  file.xml() += "    <Piece NumberOfPoints=\"" + std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(cells) +
          "\">\n";
 }
 
