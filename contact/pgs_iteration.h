@@ -71,6 +71,14 @@ class ContractionWindow {
   int slot_ = 0, count_ = 0;
 };
 
+// The solve of a problem without contacts (nothing to sweep): converged, no status.
+inline PgsStatistics without_contacts(std::vector<ContactStatus>* status) {
+  if (status != nullptr) status->clear();
+  PgsStatistics statistics;
+  statistics.converged = true;
+  return statistics;
+}
+
 template <int D, class Path>
 PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters& parameters, Path& path,
                       Eigen::VectorXd& r, std::vector<ContactStatus>* status) {

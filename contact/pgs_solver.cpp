@@ -109,12 +109,7 @@ PgsStatistics solve_condensed_rows(const FrictionContactProblem& problem, PgsCon
                                    const PgsParameters& parameters, Eigen::VectorXd& r_c,
                                    std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose) {
   const FrictionContactProblem& contacts = condensed.contacts;
-  if (contacts.contacts == 0) {
-    if (status != nullptr) status->clear();
-    PgsStatistics statistics;
-    statistics.converged = true;
-    return statistics;
-  }
+  if (contacts.contacts == 0) return pgs_local::without_contacts(status);
   const Eigen::MatrixXd& W_rows = rows_of(contacts.W, transpose);
   int rejected = 0;
   PgsStatistics statistics;
@@ -130,12 +125,7 @@ PgsStatistics solve_condensed_rows(const FrictionContactProblem& problem, PgsCon
 
 PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const PgsParameters& parameters,
                                  Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose) {
-  if (problem.contacts == 0) {
-    if (status != nullptr) status->clear();
-    PgsStatistics statistics;
-    statistics.converged = true;
-    return statistics;
-  }
+  if (problem.contacts == 0) return pgs_local::without_contacts(status);
   const Eigen::MatrixXd& W_rows = rows_of(problem.W, transpose);
   if (problem.dimension == 2) {
     DensePath<2> path{problem, W_rows, parameters};

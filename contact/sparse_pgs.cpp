@@ -284,12 +284,7 @@ const SparseDelassus& laid_out(const FrictionContactProblem& problem, SparseDela
 PgsStatistics solve_sparse(const FrictionContactProblem& problem, const PgsParameters& parameters, Eigen::VectorXd& r,
                            std::vector<ContactStatus>* status, SparseDelassus& completed) {
   const SparseDelassus& W = laid_out(problem, completed);
-  if (problem.contacts == 0) {
-    if (status != nullptr) status->clear();
-    PgsStatistics statistics;
-    statistics.converged = true;
-    return statistics;
-  }
+  if (problem.contacts == 0) return pgs_local::without_contacts(status);
   if (problem.dimension == 2) return solve_dimension<2>(problem, BlockRows<2>(W), parameters, r, status);
   return solve_dimension<3>(problem, BlockRows<3>(W), parameters, r, status);
 }
