@@ -342,21 +342,22 @@ void MoreauJean::detect_solve_update(State& state) {
     clock_.lap(state.timers.solve);
     update(state);
     if (pass == kClosingPasses) break;
-    const int closed = activate_closed_contacts(parameters_.step);
+    const int closed = parameters_.close_gaps ? activate_closed_by_motion(parameters_.step, true) : 0;
     if (closed == 0) break;
     state.counters.closing_activations += closed;
   }
 }
 
-// The inactive inelastic candidates whose gap the step's motion closes, g + h u_n(v_θ) ≤ touching
-// (header, step 5), activated now. Elastic ones (e > 0) are left to step 2's rule: their impact law
-// has no gap term, so activating them early would bounce them off the air by up to a step's travel.
-int MoreauJean::activate_closed_contacts(double h) {
-  if (!parameters_.close_gaps) return 0;
+// The inactive candidates whose gap the step's motion v_θ closes within `time` (s),
+// g + time · u_n(v_θ) ≤ touching, activated now, in candidate order; with inelastic_only, those of
+// laws with e = 0 only (a linear step, header step 5: an elastic law's impact law has no gap term, so
+// activating it early would bounce it off the air by up to a step's travel).
+int MoreauJean::activate_closed_by_motion(double time, bool inelastic_only) {
   std::vector<int> closed;
   for (int k = 0; k < stage_.candidate_count(); ++k) {
-    if (stage_.is_active(k) || world_.contact_laws[stage_.candidates()[k].law].restitution > 0.0) continue;
-    if (stage_.predicted_gap(k, v_theta_, h) <= stage_.touching()) closed.push_back(k);
+    if (stage_.is_active(k)) continue;
+    if (inelastic_only && world_.contact_laws[stage_.candidates()[k].law].restitution > 0.0) continue;
+    if (stage_.predicted_gap(k, v_theta_, time) <= stage_.touching()) closed.push_back(k);
   }
   if (!closed.empty()) stage_.activate_more(closed);
   return static_cast<int>(closed.size());

@@ -106,8 +106,7 @@ class MoreauJean final : public Stepper {
   void step_in_two_halves(State& state);   // a sparse linear World, after its forward half (see the header)
   void detect(const State& state);
   double detection_margin(const State& state);
-  int activate_missed_contacts(double h);
-  int activate_closed_contacts(double h);
+  int activate_closed_by_motion(double time, bool inelastic_only);
   void assemble(const State& state);
   double equality_target(const State& state, int e) const;
   void update(State& state);

@@ -37,16 +37,6 @@ void MoreauJean::compute_newton_free_velocity(const State& state, const Vector& 
   check_free_velocity(v_free_, state.t + h);
 }
 
-// The candidates that the converged motion would have activated (detect()'s rule with Newton's v_θ in
-// place of the free step's prediction) and the prediction left out: activated now, in candidate order.
-int MoreauJean::activate_missed_contacts(double h) {
-  std::vector<int> missed;
-  for (int k = 0; k < stage_.candidate_count(); ++k)
-    if (!stage_.is_active(k) && stage_.predicted_gap(k, v_theta_, kActivationGamma * h) <= stage_.touching()) missed.push_back(k);
-  if (!missed.empty()) stage_.activate_more(missed);
-  return static_cast<int>(missed.size());
-}
-
 // One step with finite-strain bodies: Newton on v_{k+1}, the contact solve inside (see the header).
 // The contacts are detected at its first iteration, within a margin of the motion predicted then; a
 // converged step that moved a point farther than that margin is taken again, detected over its own
@@ -121,7 +111,9 @@ int MoreauJean::newton_iterations(State& state) {
     const double increment = h * newton_step_.lpNorm<Eigen::Infinity>();
     relaxation = 1.0;
     if (increment <= parameters_.newton_tolerance * length_) {
-      const int missed = activate_missed_contacts(h);
+      // The candidates that the converged motion would have activated (detect()'s rule with Newton's
+      // v_θ in place of the free step's prediction) and the prediction left out.
+      const int missed = activate_closed_by_motion(kActivationGamma * h, false);
       if (missed == 0) return iteration;
       c.newton_activated_contacts += missed;
       relaxation_.reset();
