@@ -25,6 +25,7 @@
 //     corners); incline-3d has 4 in both.
 //   - Bullet has a collision margin (0.04 m, inside the box) and a contact breaking threshold; csim's
 //     box–plane gaps are exact (contact/narrow_phase.h).
+#include "bench/spread.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 
@@ -41,14 +42,8 @@
 
 namespace {
 
-struct Spread {
-  double median = NAN, min = NAN, max = NAN;
-};
-
-Spread spread(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return {values[values.size() / 2], values.front(), values.back()};
-}
+using csim::bench::Spread;
+using csim::bench::spread;
 
 struct CsimRun {
   double us_per_step;

@@ -23,6 +23,7 @@
 // (J); csim also its deepest overlap over the whole run, its contact solves that stopped above the
 // tolerance, its largest final residual and its energy balance (the worst residual of the discrete
 // balance over the run, and what the contacts dissipated). Ratios csim / Bullet from the same repeats.
+#include "bench/spread.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
 
@@ -273,14 +274,8 @@ Child in_child(Run what) {
   return child;
 }
 
-struct Spread {
-  double median = NAN, min = NAN, max = NAN;
-};
-
-Spread spread(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return {values[values.size() / 2], values.front(), values.back()};
-}
+using csim::bench::Spread;
+using csim::bench::spread;
 
 }  // namespace
 

@@ -5,6 +5,7 @@
 // does besides printing). Printed per N: the laws, the file's size, load_scene and make_stepper in ms
 // (median and min–max over the repeats); the time per body should not grow with N.
 // The same pile declared pair by pair (its neighbour pairs: about 5 laws a sphere) for comparison.
+#include "bench/spread.h"
 #include "bench/pile_scene.h"
 #include "tools/run/run.h"
 #include "tools/scene/scene.h"
@@ -20,14 +21,8 @@
 
 namespace {
 
-struct Spread {
-  double median, least, most;
-};
-
-Spread spread(std::vector<double> ms) {
-  std::sort(ms.begin(), ms.end());
-  return {ms[ms.size() / 2], ms.front(), ms.back()};
-}
+using csim::bench::Spread;
+using csim::bench::spread;
 
 double milliseconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -65,8 +60,8 @@ int main(int argc, char** argv) {
       std::remove(file.c_str());
       const Spread l = spread(load), s = spread(stepper);
       char load_text[64], stepper_text[64];
-      std::snprintf(load_text, sizeof load_text, "%.1f (%.1f-%.1f)", l.median, l.least, l.most);
-      std::snprintf(stepper_text, sizeof stepper_text, "%.1f (%.1f-%.1f)", s.median, s.least, s.most);
+      std::snprintf(load_text, sizeof load_text, "%.1f (%.1f-%.1f)", l.median, l.min, l.max);
+      std::snprintf(stepper_text, sizeof stepper_text, "%.1f (%.1f-%.1f)", s.median, s.min, s.max);
       std::printf("%-15s %6zu %7zu %9.0f  %-22s %-22s %.0f\n",
                   declaration == csim::bench::Declaration::group ? "group" : "neighbour pairs", spheres.size() + 1,
                   laws, text.size() / 1e3, load_text, stepper_text, 1e3 * l.median / (spheres.size() + 1));
