@@ -52,7 +52,6 @@ struct SolverCounters {
   long newton_backtracks = 0;     // Moreau–Jean: iterates taken again on a shorter step after an element inverted
   long newton_redetections = 0;   // Moreau–Jean: steps whose Newton moved farther than their contact detection reached
   long newton_activated_contacts = 0;  // Moreau–Jean: contacts activated by Newton's motion, not the prediction
-  long closing_activations = 0;   // Moreau–Jean, linear: contacts the step's motion closed, activated and solved again
   long detections_retaken = 0;    // Moreau–Jean in two halves: steps whose motion outran their detection's margin
   long sparse_solves = 0;         // Moreau–Jean: solves whose W was stored sparse by blocks (contact_stage.h)
   long dense_fallbacks = 0;       // of those, solved again stored dense (contact_solve.h)

@@ -78,7 +78,9 @@ void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) c
   if (two_halves_)
     out.add("detections_retaken", state.counters.detections_retaken).add("sparse_solves", state.counters.sparse_solves)
         .add("dense_fallbacks", state.counters.dense_fallbacks);
-  if (!operators_.nonlinear()) out.add("closing_activations", state.counters.closing_activations);
+  // Kept for the scripts that read it (docs/contract.md): every inelastic candidate is now a row from
+  // the start, so no step's motion closes an inactive one.
+  if (!operators_.nonlinear()) out.add("closing_activations", 0L);
 }
 
 void MoreauJean::initialize(State& state) {
@@ -150,7 +152,11 @@ void MoreauJean::detect(const State& state) {
     if (stage_.empty()) return;
   }
   const int d = stage_.dimension();
+  const bool linear_closing = parameters_.close_gaps && !operators_.nonlinear();
   for (int k = 0; k < stage_.candidate_count(); ++k) {
+    // A linear step that closes gaps makes every inelastic candidate a row (see the header, step 2).
+    const bool rows_every_inelastic =
+        linear_closing && world_.contact_laws[stage_.candidates()[k].law].restitution == 0.0;
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at rest
     // under a load that presses it on the surface is caught at the first step, whatever the round-off
     // in its gap; in two halves from its forward column, u_n(v_θ,free) = u_n(v_k) + θ y_nᵀ z. A step
@@ -159,7 +165,7 @@ void MoreauJean::detect(const State& state) {
                                  ? stage_.predicted_gap(k, state.v, kActivationGamma * h) +
                                        kActivationGamma * h * theta * halves_->free_dot(d * k)
                                  : stage_.predicted_gap(k, v_predicted_, kActivationGamma * h);
-    if (predicted <= stage_.touching() ||
+    if (rows_every_inelastic || predicted <= stage_.touching() ||
         (reach_velocity_.size() > 0 && stage_.predicted_gap(k, reach_velocity_, h) <= stage_.touching()))
       stage_.activate(k);
   }
@@ -334,29 +340,21 @@ void MoreauJean::account_energy(State& state) {
 void MoreauJean::detect_solve_update(State& state) {
   detect(state);
   clock_.lap(state.timers.detection);
-  for (int pass = 0;; ++pass) {
-    linearize_ties(state, state.v);
-    assemble(state);
-    clock_.lap(state.timers.assembly);
-    stage_.solve(state.contacts, true, parameters_.failure_residual, state.t + parameters_.step, state.counters);
-    clock_.lap(state.timers.solve);
-    update(state);
-    if (pass == kClosingPasses) break;
-    const int closed = parameters_.close_gaps ? activate_closed_by_motion(parameters_.step, true) : 0;
-    if (closed == 0) break;
-    state.counters.closing_activations += closed;
-  }
+  linearize_ties(state, state.v);
+  assemble(state);
+  clock_.lap(state.timers.assembly);
+  stage_.solve(state.contacts, true, parameters_.failure_residual, state.t + parameters_.step, state.counters);
+  clock_.lap(state.timers.solve);
+  update(state);
 }
 
 // The inactive candidates whose gap the step's motion v_θ closes within `time` (s),
-// g + time · u_n(v_θ) ≤ touching, activated now, in candidate order; with inelastic_only, those of
-// laws with e = 0 only (a linear step, header step 5: an elastic law's impact law has no gap term, so
-// activating it early would bounce it off the air by up to a step's travel).
-int MoreauJean::activate_closed_by_motion(double time, bool inelastic_only) {
+// g + time · u_n(v_θ) ≤ touching, activated now, in candidate order (Newton's missed contacts,
+// moreau_jean_newton.cpp).
+int MoreauJean::activate_closed_by_motion(double time) {
   std::vector<int> closed;
   for (int k = 0; k < stage_.candidate_count(); ++k) {
     if (stage_.is_active(k)) continue;
-    if (inelastic_only && world_.contact_laws[stage_.candidates()[k].law].restitution > 0.0) continue;
     if (stage_.predicted_gap(k, v_theta_, time) <= stage_.touching()) closed.push_back(k);
   }
   if (!closed.empty()) stage_.activate_more(closed);

@@ -4,9 +4,17 @@
 // One step from t_k to t_{k+1} = t_k + h, in the order of docs/architecture.md §2, with the iteration
 // matrix A = M + hθC + h²θ²K (structural_operators.h, factored once when K is constant):
 //   1. free velocity   A (v_free − v_k) = h [θ f(t_{k+1}) + (1−θ) f(t_k) + f_int(q_k) − θ h K v_k − C v_k];
-//   2. detect          candidates within twice the step's travel; a contact is active when its predicted
-//                      gap g + γ h u_n ≤ ε (γ = ½), u_n from the θ-weighted free velocity (1−θ)v_k + θ v_free,
-//                      ε the stage's touching band (1e-9 of the World's size, contact_stage.h);
+//   2. detect          candidates within twice the step's travel. A linear step with close_gaps makes
+//                      every candidate of an inelastic law (e = 0) a row: its condition below is
+//                      g(q_{k+1}) ≥ 0 linearized, which an open contact that the step does not close meets
+//                      with r = 0, so a row costs a sweep's reading and nothing else; a contact that a
+//                      neighbour's impulse pushes shut within the step is then held by the same solve (a
+//                      rule that activated on a prediction missed those, and each miss cost a second
+//                      solve: a 1000-sphere drop took 2.3 solves a step and 3.3 times as long, bench_drop).
+//                      Otherwise (e > 0, close_gaps = false, the Newton step) a contact is active when its
+//                      predicted gap g + γ h u_n ≤ ε (γ = ½), u_n from the θ-weighted free velocity
+//                      (1−θ)v_k + θ v_free, ε the stage's touching band (1e-9 of the World's size,
+//                      contact_stage.h);
 //   3. assemble        the contact stage (contact_stage.h) forms W = H A⁻¹ Hᵀ through A's operator
 //                      (iteration_operator.h) and b = H v_free, to which the step adds Newton's impact law
 //                      e·u_n(v_k) on normal rows and, on an inelastic contact (e = 0) whose gap g is still
@@ -18,13 +26,6 @@
 //                      (tie_rows.h), linearized at each iterate, which hold at Newton's convergence;
 //   4. solve           projected Gauss–Seidel on {W, b, μ}, warm-started by contact key;
 //   5. update          v_{k+1} = v_free + A⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
-//                      a linear step whose motion closes an inactive inelastic candidate (its gap at
-//                      q_{k+1}, g + h u_n(v_θ), within the touching band; e = 0 and close_gaps) activates
-//                      it and is solved again from step 3 (at most kClosingPasses times,
-//                      SolverCounters::closing_activations): step 2's rule, at γ = ½ with the free
-//                      motion, misses a contact that a neighbour's impulse pushes shut or that falls
-//                      from between ½ and 1 step's travel away, and the θ-scheme would then carry the
-//                      body into it by up to a step's travel, an overlap that no later step undoes;
 //   6. post            energy balance, reactions, counters, non-finite check.
 //
 // Two halves. A sparse linear World (no finite-strain body, prescription or tie) takes the solves of
@@ -91,7 +92,6 @@ class MoreauJean final : public Stepper {
 
  private:
   static constexpr double kActivationGamma = 0.5;  // γ of step 2's rule g + γ h u_n ≤ 0
-  static constexpr int kClosingPasses = 3;  // solves a linear step may add for the contacts its motion closes
 
   std::unique_ptr<IterationOperator> make_iteration();
   void build_equalities(double t);
@@ -106,7 +106,7 @@ class MoreauJean final : public Stepper {
   void step_in_two_halves(State& state);   // a sparse linear World, after its forward half (see the header)
   void detect(const State& state);
   double detection_margin(const State& state);
-  int activate_closed_by_motion(double time, bool inelastic_only);
+  int activate_closed_by_motion(double time);
   void assemble(const State& state);
   double equality_target(const State& state, int e) const;
   void update(State& state);

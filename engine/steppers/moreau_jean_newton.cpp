@@ -113,7 +113,7 @@ int MoreauJean::newton_iterations(State& state) {
     if (increment <= parameters_.newton_tolerance * length_) {
       // The candidates that the converged motion would have activated (detect()'s rule with Newton's
       // v_θ in place of the free step's prediction) and the prediction left out.
-      const int missed = activate_closed_by_motion(kActivationGamma * h, false);
+      const int missed = activate_closed_by_motion(kActivationGamma * h);
       if (missed == 0) return iteration;
       c.newton_activated_contacts += missed;
       relaxation_.reset();
