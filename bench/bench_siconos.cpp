@@ -4,7 +4,9 @@
 // (fc3d_compute_error / fc2d_compute_error, relative to max(‖q‖, ‖r‖, ‖u‖)), computed by Siconos itself.
 //
 //   bench_siconos DIR [--tolerance 1e-8] [--max-iterations 100000] [--timeout 120] [--dense-limit 4096]
-//                     [--repeats 3]
+//                     [--repeats 3] [--omega W]
+// (--omega: csim's relaxation, used throughout as a scene's contact_solver.omega is; without it, the
+// default: PgsParameters::relax_sparse.)
 //
 // Each solve runs in a child process killed after --timeout seconds; the time is the solve's alone
 // (reading, conversions and the error excluded), the median of --repeats solves alternating between the
@@ -67,6 +69,7 @@ struct Options {
   double timeout = 120.0;       // s
   int dense_limit = 4096;       // rows of a dense copy of W for a solver that refuses it by blocks (128 MiB)
   int repeats = 3;              // solves of each problem by each solver, alternating; none after one over 10 s
+  double omega = 0.0;           // csim's relaxation when > 0 (and relax_sparse off); 0: the default
 };
 
 // What a child sends back through its pipe: a plain struct.
@@ -130,6 +133,10 @@ Outcome solve_with_csim(const csim::FrictionContactProblem& loaded, ::FrictionCo
   csim::PgsParameters parameters;
   parameters.tolerance = options.tolerance;
   parameters.max_iterations = options.max_iterations;
+  if (options.omega > 0.0) {
+    parameters.omega = options.omega;
+    parameters.relax_sparse = false;
+  }
   const csim::PgsSolver solver(parameters);
   Outcome outcome;
   Eigen::VectorXd r = Eigen::VectorXd::Zero(loaded.size());
@@ -293,14 +300,15 @@ Options parse(int argc, char** argv) {
     else if (word == "--timeout" && has_value) options.timeout = std::atof(argv[++i]);
     else if (word == "--dense-limit" && has_value) options.dense_limit = std::atoi(argv[++i]);
     else if (word == "--repeats" && has_value) options.repeats = std::atoi(argv[++i]);
+    else if (word == "--omega" && has_value) options.omega = std::atof(argv[++i]);
     else if (options.directory.empty() && word[0] != '-') options.directory = word;
     else throw std::invalid_argument("unknown argument '" + word + "'");
   }
   if (options.directory.empty() || !(options.tolerance > 0) || options.max_iterations < 1 || !(options.timeout > 0) ||
-      options.repeats < 1)
+      options.repeats < 1 || !(options.omega == 0.0 || (options.omega > 0.0 && options.omega < 2.0)))
     throw std::invalid_argument(
         "usage: bench_siconos DIR [--tolerance 1e-8] [--max-iterations 100000] [--timeout 120] [--dense-limit 4096] "
-        "[--repeats 3]");
+        "[--repeats 3] [--omega W, in (0, 2)]");
   return options;
 }
 

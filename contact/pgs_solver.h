@@ -91,6 +91,9 @@ struct PgsParameters {
   int max_iterations = 2000;  // sweeps
   double tolerance = 1e-12;   // relative residual (see above), dimensionless
   double omega = 1.0;         // relaxation, (0, 2)
+  // With omega = 1, the sparse path over-relaxes (1.5) until its sweeps stall, then goes on at 1
+  // (sparse_pgs.h); false, or any other omega, relaxes by omega throughout on both paths.
+  bool relax_sparse = true;
   bool polish = true;         // the direct polish (above)
   // Both paths: the polish's work is at most polish_budget times the sweeps' work so far plus
   // polish_allowance (all in flops, PgsStatistics::polish_work and sweep_work): the allowance, about

@@ -6,6 +6,7 @@
 #include "contact/sparse_alart_curnier.h"
 #include "contact/whole_blocks.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -113,13 +114,13 @@ double product_squared(const FrictionContactProblem& problem, int c, const Vecto
 }
 
 template <int D>
-SweepResult sweep(const FrictionContactProblem& problem, const BlockRows<D>& W, const PgsParameters& parameters,
-                  Eigen::VectorXd& r, int& rejected) {
+SweepResult sweep(const FrictionContactProblem& problem, const BlockRows<D>& W, double omega, Eigen::VectorXd& r,
+                  int& rejected) {
   SweepResult result;
   for (int c = 0; c < problem.contacts; ++c) {
     const int first = D * c;
     update_contact<D>(c, W.diagonal[c], frozen_free_velocity<D>(problem, W, r, c), problem.b.template segment<D>(first),
-                      problem.mu[c], parameters.omega, r.data() + first, result, rejected);
+                      problem.mu[c], omega, r.data() + first, result, rejected);
   }
   return result;
 }
@@ -243,11 +244,11 @@ struct SparsePath {
   const FrictionContactProblem& problem;
   const BlockRows<D>& W;
   const PgsParameters& parameters;
-  pgs_local::ContractionWindow window;
+  pgs_local::ContractionWindow window{};
 
   double sweep_flops() const { return 2.0 * static_cast<double>(W.W.nonZeros()); }
   SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
-    return csim::sweep<D>(problem, W, parameters, r, rejected);
+    return csim::sweep<D>(problem, W, parameters.omega, r, rejected);
   }
   double residual(const Eigen::VectorXd& r, int settled_from) const {
     return relative_residual<D>(problem, W, r, settled_from);
@@ -264,8 +265,56 @@ struct SparsePath {
 template <int D>
 PgsStatistics solve_dimension(const FrictionContactProblem& problem, const BlockRows<D>& W,
                               const PgsParameters& parameters, Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
-  SparsePath<D> path{problem, W, parameters, {}};
+  SparsePath<D> path{problem, W, parameters};
   return pgs_local::iterate<D>(problem, parameters, path, r, status);
+}
+
+// The relaxed attempt (sparse_pgs.h): its relaxation and its sweeps at most.
+constexpr double kRelaxation = 1.5;
+constexpr int kRelaxedSweeps = 200;
+
+// A relaxed attempt from the warm start, then, if it did not converge, the solve by `parameters` from
+// the same warm start; the counts of both, the better unconverged result.
+template <int D>
+PgsStatistics solve_relaxed_first(const FrictionContactProblem& problem, const BlockRows<D>& W,
+                                  const PgsParameters& parameters, Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+  PgsParameters relaxed = parameters;
+  relaxed.omega = kRelaxation;
+  relaxed.max_iterations = std::min(parameters.max_iterations, kRelaxedSweeps);
+  const Eigen::VectorXd start = r;
+  const PgsStatistics attempt = solve_dimension<D>(problem, W, relaxed, r, status);
+  if (attempt.converged) return attempt;
+  const Eigen::VectorXd attempt_r = r;
+  const std::vector<ContactStatus> attempt_status = status != nullptr ? *status : std::vector<ContactStatus>{};
+  r = start;
+  // The polish's budget is the solve's (pgs_solver.h): what the attempt left of it carries over.
+  PgsParameters plain = parameters;
+  plain.polish_allowance =
+      std::max(0.0, parameters.polish_allowance + parameters.polish_budget * attempt.sweep_work - attempt.polish_work);
+  PgsStatistics total = solve_dimension<D>(problem, W, plain, r, status);
+  if (!total.converged && attempt.residual < total.residual) {
+    r = attempt_r;
+    if (status != nullptr) *status = attempt_status;
+    total.residual = attempt.residual;
+  }
+  total.iterations += attempt.iterations;
+  total.rejected_local_solutions += attempt.rejected_local_solutions;
+  total.polished = total.polished || attempt.polished;
+  total.polishes += attempt.polishes;
+  total.sweep_work += attempt.sweep_work;
+  total.polish_work += attempt.polish_work;
+  total.polish_factorizations += attempt.polish_factorizations;
+  total.polish_cut = total.polish_cut || attempt.polish_cut;
+  return total;
+}
+
+template <int D>
+PgsStatistics solve_sparse_dimension(const FrictionContactProblem& problem, const BlockRows<D>& W,
+                                     const PgsParameters& parameters, Eigen::VectorXd& r,
+                                     std::vector<ContactStatus>* status) {
+  if (parameters.relax_sparse && parameters.omega == 1.0)
+    return solve_relaxed_first<D>(problem, W, parameters, r, status);
+  return solve_dimension<D>(problem, W, parameters, r, status);
 }
 
 // W_sparse itself when its layout is the one read here, else a completed copy in `completed`.
@@ -285,8 +334,8 @@ PgsStatistics solve_sparse(const FrictionContactProblem& problem, const PgsParam
                            std::vector<ContactStatus>* status, SparseDelassus& completed) {
   const SparseDelassus& W = laid_out(problem, completed);
   if (problem.contacts == 0) return pgs_local::without_contacts(status);
-  if (problem.dimension == 2) return solve_dimension<2>(problem, BlockRows<2>(W), parameters, r, status);
-  return solve_dimension<3>(problem, BlockRows<3>(W), parameters, r, status);
+  if (problem.dimension == 2) return solve_sparse_dimension<2>(problem, BlockRows<2>(W), parameters, r, status);
+  return solve_sparse_dimension<3>(problem, BlockRows<3>(W), parameters, r, status);
 }
 
 double sparse_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {

@@ -252,6 +252,7 @@ TEST(SparseAlartCurnier, MovesAnIterateWhereJIsSingular) {
   PgsParameters sweeps_only;
   sweeps_only.max_iterations = 200;
   sweeps_only.polish = false;
+  sweeps_only.relax_sparse = false;  // Gauss–Seidel's own iterate (no relaxed attempt, sparse_pgs.h)
   Eigen::VectorXd r;
   PgsSolver(sweeps_only).solve(problem, r);
   const double start = PgsSolver::residual(problem, r);

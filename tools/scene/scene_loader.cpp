@@ -122,6 +122,7 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
   run.contact_solver.tolerance = solver.number("tolerance", 1e-12);
   if (!(run.contact_solver.tolerance > 0.0)) solver.fail_at("tolerance", "must be > 0");
   run.contact_solver.max_iterations = static_cast<int>(solver.whole_number("max_iterations", 1000, 1));
+  run.contact_solver.relax_sparse = !solver.has("omega");  // a given omega is used as it is (pgs_solver.h)
   run.contact_solver.omega = solver.number("omega", 1.0);
   if (!(run.contact_solver.omega > 0.0 && run.contact_solver.omega < 2.0)) solver.fail_at("omega", "must lie in (0, 2)");
   const std::string storage = solver.string("storage", "auto");
