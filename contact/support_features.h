@@ -8,9 +8,13 @@
 // material point of the shape:
 //   box       vertex v of box_vertex's numbering (narrow_phase.h), material; ids < 8;
 //   cylinder  rim point j of rim k, kRimPoints·k + j (the numbering and points of cylinder–halfspace,
-//             halfspace_pairs.h, so that a cylinder passing from the floor to a box keeps its ids),
-//             material; the ends of a side generator 2·kRimPoints + k (not material: the generator
-//             slides round the side as the cylinder rolls); ids < 2·kRimPoints + 2;
+//             halfspace_pairs.h), material; the ends of a side generator 2·kRimPoints + k (not
+//             material: the generator slides round the side as the cylinder rolls); ids < 2·kRimPoints + 2.
+//             Why kRimPoints = 8 rather than 4: the same material points as on the floor, and a
+//             polygon within r (1 − cos 22.5°) = 0.076 r of the true rim where the cap is clipped (a cap
+//             as the reference, or one overhanging a face's edge) against 0.29 r for a square; the
+//             clipping then keeps 4 of the points for the solver (feature_clipping.h), alternate ones
+//             when the whole cap lies over a face.
 //   capsule   the surface point over the core segment's end k (k = 0 at local z = −half_length), as
 //             capsule–halfspace's features; not material (it rolls over the cap); ids < 2;
 //   hull      its vertex index (among those make_convex kept), material; ids < vertex count.

@@ -105,6 +105,21 @@ TEST(ConvexManifold, CylinderStandingOnABoxRestsOnFourRimPoints) {
   EXPECT_TRUE(on_slab(at(cylinder, {0.1, -0.2, 0.4 + 0.11}, turn), 0.1, false).empty());
 }
 
+TEST(ConvexManifold, CylinderRestingKeepsItsFourRimPointsUnderRoundOffTilts) {
+  // A body at rest tilts by round-off from step to step: the points kept (and so the warm start's
+  // keys) must not hop between the two alternate squares of the octagon. Tilts of 1e-13 rad change the
+  // rim points' heights by 3e-14 m, within the reduction's tie slack (1e-9 × 0.5 m).
+  const Cylinder cylinder{0.3, 0.4};
+  for (const Eigen::Vector3d& axis : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, -1, 0)})
+    for (double tilt : {1e-13, -1e-13}) {
+      const Placed standing = at(cylinder, {0.1, -0.2, 0.4 + 1e-5}, rotation(tilt, axis));
+      std::vector<int> features;
+      for (const OnSlab& c : on_slab(standing, 0.1, false)) features.push_back(c.feature);
+      std::sort(features.begin(), features.end());
+      EXPECT_EQ(features, (std::vector<int>{0, 2, 4, 6}));
+    }
+}
+
 TEST(ConvexManifold, CylinderLyingOnABoxRestsOnItsLowestGenerator) {
   // Along the local x, axis at height r + gap: the generator's ends (features 16, 17, not material).
   const Cylinder cylinder{0.3, 0.4};
