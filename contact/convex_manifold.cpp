@@ -1,7 +1,5 @@
 #include "contact/convex_manifold.h"
 
-#include "contact/feature_clipping.h"
-#include "contact/support_features.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,25 +8,26 @@ namespace csim {
 
 namespace {
 
-// The reference chosen, its outward normal (towards the incident shape) and its feature.
+// The reference chosen: whose, and its outward normal (towards the incident shape); its feature is
+// left in scratch.reference.
 struct Reference {
   bool is_first = true;
   Eigen::Vector3d normal;
-  SupportFeature feature;
 };
 
 // A face of either shape along the normal (the larger, the first's on a tie), or a pair of parallel
 // segments (the longer); false when neither.
 bool choose_reference(const Shape& first, const Eigen::Isometry3d& first_pose, const Shape& second,
                       const Eigen::Isometry3d& second_pose, const Eigen::Vector3d& normal, bool planar,
-                      Reference& reference) {
-  SupportFeature on_first, on_second;
+                      ManifoldScratch& scratch, Reference& reference) {
+  SupportFeature& on_first = scratch.on_first;
+  SupportFeature& on_second = scratch.on_second;
   const bool first_face = face_along(first, first_pose, normal, planar, on_first);
   const bool second_face = face_along(second, second_pose, -normal, planar, on_second);
   if (first_face || second_face) {
     reference.is_first = first_face && (!second_face || on_first.size >= on_second.size);
-    reference.feature = std::move(reference.is_first ? on_first : on_second);
-    reference.normal = reference.feature.normal;
+    std::swap(scratch.reference, reference.is_first ? on_first : on_second);  // keeps every buffer
+    reference.normal = scratch.reference.normal;
     return true;
   }
   // Two segments across the normal (faces are excluded above; a box's or hull's incident feature is a
@@ -45,7 +44,7 @@ bool choose_reference(const Shape& first, const Eigen::Isometry3d& first_pose, c
   // Again along the exact normal, so that the gaps are measured along it.
   const Shape& shape = reference.is_first ? first : second;
   const Eigen::Isometry3d& pose = reference.is_first ? first_pose : second_pose;
-  return incident_feature(shape, pose, reference.normal, planar, reference.feature) && reference.feature.count() == 2;
+  return incident_feature(shape, pose, reference.normal, planar, scratch.reference) && scratch.reference.count() == 2;
 }
 
 int power_of_two_at_least(int value) {
@@ -58,16 +57,16 @@ int power_of_two_at_least(int value) {
 
 int convex_manifold(const Shape& first, const Eigen::Isometry3d& first_pose, const Shape& second,
                     const Eigen::Isometry3d& second_pose, const Eigen::Vector3d& normal, double margin,
-                    bool planar, int min_points, std::vector<ContactPoint>& out) {
+                    bool planar, int min_points, ManifoldScratch& scratch, std::vector<ContactPoint>& out) {
   Reference reference;
-  if (!choose_reference(first, first_pose, second, second_pose, normal, planar, reference)) return 0;
-  SupportFeature incident;
+  if (!choose_reference(first, first_pose, second, second_pose, normal, planar, scratch, reference)) return 0;
   const Shape& incident_shape = reference.is_first ? second : first;
   const Eigen::Isometry3d& incident_pose = reference.is_first ? second_pose : first_pose;
-  if (!incident_feature(incident_shape, incident_pose, -reference.normal, planar, incident)) return 0;
+  if (!incident_feature(incident_shape, incident_pose, -reference.normal, planar, scratch.incident)) return 0;
 
   const int id_bound = std::max(feature_id_bound(first), feature_id_bound(second));
-  const std::vector<ClippedPoint> points = clip_features(reference.feature, reference.normal, incident, margin, id_bound);
+  std::vector<ClippedPoint>& points = scratch.points;
+  clip_features(scratch.reference, reference.normal, scratch.incident, margin, id_bound, scratch.clip, points);
   if (static_cast<int>(points.size()) < min_points || points.empty()) return 0;
   const int second_offset = power_of_two_at_least((id_bound + 2) * id_bound);
   for (const ClippedPoint& p : points) {

@@ -25,12 +25,21 @@
 #pragma once
 
 #include "contact/contact_point.h"
+#include "contact/feature_clipping.h"
 #include "contact/shape.h"
+#include "contact/support_features.h"
 
 #include <Eigen/Geometry>
 #include <vector>
 
 namespace csim {
+
+// Buffers reused from one query to the next (the narrow phase keeps one).
+struct ManifoldScratch {
+  SupportFeature on_first, on_second, reference, incident;
+  ClipScratch clip;
+  std::vector<ClippedPoint> points;
+};
 
 // Appends to `out` the manifold between `first` and `second` at their poses for the unit contact
 // `normal` from first to second: normal, points (point_a on first), gap, feature and arms set, frames
@@ -38,6 +47,6 @@ namespace csim {
 // above gives fewer than `min_points`.
 int convex_manifold(const Shape& first, const Eigen::Isometry3d& first_pose, const Shape& second,
                     const Eigen::Isometry3d& second_pose, const Eigen::Vector3d& normal, double margin,
-                    bool planar, int min_points, std::vector<ContactPoint>& out);
+                    bool planar, int min_points, ManifoldScratch& scratch, std::vector<ContactPoint>& out);
 
 }  // namespace csim

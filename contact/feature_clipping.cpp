@@ -15,11 +15,6 @@ constexpr double kRelativeTolerance = 1e-9;
 
 double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-struct Candidate {
-  Eigen::Vector2d in_plane;  // coordinates along the reference's axes (m)
-  ClippedPoint point;
-};
-
 // Area of the convex hull of four points in the plane (the largest of the three quadrilaterals).
 double quad_area(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
                  const Eigen::Vector2d& d) {
@@ -32,7 +27,7 @@ double quad_area(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen
 
 // The index of the largest score, the first of those within `slack` of it.
 template <typename Score>
-std::size_t first_best(const std::vector<Candidate>& points, Score&& score, double slack) {
+std::size_t first_best(const std::vector<ClippedPoint>& points, Score&& score, double slack) {
   double best = score(points[0]);
   for (std::size_t i = 1; i < points.size(); ++i) best = std::max(best, score(points[i]));
   for (std::size_t i = 0; i < points.size(); ++i)
@@ -40,28 +35,30 @@ std::size_t first_best(const std::vector<Candidate>& points, Score&& score, doub
   return 0;
 }
 
-void reduce(std::vector<Candidate>& points, double tolerance) {
+void reduce(std::vector<ClippedPoint>& points, double tolerance, std::vector<ClippedPoint>& kept) {
   if (points.size() <= kMaxManifoldPoints) return;
   const double size = std::max(tolerance / kRelativeTolerance, 1e-300);
   const double area_slack = kRelativeTolerance * size * size;
-  const std::size_t p0 = first_best(points, [](const Candidate& c) { return -c.point.gap; }, tolerance);
+  const std::size_t p0 = first_best(points, [](const ClippedPoint& c) { return -c.gap; }, tolerance);
   const Eigen::Vector2d a = points[p0].in_plane;
-  const std::size_t p1 = first_best(points, [&](const Candidate& c) { return (c.in_plane - a).squaredNorm(); }, area_slack);
+  const std::size_t p1 = first_best(points, [&](const ClippedPoint& c) { return (c.in_plane - a).squaredNorm(); }, area_slack);
   const Eigen::Vector2d b = points[p1].in_plane;
   const std::size_t p2 =
-      first_best(points, [&](const Candidate& c) { return std::abs(cross2(b - a, c.in_plane - a)); }, area_slack);
+      first_best(points, [&](const ClippedPoint& c) { return std::abs(cross2(b - a, c.in_plane - a)); }, area_slack);
   const Eigen::Vector2d d = points[p2].in_plane;
-  const std::size_t p3 = first_best(points, [&](const Candidate& c) { return quad_area(a, b, d, c.in_plane); }, area_slack);
-  std::vector<Candidate> kept;
+  const std::size_t p3 = first_best(points, [&](const ClippedPoint& c) { return quad_area(a, b, d, c.in_plane); }, area_slack);
+  kept.clear();
   for (std::size_t i : {p0, p1, p2, p3}) kept.push_back(points[i]);
-  points = std::move(kept);
+  points.swap(kept);
 }
 
 class Clipper {
  public:
   Clipper(const SupportFeature& reference, const Eigen::Vector3d& normal, const SupportFeature& incident,
-          int id_bound)
-      : reference_(reference), incident_(incident), normal_(normal), id_bound_(id_bound) {
+          int id_bound, ClipScratch& scratch)
+      : reference_(reference), incident_(incident), normal_(normal), id_bound_(id_bound),
+        reference_2d_(scratch.reference_2d), incident_2d_(scratch.incident_2d), heights_(scratch.heights) {
+    reference_2d_.clear(), incident_2d_.clear(), heights_.clear();
     centre_.setZero();
     for (const Eigen::Vector3d& p : reference.points) centre_ += p;
     centre_ /= reference.count();
@@ -83,11 +80,11 @@ class Clipper {
 
   double tolerance() const { return tolerance_; }
 
-  std::vector<Candidate> clip(double margin) const {
-    std::vector<Candidate> kept;
-    auto offer = [&](const Candidate& c) {
-      if (c.point.gap > margin) return;
-      for (const Candidate& k : kept)
+  void clip(double margin, std::vector<ClippedPoint>& kept) const {
+    kept.clear();
+    auto offer = [&](const ClippedPoint& c) {
+      if (c.gap > margin) return;
+      for (const ClippedPoint& k : kept)
         if ((k.in_plane - c.in_plane).norm() <= tolerance_) return;
       kept.push_back(c);
     };
@@ -96,17 +93,16 @@ class Clipper {
     for (int k = 0; k < m; ++k)
       if (over_reference(incident_2d_[k])) offer(incident_point(k));
     for (int j = 0; j < n; ++j) {
-      Candidate c;
+      ClippedPoint c;
       if (under_incident(j, c)) offer(c);
     }
     if (n >= 3) {  // a reference segment's side planes meet an incident segment at its reference points
       for (int k = 0; k < (m == 2 ? 1 : m); ++k)
         for (int j = 0; j < n; ++j) {
-          Candidate c;
+          ClippedPoint c;
           if (crossing(k, j, c)) offer(c);
         }
     }
-    return kept;
   }
 
  private:
@@ -140,21 +136,21 @@ class Clipper {
 
   bool over_reference(const Eigen::Vector2d& q) const { return inside(reference_2d_, reference_orientation_, q); }
 
-  Candidate incident_point(int k) const {
-    Candidate c;
+  ClippedPoint incident_point(int k) const {
+    ClippedPoint c;
     c.in_plane = incident_2d_[k];
-    c.point.gap = heights_[k];
-    c.point.incident_point = incident_.points[k];
-    c.point.reference_point = incident_.points[k] - c.point.gap * normal_;
-    c.point.incident_arm = incident_.arms[k];
-    c.point.reference_arm = Eigen::Vector3d::Constant(std::nan(""));
-    c.point.feature = incident_.ids[k];
+    c.gap = heights_[k];
+    c.incident_point = incident_.points[k];
+    c.reference_point = incident_.points[k] - c.gap * normal_;
+    c.incident_arm = incident_.arms[k];
+    c.reference_arm = Eigen::Vector3d::Constant(std::nan(""));
+    c.feature = incident_.ids[k];
     return c;
   }
 
   // Reference point j where it lies under the incident feature: an incident polygon (over a reference
   // polygon or segment), or an incident segment over a reference segment (its side planes' crossings).
-  bool under_incident(int j, Candidate& out) const {
+  bool under_incident(int j, ClippedPoint& out) const {
     const int m = incident_.count();
     const Eigen::Vector3d& corner = reference_.points[j];
     const Eigen::Vector2d q = reference_2d_[j];
@@ -178,17 +174,17 @@ class Clipper {
       return false;
     }
     out.in_plane = q;
-    out.point.gap = gap;
-    out.point.reference_point = corner;
-    out.point.incident_point = corner + gap * normal_;
-    out.point.reference_arm = reference_.arms[j];
-    out.point.incident_arm = Eigen::Vector3d::Constant(std::nan(""));
-    out.point.feature = id_bound_ + reference_.ids[j];
+    out.gap = gap;
+    out.reference_point = corner;
+    out.incident_point = corner + gap * normal_;
+    out.reference_arm = reference_.arms[j];
+    out.incident_arm = Eigen::Vector3d::Constant(std::nan(""));
+    out.feature = id_bound_ + reference_.ids[j];
     return true;
   }
 
   // Incident edge k → k+1 crossing the side plane of reference edge j → j+1, within that edge.
-  bool crossing(int k, int j, Candidate& out) const {
+  bool crossing(int k, int j, ClippedPoint& out) const {
     const int m = incident_.count();
     const int n = reference_.count();
     const Eigen::Vector2d& a = incident_2d_[k];
@@ -206,11 +202,11 @@ class Clipper {
     if (w * rs_length < -tolerance_ || (1.0 - w) * rs_length < -tolerance_) return false;
     const int next = (k + 1) % m;
     out.in_plane = a + t * ab;
-    out.point.gap = heights_[k] + t * (heights_[next] - heights_[k]);
-    out.point.incident_point = incident_.points[k] + t * (incident_.points[next] - incident_.points[k]);
-    out.point.reference_point = out.point.incident_point - out.point.gap * normal_;
-    out.point.incident_arm = out.point.reference_arm = Eigen::Vector3d::Constant(std::nan(""));
-    out.point.feature = 2 * id_bound_ + id_bound_ * incident_.ids[k] + reference_.ids[j];
+    out.gap = heights_[k] + t * (heights_[next] - heights_[k]);
+    out.incident_point = incident_.points[k] + t * (incident_.points[next] - incident_.points[k]);
+    out.reference_point = out.incident_point - out.gap * normal_;
+    out.incident_arm = out.reference_arm = Eigen::Vector3d::Constant(std::nan(""));
+    out.feature = 2 * id_bound_ + id_bound_ * incident_.ids[k] + reference_.ids[j];
     return true;
   }
 
@@ -220,22 +216,21 @@ class Clipper {
   int id_bound_;
   Eigen::Vector3d centre_, u_, v_;
   double tolerance_ = 0.0;
-  std::vector<Eigen::Vector2d> reference_2d_, incident_2d_;
-  std::vector<double> heights_;
+  std::vector<Eigen::Vector2d>& reference_2d_;
+  std::vector<Eigen::Vector2d>& incident_2d_;
+  std::vector<double>& heights_;
   double reference_orientation_ = 0.0, incident_orientation_ = 0.0;
 };
 
 }  // namespace
 
-std::vector<ClippedPoint> clip_features(const SupportFeature& reference, const Eigen::Vector3d& normal,
-                                        const SupportFeature& incident, double margin, int id_bound) {
-  if (reference.count() < 2 || incident.count() < 2) return {};
-  const Clipper clipper(reference, normal, incident, id_bound);
-  std::vector<Candidate> candidates = clipper.clip(margin);
-  reduce(candidates, clipper.tolerance());
-  std::vector<ClippedPoint> points;
-  for (const Candidate& c : candidates) points.push_back(c.point);
-  return points;
+void clip_features(const SupportFeature& reference, const Eigen::Vector3d& normal, const SupportFeature& incident,
+                   double margin, int id_bound, ClipScratch& scratch, std::vector<ClippedPoint>& points) {
+  points.clear();
+  if (reference.count() < 2 || incident.count() < 2) return;
+  const Clipper clipper(reference, normal, incident, id_bound, scratch);
+  clipper.clip(margin, points);
+  reduce(points, clipper.tolerance(), scratch.kept);
 }
 
 }  // namespace csim

@@ -42,10 +42,18 @@ struct ClippedPoint {
   int feature = 0;                  // numbering above
   Eigen::Vector3d reference_arm;    // NaN where not a material point
   Eigen::Vector3d incident_arm;
+  Eigen::Vector2d in_plane;         // along the reference's in-plane axes (m), for the reduction
 };
 
-// The clipped points with gap ≤ margin, reduced to kMaxManifoldPoints.
-std::vector<ClippedPoint> clip_features(const SupportFeature& reference, const Eigen::Vector3d& normal,
-                                        const SupportFeature& incident, double margin, int id_bound);
+// Buffers reused from one call to the next (a query allocates nothing once they have grown).
+struct ClipScratch {
+  std::vector<Eigen::Vector2d> reference_2d, incident_2d;
+  std::vector<double> heights;
+  std::vector<ClippedPoint> kept;
+};
+
+// Sets `points` to the clipped points with gap ≤ margin, reduced to kMaxManifoldPoints.
+void clip_features(const SupportFeature& reference, const Eigen::Vector3d& normal, const SupportFeature& incident,
+                   double margin, int id_bound, ClipScratch& scratch, std::vector<ClippedPoint>& points);
 
 }  // namespace csim

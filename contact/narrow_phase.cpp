@@ -153,7 +153,7 @@ void replace_by_manifold(const CollisionShape& first, const CollisionShape& seco
   const ContactPoint point = out.back();
   out.pop_back();
   if (convex_manifold(first.shape, first.pose, second.shape, second.pose, point.normal, query.margin, planar,
-                      min_points, out) == 0)
+                      min_points, query.fcl.manifold, out) == 0)
     out.push_back(point);
 }
 

@@ -43,6 +43,7 @@
 #pragma once
 
 #include "contact/contact_point.h"
+#include "contact/convex_manifold.h"
 #include "contact/shape.h"
 
 #include <fcl/geometry/collision_geometry.h>
@@ -84,12 +85,14 @@ class NarrowPhase {
   void collide(const CollisionShape& a, const CollisionShape& b, double margin,
                std::vector<ContactPoint>& out);
 
-  // Scratch reused by the FCL-backed pair functions (no per-query setup beyond FCL's own).
+  // Scratch reused by the pair functions: FCL's requests and results, and the clipping's buffers (no
+  // per-query setup beyond FCL's own).
   struct FclScratch {
     fcl::CollisionRequestd collision_request;
     fcl::CollisionResultd collision_result;
     fcl::DistanceRequestd distance_request;
     fcl::DistanceResultd distance_result;
+    ManifoldScratch manifold;  // the clipping's buffers (convex_manifold.h)
   };
 
  private:
