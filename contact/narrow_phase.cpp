@@ -1,6 +1,6 @@
 #include "contact/narrow_phase.h"
 
-#include "contact/box_box_manifold.h"
+#include "contact/convex_manifold.h"
 #include "contact/gjk_pairs.h"
 #include "contact/halfspace_pairs.h"
 #include "contact/mesh_pairs.h"
@@ -146,19 +146,35 @@ void box_box_point(const CollisionShape& first, const CollisionShape& second, Pa
   add_contact(p1, p2, (p2 - p1).normalized(), gap, 0, out);
 }
 
-// FCL's point names the normal; where a face lies along it, the face clipping gives the manifold
-// (box_box_manifold.h); an edge–edge contact keeps FCL's point.
+// Replaces FCL's single point, the last of `out`, by the clipping manifold along its normal
+// (convex_manifold.h) where that gives at least `min_points` points.
+void replace_by_manifold(const CollisionShape& first, const CollisionShape& second, PairQuery& query, bool planar,
+                         int min_points, std::vector<ContactPoint>& out) {
+  const ContactPoint point = out.back();
+  out.pop_back();
+  if (convex_manifold(first.shape, first.pose, second.shape, second.pose, point.normal, query.margin, planar,
+                      min_points, query.fcl.manifold, out) == 0)
+    out.push_back(point);
+}
+
+// FCL's point names the normal; where a face lies along it, the clipping gives the manifold, even of
+// one point (a box's vertex, with its exact gap and arm); an edge–edge contact keeps FCL's point.
 template <bool kPlanar>
 void box_box(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
              std::vector<ContactPoint>& out) {
   const std::size_t before = out.size();
   box_box_point(first, second, query, out);
-  if (out.size() == before) return;
-  const ContactPoint point = out.back();
-  out.pop_back();
-  const int added = box_box_face_manifold(std::get<Box>(first.shape), first.pose, std::get<Box>(second.shape),
-                                          second.pose, point.normal, query.margin, kPlanar, out);
-  if (added == 0) out.push_back(point);
+  if (out.size() > before) replace_by_manifold(first, second, query, kPlanar, 1, out);
+}
+
+// GJK's point names the normal; a face or two parallel segments along it give the manifold, when it
+// has two points or more; otherwise GJK's point stays (a vertex, an edge or a rim on a face, crossed
+// segments, round on round).
+void convex_pair(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
+                 std::vector<ContactPoint>& out) {
+  const std::size_t before = out.size();
+  gjk_pair(first, second, query, out);
+  if (out.size() > before) replace_by_manifold(first, second, query, false, 2, out);
 }
 
 void sphere_halfspace(const CollisionShape& first, const CollisionShape& second, PairQuery& query,
@@ -202,10 +218,10 @@ void box_halfspace(const CollisionShape& first, const CollisionShape& second, Pa
 // meet each other.
 constexpr PairFunction kPairTable[2][7][7] = {
     {{sphere_sphere, sphere_box, gjk_pair, gjk_pair, gjk_pair, shape_mesh, sphere_halfspace},
-     {nullptr, box_box<false>, gjk_pair, gjk_pair, gjk_pair, shape_mesh, box_halfspace<false>},
-     {nullptr, nullptr, gjk_pair, gjk_pair, gjk_pair, shape_mesh, capsule_halfspace},
-     {nullptr, nullptr, nullptr, gjk_pair, gjk_pair, shape_mesh, cylinder_halfspace},
-     {nullptr, nullptr, nullptr, nullptr, gjk_pair, shape_mesh, convex_halfspace},
+     {nullptr, box_box<false>, convex_pair, convex_pair, convex_pair, shape_mesh, box_halfspace<false>},
+     {nullptr, nullptr, convex_pair, convex_pair, convex_pair, shape_mesh, capsule_halfspace},
+     {nullptr, nullptr, nullptr, convex_pair, convex_pair, shape_mesh, cylinder_halfspace},
+     {nullptr, nullptr, nullptr, nullptr, convex_pair, shape_mesh, convex_halfspace},
      {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
      {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr}},
     {{sphere_sphere, sphere_box, nullptr, nullptr, nullptr, nullptr, sphere_halfspace},

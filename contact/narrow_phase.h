@@ -11,12 +11,21 @@
 //                     with contacts when penetrating (FCL's sphere–box intersection: depth + normal).
 //   box–box           FCL names the normal: fcl::collide (ODE's SAT box–box) when penetrating or
 //                     touching, fcl::distance (GJK, libccd) when separated. Where a face of either box
-//                     lies along it, our clipping of the faces gives the manifold (up to 4 points, 2 in
-//                     plane scenes; box_box_manifold.h says why not FCL's); an edge–edge contact keeps
-//                     FCL's single point.
-//   the other pairs of sphere, box, capsule, cylinder and convex hull
+//                     lies along it, the clipping of convex_manifold.h gives the manifold (up to 4
+//                     points, 2 in plane scenes; it says why not FCL's), even of one point (a vertex
+//                     with its exact gap); an edge–edge contact keeps FCL's single point.
+//   box, capsule, cylinder and convex hull with each other (box–box aside)
 //                     FCL: GJK distance when separated, its penetration query when overlapping, and
-//                     a measurement at a small separation when touching (gjk_pairs.h). One point.
+//                     a measurement at a small separation when touching (gjk_pairs.h), names the
+//                     normal; where a face of either shape (a box's or hull's face, a cylinder's cap)
+//                     lies along it, or two parallel segments across it (capsules' cores, cylinders'
+//                     side generators), the clipping of convex_manifold.h gives up to 4 points. So a
+//                     cylinder standing on a box or on a cylinder's cap, a hull's face on a box or on
+//                     another hull, a capsule or a cylinder lying on a face or beside a parallel
+//                     capsule or cylinder. Fewer than 2 points (a vertex, an edge or a rim on a face,
+//                     crossed segments, a tilted capsule or cylinder): GJK's one point (feature 0).
+//   sphere with box, capsule, cylinder and convex hull (sphere–box aside)
+//                     GJK as above, one point: a sphere touches at one point.
 //   sphere–halfspace  closed form: FCL has no distance to a halfspace (nothing for separated pairs),
 //                     and one formula on both sides of contact keeps the gap continuous through 0.
 //   box–halfspace     closed form, a manifold: one point per box vertex whose gap ≤ margin (FCL's
@@ -34,6 +43,7 @@
 #pragma once
 
 #include "contact/contact_point.h"
+#include "contact/convex_manifold.h"
 #include "contact/shape.h"
 
 #include <fcl/geometry/collision_geometry.h>
@@ -75,12 +85,14 @@ class NarrowPhase {
   void collide(const CollisionShape& a, const CollisionShape& b, double margin,
                std::vector<ContactPoint>& out);
 
-  // Scratch reused by the FCL-backed pair functions (no per-query setup beyond FCL's own).
+  // Scratch reused by the pair functions: FCL's requests and results, and the clipping's buffers (no
+  // per-query setup beyond FCL's own).
   struct FclScratch {
     fcl::CollisionRequestd collision_request;
     fcl::CollisionResultd collision_result;
     fcl::DistanceRequestd distance_request;
     fcl::DistanceResultd distance_result;
+    ManifoldScratch manifold;  // the clipping's buffers (convex_manifold.h)
   };
 
  private:

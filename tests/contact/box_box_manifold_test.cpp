@@ -2,7 +2,7 @@
 // against closed forms: the points of a box resting on another are the corners of the overlap of the
 // touching faces, each with its exact gap. Tolerances: kFcl (1e-9 m) where FCL's normal enters,
 // kExact (1e-12 m) for gaps of points whose normal is a face normal.
-#include "contact/box_box_manifold.h"
+#include "contact/convex_manifold.h"
 #include "contact/narrow_phase.h"
 #include "tests/contact/detection_test_support.h"
 

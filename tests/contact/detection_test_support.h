@@ -92,7 +92,7 @@ inline void expect_single_contact(const Placed& first, const Placed& second, dou
     const auto contacts = detect(first, second, margin, reversed, planar);
     ASSERT_EQ(contacts.size(), 1u);
     const ContactPoint& c = contacts[0];
-    // Feature 0, or a box–box manifold's vertex 0 with the reference face on B (box_box_manifold.h).
+    // Feature 0, or a box–box manifold's vertex 0 with the reference face on B (convex_manifold.h).
     EXPECT_EQ(c.key.object_a, 0);
     EXPECT_EQ(c.key.object_b, 1);
     EXPECT_EQ(c.key.feature % 128, 0);

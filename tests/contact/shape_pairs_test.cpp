@@ -1,4 +1,5 @@
-// Capsule, cylinder and convex hull pairs (contact/gjk_pairs.h, contact/halfspace_pairs.h) and the
+// Capsule, cylinder and convex hull pairs (contact/gjk_pairs.h, contact/halfspace_pairs.h; their
+// manifolds against faces and parallel segments in convex_manifold_test.cpp) and the
 // hull construction (contact/convex_hull.h), each against a closed form. Tolerances: 1e-12 m for the
 // closed-form halfspace manifolds; for the FCL-backed pairs 1e-9 m on gaps and points, and on normals
 // 1e-9 where a face takes part, 1e-5 between two curved surfaces (GJK's witness direction there is
@@ -10,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -267,17 +269,14 @@ TEST(SphereCapsule, BesideTheSideAndBeyondACap) {
   expect_no_contact({Sphere{0.1}, translation(kScene * Eigen::Vector3d(0, 0, 0.5 + 0.2 + 0.1 + 0.11))}, capsule, 0.1);
 }
 
-TEST(CapsuleCapsule, ParallelAndCrossing) {
+TEST(CapsuleCapsule, Crossing) {
+  // Parallel capsules touch along a segment: convex_manifold_test.cpp.
   const Placed a{Capsule{0.2, 0.5}, kScene * kAlongX};
-  const Eigen::Vector3d ey = kScene.linear() * Eigen::Vector3d::UnitY();
   const Eigen::Vector3d ez = kScene.linear() * Eigen::Vector3d::UnitZ();
   for (double gap : kGaps) {
     SCOPED_TRACE(gap);
-    // Parallel, side by side along y, overlapping over x ∈ [−0.2, 0.5]: gap = distance − r1 − r2.
     // Overlapping, the translation starts from MPR's normal, off by 5e-4 between curved surfaces.
     const double tolerance = gap < 0.0 ? kCurved : kFcl;
-    const Placed parallel{Capsule{0.15, 0.35}, kScene * translation({0.15, 0.35 + gap, 0}) * kAlongX};
-    expect_single_contact(a, parallel, 0.1, gap, ey, tolerance);
     // Crossing at right angles, one above the other along z: closest points on the two axes at
     // (0.1, 0, 0) and (0.1, 0, 0.35 + gap).
     const Placed crossing{Capsule{0.15, 0.35}, kScene * translation({0.1, 0.2, 0.35 + gap}) * rotation(kPi / 2, {1, 0, 0})};
@@ -288,29 +287,7 @@ TEST(CapsuleCapsule, ParallelAndCrossing) {
   expect_no_contact(a, {Capsule{0.15, 0.35}, kScene * translation({0.1, 0.2, 0.35 + 0.11}) * rotation(kPi / 2, {1, 0, 0})}, 0.1);
 }
 
-TEST(BoxCapsule, LyingOnTheTopFace) {
-  const Placed box{Box{{1.0, 1.0, 0.5}}, kScene};
-  const Eigen::Vector3d ez = kScene.linear() * Eigen::Vector3d::UnitZ();
-  for (double gap : kGaps) {
-    SCOPED_TRACE(gap);
-    const Placed lying{Capsule{0.2, 0.5}, kScene * translation({0.1, 0.2, 0.5 + 0.2 + gap}) * rotation(kPi / 2, {0.3, 1, 0})};
-    expect_single_contact(box, lying, 0.1, gap, ez, kFcl);
-    const ContactPoint c = detect(box, lying, 0.1).at(0);
-    EXPECT_NEAR((kScene.inverse() * c.point_a).z(), 0.5, kFcl);  // on the top face
-  }
-}
-
-TEST(BoxCylinder, StandingAndLyingOnTheTopFace) {
-  const Placed box{Box{{1.0, 1.0, 0.5}}, kScene};
-  const Eigen::Vector3d ez = kScene.linear() * Eigen::Vector3d::UnitZ();
-  for (double gap : kGaps) {
-    SCOPED_TRACE(gap);
-    expect_single_contact(box, {Cylinder{0.3, 0.4}, kScene * translation({0.1, -0.2, 0.5 + 0.4 + gap})}, 0.1, gap, ez,
-                          kFcl);
-    expect_single_contact(box, {Cylinder{0.3, 0.4}, kScene * translation({0.1, -0.2, 0.5 + 0.3 + gap}) * kAlongX}, 0.1,
-                          gap, ez, kFcl);
-  }
-}
+// A capsule or cylinder lying or standing on a box: convex_manifold_test.cpp.
 
 TEST(SphereCylinder, AboveTheFaceAndBesideTheSide) {
   const Placed cylinder{Cylinder{0.3, 0.4}, kScene};
@@ -325,24 +302,29 @@ TEST(SphereCylinder, AboveTheFaceAndBesideTheSide) {
 }
 
 TEST(CylinderCapsule, SideBySide) {
-  // Both upright, axes 0.3 + 0.2 + gap apart: a line contact along their sides.
+  // Both upright, axes 0.3 + 0.2 + gap apart: a line contact along their sides, two points (the
+  // capsule's core, 0.6 long, is the shorter segment: the incident one), at its ends' heights.
   const Placed cylinder{Cylinder{0.3, 0.4}, kScene};
   const Eigen::Vector3d ey = kScene.linear() * Eigen::Vector3d::UnitY();
   for (double gap : kGaps) {
     SCOPED_TRACE(gap);
-    expect_single_contact(cylinder, {Capsule{0.2, 0.3}, kScene * translation({0, 0.5 + gap, 0.1})}, 0.1, gap, ey, kCurved);
+    for (bool reversed : {false, true}) {
+      const auto contacts = detect(cylinder, {Capsule{0.2, 0.3}, kScene * translation({0, 0.5 + gap, 0.1})}, 0.1, reversed);
+      ASSERT_EQ(contacts.size(), 2u);
+      std::vector<double> heights;
+      for (const ContactPoint& c : contacts) {
+        EXPECT_NEAR(c.gap, gap, kCurved);
+        expect_near(reversed ? Eigen::Vector3d(-c.normal) : c.normal, ey, kCurved);
+        heights.push_back((kScene.inverse() * c.point_a).z());
+      }
+      std::sort(heights.begin(), heights.end());
+      EXPECT_NEAR(heights[0], 0.1 - 0.3, kCurved);
+      EXPECT_NEAR(heights[1], 0.1 + 0.3, kCurved);
+    }
   }
 }
 
-TEST(CylinderCylinder, Stacked) {
-  const Placed lower{Cylinder{0.3, 0.4}, kScene};
-  const Eigen::Vector3d ez = kScene.linear() * Eigen::Vector3d::UnitZ();
-  for (double gap : kGaps) {
-    SCOPED_TRACE(gap);
-    expect_single_contact(lower, {Cylinder{0.2, 0.3}, kScene * translation({0.05, 0.05, 0.7 + gap}) * rotation(0.4, {0, 0, 1})},
-                          0.1, gap, ez, kFcl);
-  }
-}
+// A cylinder standing on another's cap: convex_manifold_test.cpp.
 
 TEST(ConvexPairs, CubeAgreesWithBoxAgainstASphereAndACapsule) {
   std::vector<Eigen::Vector3d> corners;
@@ -356,8 +338,18 @@ TEST(ConvexPairs, CubeAgreesWithBoxAgainstASphereAndACapsule) {
     const ContactPoint with_box = detect(box, sphere, 0.1).at(0);
     expect_single_contact(hull, sphere, 0.1, with_box.gap, ex, kFcl);
     EXPECT_NEAR(with_box.gap, gap, kFcl);
+    // A capsule lying across the face: two points, as on the box.
     const Placed capsule{Capsule{0.1, 0.2}, kScene * translation({0.5 + 0.1 + gap, 0.0, 0.0}) * rotation(0.3, {1, 0, 0})};
-    expect_single_contact(hull, capsule, 0.1, gap, ex, kFcl);
+    const auto on_box = detect(box, capsule, 0.1);
+    const auto on_hull = detect(hull, capsule, 0.1);
+    ASSERT_EQ(on_box.size(), 2u);
+    ASSERT_EQ(on_hull.size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+      EXPECT_NEAR(on_hull[k].gap, gap, kExact);
+      EXPECT_NEAR(on_box[k].gap, gap, kExact);
+      expect_near(on_hull[k].normal, ex, kExact);
+      expect_near(on_hull[k].point_b, on_box[k].point_b, kExact);
+    }
   }
 }
 
