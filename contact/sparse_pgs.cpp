@@ -281,6 +281,7 @@ PgsStatistics solve_relaxed_first(const FrictionContactProblem& problem, const B
   PgsParameters relaxed = parameters;
   relaxed.omega = kRelaxation;
   relaxed.max_iterations = std::min(parameters.max_iterations, kRelaxedSweeps);
+  relaxed.polish = false;
   const Eigen::VectorXd start = r;
   const PgsStatistics attempt = solve_dimension<D>(problem, W, relaxed, r, status);
   if (attempt.converged) return attempt;
