@@ -8,7 +8,9 @@
 // - The coupling of contact c with the others is W's rows c (u = W r + b), read as the contiguous
 //   columns of a matrix `W_rows` whose column i is W's row i (Eigen stores by column): W itself when W
 //   is symmetric to the bit (every Delassus the steppers form), else Wᵀ, copied once per solve
-//   (rows_of). A row read down a column-major W strides by its size, several times slower.
+//   (rows_of). A row read down a column-major W strides by its size, several times slower. A W
+//   symmetric to round-off (symmetry_of) is swept on its own columns, and its residual formed from
+//   W r by columns (relative_residual_by_columns), which reads W as stored: pgs_solver.cpp.
 // - Per-contact work is templated on the contact dimension and uses fixed-size Eigen objects: a solve
 //   without equality rows does not allocate at all; with equalities the condensed problem's arrays are
 //   the solver's (PgsCondensation), reused from solve to solve.
@@ -73,6 +75,27 @@ void add_contact_sums(const FrictionContactProblem& problem, const Eigen::Matrix
   }
 }
 
+// add_contact_sums' terms from the product W r (relative_residual_by_columns), every contact's.
+template <int D>
+void add_contact_sums_by_columns(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
+                                 const Eigen::VectorXd& product, ResidualSums& sums) {
+  for (int c = 0; c < problem.contacts; ++c) {
+    const Eigen::Index first = static_cast<Eigen::Index>(D) * c;
+    const Matrix<D> W_cc = problem.W.template block<D, D>(first, first);
+    const Vector<D> r_c = r.template segment<D>(first);
+    const Vector<D> Wr_c = product.template segment<D>(first);
+    const Vector<D> b_c = problem.b.template segment<D>(first) + (Wr_c - W_cc * r_c);
+    sums.product += Wr_c.squaredNorm();
+    Vector<D> r_local;
+    solve_local<D>(W_cc, b_c, problem.mu[c], r_local, r_c);
+    if (!r_local.allFinite()) {
+      sums.law = std::numeric_limits<double>::infinity();
+      return;
+    }
+    sums.law += (W_cc * (r_c - r_local)).squaredNorm();
+  }
+}
+
 }  // namespace
 
 bool is_symmetric(const Eigen::MatrixXd& W) {
@@ -81,6 +104,19 @@ bool is_symmetric(const Eigen::MatrixXd& W) {
     for (Eigen::Index i = j + 1; i < m; ++i)
       if (W(i, j) != W(j, i)) return false;
   return true;
+}
+
+Symmetry symmetry_of(const Eigen::MatrixXd& W) {
+  const Eigen::Index m = W.rows();
+  const double bound = kNearSymmetry * W.diagonal().cwiseAbs().maxCoeff();
+  bool exact = true;
+  for (Eigen::Index j = 0; j < m; ++j)
+    for (Eigen::Index i = j + 1; i < m; ++i) {
+      const double skew = std::abs(W(i, j) - W(j, i));
+      if (!(skew <= bound)) return Symmetry::none;  // NaN included
+      exact = exact && skew == 0.0;
+    }
+  return exact ? Symmetry::exact : Symmetry::near;
 }
 
 const Eigen::MatrixXd& rows_of(const Eigen::MatrixXd& W, Eigen::MatrixXd& transpose) {
@@ -95,6 +131,22 @@ double relative_residual(const FrictionContactProblem& problem, const Eigen::Mat
   add_equality_sums(problem, W_rows, r, sums);
   if (problem.dimension == 2) add_contact_sums<2>(problem, W_rows, r, settled_from, sums);
   else add_contact_sums<3>(problem, W_rows, r, settled_from, sums);
+  const double residual = std::sqrt(sums.law) / velocity_scale(problem.b.norm(), std::sqrt(sums.product));
+  return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
+}
+
+double relative_residual_by_columns(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
+                                    Eigen::VectorXd& product) {
+  product.noalias() = problem.W * r;
+  ResidualSums sums;
+  const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
+  for (Eigen::Index j = m_c; j < problem.size(); ++j) {
+    const double u_j = product(j) + problem.b(j);
+    sums.law += u_j * u_j;
+    sums.product += product(j) * product(j);
+  }
+  if (problem.dimension == 2) add_contact_sums_by_columns<2>(problem, r, product, sums);
+  else add_contact_sums_by_columns<3>(problem, r, product, sums);
   const double residual = std::sqrt(sums.law) / velocity_scale(problem.b.norm(), std::sqrt(sums.product));
   return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
 }
