@@ -161,7 +161,15 @@ double relative_residual(const FrictionContactProblem& problem, const Eigen::Mat
 
 double relative_residual_by_columns(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
                                     Eigen::VectorXd& product) {
-  product.noalias() = problem.W * r;
+  // A column at a time (an axpy each), not Eigen's general product: on a few contacts its set-up and
+  // its code, new to a solve that otherwise never calls it, cost more than the product itself. The
+  // columns of zero impulses (open contacts) are skipped: exact, W's off-diagonal entries being finite
+  // where this residual is used (symmetry_of's near; a non-finite diagonal entry still makes the
+  // contact's W_cc r_c, hence the residual, non-finite).
+  const Eigen::Index m = problem.size();
+  product.setZero(m);
+  for (Eigen::Index j = 0; j < m; ++j)
+    if (r(j) != 0.0) product.noalias() += problem.W.col(j) * r(j);
   ResidualSums sums;
   const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
   for (Eigen::Index j = m_c; j < problem.size(); ++j) {
