@@ -166,9 +166,11 @@ double relative_residual_by_columns(const FrictionContactProblem& problem, const
   // columns of zero impulses (open contacts) are skipped: exact, W's off-diagonal entries being finite
   // where this residual is used (symmetry_of's near; a non-finite diagonal entry still makes the
   // contact's W_cc r_c, hence the residual, non-finite).
+  // The first column assigned rather than a zeroed vector added to: setZero calls memset, whose first
+  // call in a process (resolving its symbol) cost 1300 instructions, a sixth of a 6-contact solve.
   const Eigen::Index m = problem.size();
-  product.setZero(m);
-  for (Eigen::Index j = 0; j < m; ++j)
+  product.noalias() = problem.W.col(0) * r(0);
+  for (Eigen::Index j = 1; j < m; ++j)
     if (r(j) != 0.0) product.noalias() += problem.W.col(j) * r(j);
   ResidualSums sums;
   const Eigen::Index m_c = static_cast<Eigen::Index>(problem.dimension) * problem.contacts;
