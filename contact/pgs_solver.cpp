@@ -29,22 +29,48 @@ namespace {
 // no pow or log (whose first call in a process costs more than a small solve: the dynamic linker).
 // The dense path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's rows, the
 // polish of dense_polish.cpp on every schedule unless the sweeps are about to finish (above).
+//
+// With `product` set, W is symmetric to round-off (symmetry_of) and W_rows is W itself: the sweeps read
+// its columns as its rows, which spares the copy of Wᵀ (on Siconos' FrictionContactProblem00374, 28
+// contacts, skew 1e-17, 2 sweeps, the copy was 42 % of the solve). Those sweeps solve the problem
+// whose off-diagonal rows are W's columns; every residual that decides convergence is W's own
+// (relative_residual_by_columns, W r into *product), so a W whose skew matters is not declared
+// converged on the wrong problem. When the sweeps have solved their own problem to the tolerance and
+// W's residual is still above it (at_floor: more sweeps would not lower it), or the sweeps run out,
+// the iteration stops without its final polish and the exact path (the copy) continues from the
+// iterate (solve_contact_rows). The polish forms its systems from W's own rows and compares its
+// candidates on the sweeps' residual; its result is then judged on W's. One path for both readings,
+// not two: a second instantiation of the iteration (the sweep is inlined into it) made every small
+// solve slower, its code new to the process (bench_siconos runs each solve in a new process).
 template <int D>
 struct DensePath {
   const FrictionContactProblem& problem;
   const Eigen::MatrixXd& W_rows;
   const PgsParameters& parameters;
+  Eigen::VectorXd* product = nullptr;  // near-symmetric reading: W r (the solver's work array)
   pgs_local::ContractionWindow window{};
+  mutable bool floor = false;
+  mutable int sweeps = 0;
+  mutable int polished_after = -1;  // the sweep count at the last polish
 
   double sweep_flops() const { return 2.0 * static_cast<double>(W_rows.size()); }
   SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
+    ++sweeps;
     return dense_pgs::sweep<D>(problem, W_rows, parameters, r, rejected);
   }
   double residual(const Eigen::VectorXd& r, int settled_from) const {
-    return relative_residual(problem, W_rows, r, settled_from);
+    if (product == nullptr) return relative_residual(problem, W_rows, r, settled_from);
+    const double own = relative_residual_by_columns(problem, r, *product);
+    floor = own > parameters.tolerance && relative_residual(problem, W_rows, r, settled_from) <= parameters.tolerance;
+    return own;
   }
   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
-    return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
+    polished_after = sweeps;
+    if (product == nullptr) return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
+    double swept_residual = relative_residual(problem, W_rows, r);
+    if (!dense_pgs::polish<D>(problem, W_rows, r, swept_residual, parameters.tolerance, budget)) return false;
+    residual = this->residual(r, problem.contacts);
+    return true;
   }
   void observe(const SweepResult& swept, double scale) { window.add(swept.increment_squared, scale); }
   bool stalled() const {
@@ -53,50 +79,8 @@ struct DensePath {
     return !(parameters.tolerance * oldest >= newest * newest);
   }
   bool retries_skipped_polish() const { return true; }
-  bool at_floor() const { return false; }
-  bool ends_with_polish() const { return true; }
-};
-
-// A W symmetric to round-off (symmetry_of) swept on its own columns as its rows, which spares the copy
-// of Wᵀ: on Siconos' FrictionContactProblem00374 (28 contacts, skew 1e-17, 2 sweeps) the copy was 42 %
-// of the solve. These sweeps solve the problem whose off-diagonal rows are W's columns; every residual
-// that decides convergence is W's own (relative_residual_by_columns), so a W whose skew matters is not
-// declared converged on the wrong problem. When the sweeps have solved their own problem to the
-// tolerance and W's residual is still above it (at_floor: more sweeps would not lower it), or the
-// sweeps run out, the iteration stops without its final polish and the exact path (the copy)
-// continues from the iterate (solve_contact_rows). The polish forms its systems from W's own rows and
-// compares its candidates on the sweeps' residual; its result is then judged on W's.
-template <int D>
-struct NearSymmetricPath {
-  DensePath<D> columns;      // W_rows = problem.W
-  Eigen::VectorXd& product;  // W r (the solver's work array)
-  mutable bool floor = false;
-  mutable int polished_after = -1;  // the sweep count at the last polish
-  int sweeps = 0;
-
-  double sweep_flops() const { return columns.sweep_flops(); }
-  SweepResult sweep(Eigen::VectorXd& r, int& rejected) {
-    ++sweeps;
-    return columns.sweep(r, rejected);
-  }
-  double residual(const Eigen::VectorXd& r, int settled_from) const {
-    const double own = relative_residual_by_columns(columns.problem, r, product);
-    const double tolerance = columns.parameters.tolerance;
-    floor = own > tolerance && columns.residual(r, settled_from) <= tolerance;
-    return own;
-  }
-  bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
-    polished_after = sweeps;
-    double swept_residual = columns.residual(r, columns.problem.contacts);
-    if (!columns.polish(r, swept_residual, budget)) return false;
-    residual = this->residual(r, columns.problem.contacts);
-    return true;
-  }
-  void observe(const SweepResult& swept, double scale) { columns.observe(swept, scale); }
-  bool stalled() const { return columns.stalled(); }
-  bool retries_skipped_polish() const { return true; }
   bool at_floor() const { return floor; }
-  bool ends_with_polish() const { return false; }
+  bool ends_with_polish() const { return product == nullptr; }
 };
 
 // The dense path on the condensed contact rows, whose convergence tests use the full problem's
@@ -155,13 +139,13 @@ PgsStatistics solve_by_rows(const FrictionContactProblem& problem, const Eigen::
   return pgs_local::iterate<D>(problem, parameters, path, r, status);
 }
 
-// The near-symmetric sweeps (NearSymmetricPath), then, unless they converged on W's own residual, the
-// exact path on Wᵀ from their iterate, its sweeps and polish counted on from theirs.
+// The near-symmetric sweeps (DensePath with a product), then, unless they converged on W's own
+// residual, the exact path on Wᵀ from their iterate, its sweeps and polish counted on from theirs.
 template <int D>
 PgsStatistics solve_near_symmetric(const FrictionContactProblem& problem, const PgsParameters& parameters,
                                    Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose,
                                    Eigen::VectorXd& product) {
-  NearSymmetricPath<D> near{DensePath<D>{problem, problem.W, parameters}, product};
+  DensePath<D> near{problem, problem.W, parameters, &product};
   PgsStatistics statistics = pgs_local::iterate<D>(problem, parameters, near, r, status);
   statistics.near_symmetric_sweeps = statistics.iterations;
   if (statistics.converged) return statistics;
