@@ -21,10 +21,11 @@ namespace csim::dense_pgs {
 bool is_symmetric(const Eigen::MatrixXd& W);
 
 // How far W is from its transpose, found in one pass over its pairs (i, j), i < j: symmetric to the bit,
-// near (every |W_ij − W_ji| ≤ kNearSymmetry · max_i |W_ii|, not all zero), or neither (the pass stops at
-// the first pair beyond). The diagonal is the scale because it is known before the pass, so that an
-// unsymmetric W is told at its first far pair as is_symmetric does; of a positive semidefinite W (a
-// Delassus J A⁻¹ Jᵀ) it is max |W| itself, |W_ij| ≤ √(W_ii W_jj), and of any other W a stricter scale.
+// near (every |W_ij − W_ji| ≤ kNearSymmetry · max_i |W_ii|, not all zero), or neither (the pass stops
+// after the first two columns holding a pair beyond; a non-finite skew is beyond). The diagonal is the
+// scale because it is known before the pass, so that an unsymmetric W is told early, as is_symmetric
+// tells it at its first unequal pair; of a positive semidefinite W (a Delassus J A⁻¹ Jᵀ) it is max |W|
+// itself, |W_ij| ≤ √(W_ii W_jj), and of any other W a stricter scale.
 // 16 ε ≈ 3.6e-15: the skews that a Delassus formed in floating point by others carries (the round-off
 // of W_ij and W_ji summed in different orders; Siconos' test problems: 1e-17 to 2e-16 of the largest
 // entry, docs/contact-problems.md) pass with a margin of 16 or more; skews from a different formation
