@@ -31,8 +31,8 @@ namespace {
 // polish of dense_polish.cpp on every schedule unless the sweeps are about to finish (above).
 //
 // With `product` set, W is symmetric to round-off (symmetry_of) and W_rows is W itself: the sweeps read
-// its columns as its rows, which spares the copy of Wᵀ (on Siconos' FrictionContactProblem00374, 28
-// contacts, skew 1e-17, 2 sweeps, the copy was 42 % of the solve). Those sweeps solve the problem
+// its columns as its rows, which spares the copy of Wᵀ (on Siconos' NESpheres_30_1, 44 contacts, skew
+// 4e-17, 2 sweeps, the copy was 42 % of the solve's instructions). Those sweeps solve the problem
 // whose off-diagonal rows are W's columns; every residual that decides convergence is W's own
 // (relative_residual_by_columns, W r into *product), so a W whose skew matters is not declared
 // converged on the wrong problem. When the sweeps have solved their own problem to the tolerance and
