@@ -59,17 +59,27 @@ struct DensePath {
     return dense_pgs::sweep<D>(problem, W_rows, parameters, r, rejected);
   }
   double residual(const Eigen::VectorXd& r, int settled_from) const {
-    if (product == nullptr) return relative_residual(problem, W_rows, r, settled_from);
+    if (product != nullptr) [[unlikely]]
+      return near_symmetric_residual(r, settled_from);
+    return relative_residual(problem, W_rows, r, settled_from);
+  }
+  bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
+    polished_after = sweeps;
+    if (product != nullptr) [[unlikely]]
+      return near_symmetric_polish(r, residual, budget);
+    return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
+  }
+  // The near-symmetric reading's (above), out of line: the exact path, inlined into the iteration,
+  // stays the size it was.
+  [[gnu::noinline]] double near_symmetric_residual(const Eigen::VectorXd& r, int settled_from) const {
     const double own = relative_residual_by_columns(problem, r, *product);
     floor = own > parameters.tolerance && relative_residual(problem, W_rows, r, settled_from) <= parameters.tolerance;
     return own;
   }
-  bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
-    polished_after = sweeps;
-    if (product == nullptr) return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
+  [[gnu::noinline]] bool near_symmetric_polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
     double swept_residual = relative_residual(problem, W_rows, r);
     if (!dense_pgs::polish<D>(problem, W_rows, r, swept_residual, parameters.tolerance, budget)) return false;
-    residual = this->residual(r, problem.contacts);
+    residual = near_symmetric_residual(r, problem.contacts);
     return true;
   }
   void observe(const SweepResult& swept, double scale) { window.add(swept.increment_squared, scale); }
@@ -131,28 +141,29 @@ struct CondensedPath {
   bool ends_with_polish() const { return true; }
 };
 
-// The dense path on the contact rows of `problem`, W's rows read from the columns of W_rows.
+// The dense path on the contact rows of `problem`: W's rows read from W's columns (symmetric to the
+// bit), from Wᵀ's (copied), or near-symmetric (DensePath with a product) and then, unless those sweeps
+// converged on W's own residual, from Wᵀ's from their iterate, its sweeps and polish counted on from
+// theirs. One call of the iteration, which the compiler inlines (a second call site, for the copy
+// after the near-symmetric sweeps, cost 76 instructions a solve of the lumped scenes' steps).
 template <int D>
-PgsStatistics solve_by_rows(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows,
-                            const PgsParameters& parameters, Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
-  DensePath<D> path{problem, W_rows, parameters};
-  return pgs_local::iterate<D>(problem, parameters, path, r, status);
-}
-
-// The near-symmetric sweeps (DensePath with a product), then, unless they converged on W's own
-// residual, the exact path on Wᵀ from their iterate, its sweeps and polish counted on from theirs.
-template <int D>
-PgsStatistics solve_near_symmetric(const FrictionContactProblem& problem, const PgsParameters& parameters,
-                                   Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose,
-                                   Eigen::VectorXd& product) {
-  DensePath<D> near{problem, problem.W, parameters, &product};
-  PgsStatistics statistics = pgs_local::iterate<D>(problem, parameters, near, r, status);
-  statistics.near_symmetric_sweeps = statistics.iterations;
-  if (statistics.converged) return statistics;
-  transpose.noalias() = problem.W.transpose();
-  statistics.transposed = true;
-  DensePath<D> exact{problem, transpose, parameters};
-  return pgs_local::iterate<D>(problem, parameters, exact, r, status, statistics, near.polished_after);
+PgsStatistics solve_rows(const FrictionContactProblem& problem, const PgsParameters& parameters, Symmetry symmetry,
+                         Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose,
+                         Eigen::VectorXd& product) {
+  PgsStatistics statistics;
+  int polished_after = -1;
+  for (;;) {
+    if (symmetry == Symmetry::none) transpose.noalias() = problem.W.transpose();
+    DensePath<D> path{problem, symmetry == Symmetry::none ? transpose : problem.W, parameters,
+                      symmetry == Symmetry::near ? &product : nullptr};
+    statistics = pgs_local::iterate<D>(problem, parameters, path, r, status, statistics, polished_after);
+    if (symmetry == Symmetry::none) statistics.transposed = true;
+    if (symmetry != Symmetry::near) return statistics;
+    statistics.near_symmetric_sweeps = statistics.iterations;
+    if (statistics.converged) return statistics;
+    symmetry = Symmetry::none;
+    polished_after = path.polished_after;
+  }
 }
 
 }  // namespace
@@ -177,25 +188,13 @@ PgsStatistics solve_condensed_rows(const FrictionContactProblem& problem, PgsCon
   return statistics;
 }
 
-// W's rows are read from W's columns when W is symmetric to the bit, from Wᵀ's (copied) when it is far
-// from it, and when it is symmetric to round-off first from W's own, judged on its true rows, then if
-// need be from Wᵀ's (solve_near_symmetric).
 PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const PgsParameters& parameters,
                                  Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose,
                                  Eigen::VectorXd& product) {
   if (problem.contacts == 0) return pgs_local::without_contacts(status);
   const Symmetry symmetry = symmetry_of(problem.W);
-  const bool planar = problem.dimension == 2;
-  if (symmetry == Symmetry::near)
-    return planar ? solve_near_symmetric<2>(problem, parameters, r, status, transpose, product)
-                  : solve_near_symmetric<3>(problem, parameters, r, status, transpose, product);
-  const bool copied = symmetry == Symmetry::none;
-  if (copied) transpose.noalias() = problem.W.transpose();
-  const Eigen::MatrixXd& W_rows = copied ? transpose : problem.W;
-  PgsStatistics statistics = planar ? solve_by_rows<2>(problem, W_rows, parameters, r, status)
-                                    : solve_by_rows<3>(problem, W_rows, parameters, r, status);
-  statistics.transposed = copied;
-  return statistics;
+  if (problem.dimension == 2) return solve_rows<2>(problem, parameters, symmetry, r, status, transpose, product);
+  return solve_rows<3>(problem, parameters, symmetry, r, status, transpose, product);
 }
 
 }  // namespace dense_pgs
