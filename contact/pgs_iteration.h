@@ -84,11 +84,12 @@ inline PgsStatistics without_contacts(std::vector<ContactStatus>* status) {
 
 // `start`: the statistics of an earlier iteration on the same problem that this one continues from r
 // (its sweeps count towards max_iterations and the polish's budget, and set the polish's schedule);
-// `start_polished_after`: the sweep count at that iteration's last polish (−1: none).
+// `last_polish`: on entry the sweep count at that iteration's last polish (−1: none), on exit this
+// one's (null: not asked).
 template <int D, class Path>
 PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters& parameters, Path& path,
                       Eigen::VectorXd& r, std::vector<ContactStatus>* status, const PgsStatistics& start = {},
-                      int start_polished_after = -1) {
+                      int* last_polish = nullptr) {
   PgsStatistics statistics = start;
   const double sweep_flops = path.sweep_flops();
   // The sweep count at the last polish: the final polish is skipped when no sweep has run since the
@@ -96,7 +97,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
   // a row, the second from the first one's result: twice the cost (23.9 s became 47.9 s on a
   // 296-contact problem) for at most a small gain (rolling-ring-3d-cornering, whose 7 unconverged
   // solves end at a relative residual of 3e-3 either way).
-  int polished_after = start_polished_after;
+  int polished_after = last_polish != nullptr ? *last_polish : -1;
   const auto polish_now = [&] {
     polished_after = statistics.iterations;
     PolishBudget budget = statistics.start_polish(parameters);
@@ -152,6 +153,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
 
+  if (last_polish != nullptr) *last_polish = polished_after;
   if (status != nullptr) {
     status->resize(static_cast<std::size_t>(problem.contacts));
     for (int c = 0; c < problem.contacts; ++c)

@@ -50,12 +50,9 @@ struct DensePath {
   Eigen::VectorXd* product = nullptr;  // near-symmetric reading: W r (the solver's work array)
   pgs_local::ContractionWindow window{};
   mutable bool floor = false;
-  mutable int sweeps = 0;
-  mutable int polished_after = -1;  // the sweep count at the last polish
 
   double sweep_flops() const { return 2.0 * static_cast<double>(W_rows.size()); }
   SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
-    ++sweeps;
     return dense_pgs::sweep<D>(problem, W_rows, parameters, r, rejected);
   }
   double residual(const Eigen::VectorXd& r, int settled_from) const {
@@ -64,7 +61,6 @@ struct DensePath {
     return relative_residual(problem, W_rows, r, settled_from);
   }
   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
-    polished_after = sweeps;
     if (product != nullptr) [[unlikely]]
       return near_symmetric_polish(r, residual, budget);
     return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
@@ -147,7 +143,8 @@ struct CondensedPath {
 // theirs. One call of the iteration, which the compiler inlines (a second call site, for the copy
 // after the near-symmetric sweeps, cost 76 instructions a solve of the lumped scenes' steps).
 template <int D>
-PgsStatistics solve_rows(const FrictionContactProblem& problem, const PgsParameters& parameters, Symmetry symmetry,
+[[gnu::always_inline]] inline PgsStatistics solve_rows(const FrictionContactProblem& problem,
+                                                       const PgsParameters& parameters, Symmetry symmetry,
                          Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose,
                          Eigen::VectorXd& product) {
   PgsStatistics statistics;
@@ -156,13 +153,12 @@ PgsStatistics solve_rows(const FrictionContactProblem& problem, const PgsParamet
     if (symmetry == Symmetry::none) transpose.noalias() = problem.W.transpose();
     DensePath<D> path{problem, symmetry == Symmetry::none ? transpose : problem.W, parameters,
                       symmetry == Symmetry::near ? &product : nullptr};
-    statistics = pgs_local::iterate<D>(problem, parameters, path, r, status, statistics, polished_after);
+    statistics = pgs_local::iterate<D>(problem, parameters, path, r, status, statistics, &polished_after);
     if (symmetry == Symmetry::none) statistics.transposed = true;
     if (symmetry != Symmetry::near) return statistics;
     statistics.near_symmetric_sweeps = statistics.iterations;
     if (statistics.converged) return statistics;
     symmetry = Symmetry::none;
-    polished_after = path.polished_after;
   }
 }
 
