@@ -40,8 +40,8 @@ namespace {
 // the iteration stops without its final polish and the exact path (the copy) continues from the
 // iterate (solve_contact_rows). The polish forms its systems from W's own rows and compares its
 // candidates on the sweeps' residual; its result is then judged on W's. One path for both readings,
-// not two: a second instantiation of the iteration (the sweep is inlined into it) made every small
-// solve slower, its code new to the process (bench_siconos runs each solve in a new process).
+// so one instantiation of the iteration (the sweep inlined into it) per dimension, with the
+// near-symmetric pieces out of line, so that the exact path inlined into the iteration stays as it was.
 template <int D>
 struct DensePath {
   const FrictionContactProblem& problem;
@@ -65,8 +65,7 @@ struct DensePath {
       return near_symmetric_polish(r, residual, budget);
     return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
   }
-  // The near-symmetric reading's (above), out of line: the exact path, inlined into the iteration,
-  // stays the size it was.
+  // The near-symmetric reading's (above), out of line.
   [[gnu::noinline]] double near_symmetric_residual(const Eigen::VectorXd& r, int settled_from) const {
     const double own = relative_residual_by_columns(problem, r, *product);
     floor = own > parameters.tolerance && relative_residual(problem, W_rows, r, settled_from) <= parameters.tolerance;
@@ -140,8 +139,9 @@ struct CondensedPath {
 // The dense path on the contact rows of `problem`: W's rows read from W's columns (symmetric to the
 // bit), from Wᵀ's (copied), or near-symmetric (DensePath with a product) and then, unless those sweeps
 // converged on W's own residual, from Wᵀ's from their iterate, its sweeps and polish counted on from
-// theirs. One call of the iteration, which the compiler inlines (a second call site, for the copy
-// after the near-symmetric sweeps, cost 76 instructions a solve of the lumped scenes' steps).
+// theirs. One call of the iteration, which the compiler inlines: with a second call site, for the
+// copy after the near-symmetric sweeps, it did not, and a lumped scene's step cost more
+// (bench/step_instructions.sh, docs/contact-problems.md).
 template <int D>
 [[gnu::always_inline]] inline PgsStatistics solve_rows(const FrictionContactProblem& problem,
                                                        const PgsParameters& parameters, Symmetry symmetry,
