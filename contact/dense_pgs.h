@@ -20,6 +20,21 @@ namespace csim::dense_pgs {
 // True if W equals its transpose to the bit.
 bool is_symmetric(const Eigen::MatrixXd& W);
 
+// How far W is from its transpose, found in one pass over its pairs (i, j), i < j: symmetric to the bit,
+// near (every |W_ij − W_ji| ≤ kNearSymmetry · max_i |W_ii|, not all zero), or neither (the pass stops
+// after the first two columns holding a pair beyond; a non-finite skew is beyond). The diagonal is the
+// scale because it is known before the pass, so that an unsymmetric W is told early, as is_symmetric
+// tells it at its first unequal pair; of a positive semidefinite W (a Delassus J A⁻¹ Jᵀ) it is max |W|
+// itself, |W_ij| ≤ √(W_ii W_jj), and of any other W a stricter scale.
+// 16 ε ≈ 3.6e-15: the skews that a Delassus formed in floating point by others carries (the round-off
+// of W_ij and W_ji summed in different orders; Siconos' test problems: 1e-17 to 2e-16 of the largest
+// entry, docs/contact-problems.md) pass with a margin of 16 or more; skews from a different formation
+// (FCLib's, the Rover problems': 1e-7 to 2e-3) are far beyond. The bound decides only which path is
+// tried first: a near W's solve is judged on its own rows (PgsSolver's dense path, pgs_solver.cpp).
+enum class Symmetry { exact, near, none };
+constexpr double kNearSymmetry = 16.0 * 2.220446049250313e-16;
+Symmetry symmetry_of(const Eigen::MatrixXd& W);
+
 // A matrix whose column i is W's row i: W itself when it is symmetric to the bit, else Wᵀ, written
 // into `transpose` (a solver's work array, its storage reused from solve to solve).
 const Eigen::MatrixXd& rows_of(const Eigen::MatrixXd& W, Eigen::MatrixXd& transpose);
@@ -34,6 +49,13 @@ double relative_residual(const FrictionContactProblem& problem, const Eigen::Mat
                          int settled_from);
 double relative_residual(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, const Eigen::VectorXd& r);
 
+// The same full residual from W's own rows without reading them: W r formed by columns (contiguous in
+// Eigen's storage) into `product` (a work array, m), and each contact's frozen velocity as
+// b_c + (W r)_c − W_cc r_c. Exact in arithmetic; in floating point it differs from the sweeps' sum by the
+// cancellation's round-off, about ε |W_cc r_c|. All contacts' local solves. Flops: about one sweep's.
+double relative_residual_by_columns(const FrictionContactProblem& problem, const Eigen::VectorXd& r,
+                                    Eigen::VectorXd& product);
+
 // The active-set iteration from the statuses of r (closed_stick: every closed contact in stick), within
 // `budget`; r and residual replaced by a result whose full residual is smaller. True if replaced.
 template <int D>
@@ -46,9 +68,11 @@ template <int D>
 bool polish(const FrictionContactProblem& problem, const Eigen::MatrixXd& W_rows, Eigen::VectorXd& r, double& residual,
             double tolerance, PolishBudget& budget);
 
-// PgsSolver's dense path on a problem without equality rows (transpose: the solver's work array).
+// PgsSolver's dense path on a problem without equality rows (transpose, product: the solver's work
+// arrays, Wᵀ and W r).
 PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const PgsParameters& parameters,
-                                 Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose);
+                                 Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose,
+                                 Eigen::VectorXd& product);
 
 // The condensed contact rows (condensed.contacts, formed from `problem` by solve_with_equalities) solved
 // by the dense path's iteration, whose convergence tests use the full problem's residual

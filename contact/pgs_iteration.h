@@ -14,6 +14,9 @@
 //                                                             scheduled one);
 //   bool at_floor() const                                     true ends the solve after a residual test
 //                                                             above tolerance (its residual cannot fall).
+//   bool ends_with_polish() const                             false skips the final polish of an
+//                                                             unconverged solve (a path that another
+//                                                             one continues, pgs_solver.cpp).
 // The sparse path skips while the sweeps converge at a steady rate (sparse_pgs.h) and waits for the next
 // schedule; the dense path skips only while that rate reaches the tolerance within ten sweeps
 // (pgs_solver.cpp), and tries again kFirstPolish sweeps later; the condensed path polishes on every
@@ -79,17 +82,22 @@ inline PgsStatistics without_contacts(std::vector<ContactStatus>* status) {
   return statistics;
 }
 
+// `start`: the statistics of an earlier iteration on the same problem that this one continues from r
+// (its sweeps count towards max_iterations and the polish's budget, and set the polish's schedule);
+// `last_polish`: on entry the sweep count at that iteration's last polish (−1: none), on exit this
+// one's (null: not asked).
 template <int D, class Path>
 PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters& parameters, Path& path,
-                      Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
-  PgsStatistics statistics;
+                      Eigen::VectorXd& r, std::vector<ContactStatus>* status, const PgsStatistics& start = {},
+                      int* last_polish = nullptr) {
+  PgsStatistics statistics = start;
   const double sweep_flops = path.sweep_flops();
   // The sweep count at the last polish: the final polish is skipped when no sweep has run since the
   // last one. With max_iterations 20 or a multiple of 200 an unconverged solve used to polish twice in
   // a row, the second from the first one's result: twice the cost (23.9 s became 47.9 s on a
   // 296-contact problem) for at most a small gain (rolling-ring-3d-cornering, whose 7 unconverged
   // solves end at a relative residual of 3e-3 either way).
-  int polished_after = -1;
+  int polished_after = last_polish != nullptr ? *last_polish : -1;
   const auto polish_now = [&] {
     polished_after = statistics.iterations;
     PolishBudget budget = statistics.start_polish(parameters);
@@ -99,7 +107,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
   const double norm_b = problem.b.norm();
   bool residual_is_current = false;
   int retry_at = -1;  // the sweep at which a skipped polish is tried again
-  for (int iteration = 1; iteration <= parameters.max_iterations; ++iteration) {
+  for (int iteration = statistics.iterations + 1; iteration <= parameters.max_iterations; ++iteration) {
     const SweepResult swept = path.sweep(r, statistics.rejected_local_solutions);
     statistics.iterations = iteration;
     statistics.sweep_work += sweep_flops;
@@ -139,11 +147,13 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
     statistics.residual = path.residual(r, problem.contacts);
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
-  if (parameters.polish && !statistics.converged && polished_after != statistics.iterations) {
+  if (parameters.polish && path.ends_with_polish() && !statistics.converged &&
+      polished_after != statistics.iterations) {
     polish_now();
     statistics.converged = statistics.residual <= parameters.tolerance;
   }
 
+  if (last_polish != nullptr) *last_polish = polished_after;
   if (status != nullptr) {
     status->resize(static_cast<std::size_t>(problem.contacts));
     for (int c = 0; c < problem.contacts; ++c)

@@ -29,22 +29,53 @@ namespace {
 // no pow or log (whose first call in a process costs more than a small solve: the dynamic linker).
 // The dense path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's rows, the
 // polish of dense_polish.cpp on every schedule unless the sweeps are about to finish (above).
+//
+// With `product` set, W is symmetric to round-off (symmetry_of) and W_rows is W itself: the sweeps read
+// its columns as its rows, which spares the copy of Wᵀ (on Siconos' NESpheres_30_1, 44 contacts, skew
+// 4e-17, 2 sweeps, the copy was 42 % of the solve's instructions). Those sweeps solve the problem
+// whose off-diagonal rows are W's columns; every residual that decides convergence is W's own
+// (relative_residual_by_columns, W r into *product), so a W whose skew matters is not declared
+// converged on the wrong problem. When the sweeps have solved their own problem to the tolerance and
+// W's residual is still above it (at_floor: more sweeps would not lower it), or the sweeps run out,
+// the iteration stops without its final polish and the exact path (the copy) continues from the
+// iterate (solve_contact_rows). The polish forms its systems from W's own rows and compares its
+// candidates on the sweeps' residual; its result is then judged on W's. One path for both readings,
+// so one instantiation of the iteration (the sweep inlined into it) per dimension, with the
+// near-symmetric pieces out of line, so that the exact path inlined into the iteration stays as it was.
 template <int D>
 struct DensePath {
   const FrictionContactProblem& problem;
   const Eigen::MatrixXd& W_rows;
   const PgsParameters& parameters;
+  Eigen::VectorXd* product = nullptr;  // near-symmetric reading: W r (the solver's work array)
   pgs_local::ContractionWindow window{};
+  mutable bool floor = false;
 
   double sweep_flops() const { return 2.0 * static_cast<double>(W_rows.size()); }
   SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
     return dense_pgs::sweep<D>(problem, W_rows, parameters, r, rejected);
   }
   double residual(const Eigen::VectorXd& r, int settled_from) const {
+    if (product != nullptr) [[unlikely]]
+      return near_symmetric_residual(r, settled_from);
     return relative_residual(problem, W_rows, r, settled_from);
   }
   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
+    if (product != nullptr) [[unlikely]]
+      return near_symmetric_polish(r, residual, budget);
     return dense_pgs::polish<D>(problem, W_rows, r, residual, parameters.tolerance, budget);
+  }
+  // The near-symmetric reading's (above), out of line.
+  [[gnu::noinline]] double near_symmetric_residual(const Eigen::VectorXd& r, int settled_from) const {
+    const double own = relative_residual_by_columns(problem, r, *product);
+    floor = own > parameters.tolerance && relative_residual(problem, W_rows, r, settled_from) <= parameters.tolerance;
+    return own;
+  }
+  [[gnu::noinline]] bool near_symmetric_polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
+    double swept_residual = relative_residual(problem, W_rows, r);
+    if (!dense_pgs::polish<D>(problem, W_rows, r, swept_residual, parameters.tolerance, budget)) return false;
+    residual = near_symmetric_residual(r, problem.contacts);
+    return true;
   }
   void observe(const SweepResult& swept, double scale) { window.add(swept.increment_squared, scale); }
   bool stalled() const {
@@ -53,7 +84,8 @@ struct DensePath {
     return !(parameters.tolerance * oldest >= newest * newest);
   }
   bool retries_skipped_polish() const { return true; }
-  bool at_floor() const { return false; }
+  bool at_floor() const { return floor; }
+  bool ends_with_polish() const { return product == nullptr; }
 };
 
 // The dense path on the condensed contact rows, whose convergence tests use the full problem's
@@ -101,7 +133,34 @@ struct CondensedPath {
   void observe(const SweepResult&, double) const {}
   bool stalled() const { return true; }
   bool retries_skipped_polish() const { return false; }
+  bool ends_with_polish() const { return true; }
 };
+
+// The dense path on the contact rows of `problem`: W's rows read from W's columns (symmetric to the
+// bit), from Wᵀ's (copied), or near-symmetric (DensePath with a product) and then, unless those sweeps
+// converged on W's own residual, from Wᵀ's from their iterate, its sweeps and polish counted on from
+// theirs. One call of the iteration, which the compiler inlines: with a second call site, for the
+// copy after the near-symmetric sweeps, it did not, and a lumped scene's step cost more
+// (bench/step_instructions.sh, docs/contact-problems.md).
+template <int D>
+[[gnu::always_inline]] inline PgsStatistics solve_rows(const FrictionContactProblem& problem,
+                                                       const PgsParameters& parameters, Symmetry symmetry,
+                         Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose,
+                         Eigen::VectorXd& product) {
+  PgsStatistics statistics;
+  int polished_after = -1;
+  for (;;) {
+    if (symmetry == Symmetry::none) transpose.noalias() = problem.W.transpose();
+    DensePath<D> path{problem, symmetry == Symmetry::none ? transpose : problem.W, parameters,
+                      symmetry == Symmetry::near ? &product : nullptr};
+    statistics = pgs_local::iterate<D>(problem, parameters, path, r, status, statistics, &polished_after);
+    if (symmetry == Symmetry::none) statistics.transposed = true;
+    if (symmetry != Symmetry::near) return statistics;
+    statistics.near_symmetric_sweeps = statistics.iterations;
+    if (statistics.converged) return statistics;
+    symmetry = Symmetry::none;
+  }
+}
 
 }  // namespace
 
@@ -111,6 +170,7 @@ PgsStatistics solve_condensed_rows(const FrictionContactProblem& problem, PgsCon
   const FrictionContactProblem& contacts = condensed.contacts;
   if (contacts.contacts == 0) return pgs_local::without_contacts(status);
   const Eigen::MatrixXd& W_rows = rows_of(contacts.W, transpose);
+  const bool copied = &W_rows == &transpose;
   int rejected = 0;
   PgsStatistics statistics;
   if (contacts.dimension == 2) {
@@ -120,19 +180,17 @@ PgsStatistics solve_condensed_rows(const FrictionContactProblem& problem, PgsCon
     CondensedPath<3> path{DensePath<3>{contacts, W_rows, parameters}, problem, condensed, rejected};
     statistics = pgs_local::iterate<3>(contacts, parameters, path, r_c, status);
   }
+  statistics.transposed = copied;
   return statistics;
 }
 
 PgsStatistics solve_contact_rows(const FrictionContactProblem& problem, const PgsParameters& parameters,
-                                 Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose) {
+                                 Eigen::VectorXd& r, std::vector<ContactStatus>* status, Eigen::MatrixXd& transpose,
+                                 Eigen::VectorXd& product) {
   if (problem.contacts == 0) return pgs_local::without_contacts(status);
-  const Eigen::MatrixXd& W_rows = rows_of(problem.W, transpose);
-  if (problem.dimension == 2) {
-    DensePath<2> path{problem, W_rows, parameters};
-    return pgs_local::iterate<2>(problem, parameters, path, r, status);
-  }
-  DensePath<3> path{problem, W_rows, parameters};
-  return pgs_local::iterate<3>(problem, parameters, path, r, status);
+  const Symmetry symmetry = symmetry_of(problem.W);
+  if (problem.dimension == 2) return solve_rows<2>(problem, parameters, symmetry, r, status, transpose, product);
+  return solve_rows<3>(problem, parameters, symmetry, r, status, transpose, product);
 }
 
 }  // namespace dense_pgs
@@ -196,7 +254,7 @@ PgsStatistics PgsSolver::solve(const FrictionContactProblem& problem, Eigen::Vec
   if (parameters_.route_sparse && sparse_enough(problem)) return solve_routed(problem, r, status);
   if (problem.equalities > 0)
     return dense_pgs::solve_with_equalities(problem, parameters_, r, status, scratch_.condensation, scratch_.transpose);
-  return dense_pgs::solve_contact_rows(problem, parameters_, r, status, scratch_.transpose);
+  return dense_pgs::solve_contact_rows(problem, parameters_, r, status, scratch_.transpose, scratch_.product);
 }
 
 double PgsSolver::residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {

@@ -58,11 +58,18 @@
 // decides convergence is formed from W's rows, and so is the polish (its linear systems and Newton's
 // Jacobian are rows of W). Every Delassus operator the steppers form is symmetric to the bit; a W that
 // is not (a problem from elsewhere, e.g. FCLib's, with a relative skew of 1e-7 to 7e-4) is read through
-// its transpose, copied once per solve (m² doubles, kept by the solver). With equality rows, an
-// unsymmetric W_ee is factored by a complete orthogonal decomposition instead of the LDLT.
+// its transpose, copied once per solve (m² doubles, kept by the solver). A W symmetric to round-off
+// (every |W_ij − W_ji| ≤ 16 ε max_i |W_ii|, dense_pgs.h: Siconos' problems formed as J M⁻¹ Jᵀ, skew
+// 1e-17 to 2e-16) is first swept on its own columns, without the copy, every convergence test made
+// on W's own rows (W r formed by columns); if those sweeps settle on their own problem's solution while
+// W's residual stays above the tolerance, or run out of sweeps, the solve goes on from their iterate
+// through the copy (pgs_solver.cpp). On problems without equality rows only: with them, W is
+// read through the copy unless symmetric to the bit. With equality rows, an unsymmetric W_ee is
+// factored by a complete orthogonal decomposition instead of the LDLT.
 //
 // Details of this implementation:
-//   - W's rows are read as contiguous columns: W's own when W is symmetric to the bit, Wᵀ's otherwise;
+//   - W's rows are read as contiguous columns: W's own when W is symmetric to the bit, Wᵀ's otherwise
+//     (first W's own when W is symmetric to round-off, above);
 //   - omega relaxes the contact impulses only; with omega > 1 a relaxed impulse is pulled back into its
 //     cone (r_n ≥ 0, r_t scaled radially); the equality block is always solved exactly;
 //   - right after a sweep, the contacts after the last impulse that moved (and that one, when it is
@@ -122,6 +129,12 @@ struct PgsStatistics {
   int polish_factorizations = 0;  // LU factorizations of the polish (sparse path: sparse ones)
   bool polish_cut = false;    // a polish stopped at its budget
   bool routed_to_sparse = false;  // a dense-stored W was solved on its block-sparse copy (route_sparse)
+  // The dense path's reading of W's rows (above): sweeps on W's own columns as its rows (W symmetric
+  // to round-off, not to the bit), and whether Wᵀ was copied (W further from symmetric, or the
+  // near-symmetric sweeps' answer missed the tolerance on W's own rows and the solve went on from it
+  // on the copy).
+  int near_symmetric_sweeps = 0;
+  bool transposed = false;
 
   // One polish on either path: start_polish counts it and gives the flops it may spend (parameters'
   // polish_budget × sweep_work + polish_allowance − polish_work); finish_polish records what it spent.
@@ -173,6 +186,7 @@ class PgsSolver {
   struct Scratch {
     PgsCondensation condensation;
     Eigen::MatrixXd transpose;  // Wᵀ of the contact rows' problem, when W is not symmetric
+    Eigen::VectorXd product;    // W r of a near-symmetric W's residual (dense_pgs.h)
     SparseDelassus completed;   // a sparse W completed to whole blocks, when the problem's is not
     FrictionContactProblem routed;  // a dense-stored W's block-sparse copy (route_sparse)
     Scratch() = default;

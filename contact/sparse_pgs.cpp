@@ -260,6 +260,7 @@ struct SparsePath {
   bool stalled() const { return !(window.contraction() < kStalled); }
   bool retries_skipped_polish() const { return false; }
   bool at_floor() const { return false; }
+  bool ends_with_polish() const { return true; }
 };
 
 template <int D>
