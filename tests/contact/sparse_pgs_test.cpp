@@ -330,7 +330,9 @@ TEST(SparsePgs, PolishesOnlyAStalledIteration) {
   const PgsStatistics polished = PgsSolver(parameters).solve(stalled, r_stalled);
   ASSERT_TRUE(polished.converged) << polished.residual;
   EXPECT_GE(polished.polishes, 1);
-  EXPECT_LE(polished.iterations, 200);
+  // The relaxed attempt's sweeps (at most 200, unpolished: sparse_pgs.h), then a polish within the
+  // plain solve's first 200.
+  EXPECT_LE(polished.iterations, 400);
   EXPECT_LE(natural_map_error(stalled, r_stalled), 1e-10);
 }
 
