@@ -36,10 +36,6 @@ int DelassusCache::slot(const Key& key, const int* index, const double* value, i
   if (entry.slot < 0) {
     if (free_slots_.empty()) {
       entry.slot = slot_count_++;
-      if (slot_count_ > delassus_.rows()) {
-        const int capacity = std::max(16, 2 * slot_count_);
-        delassus_.conservativeResize(capacity, capacity);
-      }
     } else {
       entry.slot = free_slots_.back();
       free_slots_.pop_back();
@@ -67,6 +63,12 @@ void DelassusCache::compute_entries() {
   for (auto& [key, entry] : entries_)
     if (entry.stale) fresh_.push_back(&entry);
   if (fresh_.empty()) return;
+  // W's dense storage grows here, not with the slots: a user of the forward columns alone (a sparse W)
+  // never holds slots² doubles (1000 dropped spheres: 3000 slots, 290 MB at a doubled capacity).
+  if (slot_count_ > delassus_.rows()) {
+    const int capacity = std::max(16, 2 * slot_count_);
+    delassus_.conservativeResize(capacity, capacity);
+  }
   // Each fresh row against every row kept: its forward column scaled by D⁻¹ and scattered once, then
   // one sparse dot product per row, stored on both sides (W symmetric exactly). A pair of fresh rows is
   // computed once, by the later of the two.

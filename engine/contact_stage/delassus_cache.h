@@ -44,6 +44,7 @@ class DelassusCache {
   const SparseLdlt::ForwardColumn& forward(int slot) const { return by_slot_[slot]->forward; }
   std::size_t rows() const { return entries_.size(); }
   std::size_t stored_values() const;  // entries of the forward columns kept, for the memory budget
+  Eigen::Index dense_capacity() const { return delassus_.rows(); }  // W's dense storage: slots it can hold
   long computed_entries() const { return computed_entries_; }  // entries of W computed so far
 
   // What a user took from the cache for a list of slots (a copy of W, their forward columns stored
