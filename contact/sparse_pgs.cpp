@@ -63,30 +63,45 @@ SparseDelassus completed_layout(const SparseDelassus& W, int d) {
   return result;
 }
 
-// W read by contact rows: its arrays, the diagonal blocks and where each contact's own block starts in
-// its rows (an offset from the row's start, the same for its d rows).
+// W read by contact rows, copied once per solve into block rows: each contact's diagonal block, and its
+// other D × D blocks with their contacts, contiguous. A frozen velocity is then a few small dense
+// products, one column index a block, where the compressed rows load one index an entry (1000 dropped
+// spheres: about a third fewer instructions a sweep).
 template <int D>
 struct BlockRows {
   const SparseDelassus& W;
-  const int* outer;
-  const int* inner;
-  const double* value;
   std::vector<Matrix<D>> diagonal;
-  std::vector<int> own;
+  std::vector<int> first_block;  // contact c's blocks: [first_block[c], first_block[c + 1])
+  std::vector<int> block_contact;
+  std::vector<Matrix<D>> block;
 
-  explicit BlockRows(const SparseDelassus& W_in)
-      : W(W_in), outer(W_in.outerIndexPtr()), inner(W_in.innerIndexPtr()), value(W_in.valuePtr()) {
+  explicit BlockRows(const SparseDelassus& W_in) : W(W_in) {
+    const int* outer = W.outerIndexPtr();
+    const int* inner = W.innerIndexPtr();
+    const double* value = W.valuePtr();
     const int contacts = static_cast<int>(W.rows()) / D;
     diagonal.resize(static_cast<std::size_t>(contacts));
-    own.resize(static_cast<std::size_t>(contacts));
+    first_block.resize(static_cast<std::size_t>(contacts) + 1);
+    const std::size_t blocks = static_cast<std::size_t>(W.nonZeros()) / (D * D);
+    block_contact.reserve(blocks);
+    block.reserve(blocks);
     for (int c = 0; c < contacts; ++c) {
       const int n = D * c;
-      int pos = outer[n];
-      while (inner[pos] != n) pos += D;
-      own[c] = pos - outer[n];
-      for (int i = 0; i < D; ++i)
-        for (int j = 0; j < D; ++j) diagonal[c](i, j) = value[outer[n + i] + own[c] + j];
+      first_block[c] = static_cast<int>(block.size());
+      for (int pos = outer[n]; pos < outer[n + 1]; pos += D) {
+        const int offset = pos - outer[n];
+        Matrix<D> entries;
+        for (int i = 0; i < D; ++i)
+          for (int j = 0; j < D; ++j) entries(i, j) = value[outer[n + i] + offset + j];
+        if (inner[pos] == n) {
+          diagonal[c] = entries;
+        } else {
+          block_contact.push_back(inner[pos] / D);
+          block.push_back(entries);
+        }
+      }
     }
+    first_block[contacts] = static_cast<int>(block.size());
   }
 };
 
@@ -94,16 +109,10 @@ struct BlockRows {
 template <int D>
 Vector<D> frozen_free_velocity(const FrictionContactProblem& problem, const BlockRows<D>& W, const Eigen::VectorXd& r,
                                int c) {
-  const int n = D * c;
-  Vector<D> b_c = problem.b.template segment<D>(n);
+  Vector<D> b_c = problem.b.template segment<D>(D * c);
   const double* x = r.data();
-  for (int k = 0; k < D; ++k) {
-    const int start = W.outer[n + k], end = W.outer[n + k + 1], own = start + W.own[c];
-    double sum = 0.0;
-    for (int pos = start; pos < own; ++pos) sum += W.value[pos] * x[W.inner[pos]];
-    for (int pos = own + D; pos < end; ++pos) sum += W.value[pos] * x[W.inner[pos]];
-    b_c(k) += sum;
-  }
+  for (int k = W.first_block[c]; k < W.first_block[c + 1]; ++k)
+    b_c.noalias() += W.block[k] * Eigen::Map<const Vector<D>>(x + D * W.block_contact[k]);
   return b_c;
 }
 
