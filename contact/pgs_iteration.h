@@ -13,7 +13,10 @@
 //                                                             kFirstPolish sweeps later (until the next
 //                                                             scheduled one);
 //   bool at_floor() const                                     true ends the solve after a residual test
-//                                                             above tolerance (its residual cannot fall).
+//                                                             above tolerance (its residual cannot fall);
+//   bool gives_up() const                                     true ends the solve after the sweep just
+//                                                             observed (a relaxed attempt that stalls,
+//                                                             sparse_pgs.h).
 //   bool ends_with_polish() const                             false skips the final polish of an
 //                                                             unconverged solve (a path that another
 //                                                             one continues, pgs_solver.cpp).
@@ -114,6 +117,7 @@ PgsStatistics iterate(const FrictionContactProblem& problem, const PgsParameters
     residual_is_current = false;
     const double scale = velocity_scale(norm_b, std::sqrt(swept.Wr_squared));
     path.observe(swept, scale);
+    if (path.gives_up()) break;
     // A stalled iteration: try the polish every kPolishInterval sweeps.
     const bool polish_due = iteration % kPolishInterval == 0 || iteration == kFirstPolish || iteration == retry_at;
     if (parameters.polish && polish_due && !path.stalled()) {

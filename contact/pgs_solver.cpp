@@ -85,6 +85,7 @@ struct DensePath {
   }
   bool retries_skipped_polish() const { return true; }
   bool at_floor() const { return floor; }
+  bool gives_up() const { return false; }
   bool ends_with_polish() const { return product == nullptr; }
 };
 
@@ -124,6 +125,7 @@ struct CondensedPath {
     return full;
   }
   bool at_floor() const { return floor; }
+  bool gives_up() const { return false; }
   bool polish(Eigen::VectorXd& r_c, double& residual, PolishBudget& budget) const {
     double condensed_residual = contacts.residual(r_c, contacts.problem.contacts);
     if (!contacts.polish(r_c, condensed_residual, budget)) return false;

@@ -254,6 +254,8 @@ struct SparsePath {
   const BlockRows<D>& W;
   const PgsParameters& parameters;
   pgs_local::ContractionWindow window{};
+  bool attempt = false;  // the relaxed attempt (solve_relaxed_first), given up once a window stalls
+  int sweeps = 0;
 
   double sweep_flops() const { return 2.0 * static_cast<double>(W.W.nonZeros()); }
   SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
@@ -265,7 +267,13 @@ struct SparsePath {
   bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
     return csim::polish<D>(problem, W, r, residual, parameters.tolerance, budget);
   }
-  void observe(const SweepResult& swept, double scale) { window.add(swept.increment_squared, scale); }
+  void observe(const SweepResult& swept, double scale) {
+    window.add(swept.increment_squared, scale);
+    ++sweeps;
+  }
+  bool gives_up() const {
+    return attempt && sweeps % (pgs_local::ContractionWindow::kWindow + 1) == 0 && stalled();
+  }
   bool stalled() const { return !(window.contraction() < kStalled); }
   bool retries_skipped_polish() const { return false; }
   bool at_floor() const { return false; }
@@ -274,8 +282,10 @@ struct SparsePath {
 
 template <int D>
 PgsStatistics solve_dimension(const FrictionContactProblem& problem, const BlockRows<D>& W,
-                              const PgsParameters& parameters, Eigen::VectorXd& r, std::vector<ContactStatus>* status) {
+                              const PgsParameters& parameters, Eigen::VectorXd& r, std::vector<ContactStatus>* status,
+                              bool attempt = false) {
   SparsePath<D> path{problem, W, parameters};
+  path.attempt = attempt;
   return pgs_local::iterate<D>(problem, parameters, path, r, status);
 }
 
@@ -293,7 +303,7 @@ PgsStatistics solve_relaxed_first(const FrictionContactProblem& problem, const B
   relaxed.max_iterations = std::min(parameters.max_iterations, kRelaxedSweeps);
   relaxed.polish = false;
   const Eigen::VectorXd start = r;
-  const PgsStatistics attempt = solve_dimension<D>(problem, W, relaxed, r, status);
+  const PgsStatistics attempt = solve_dimension<D>(problem, W, relaxed, r, status, true);
   if (attempt.converged) return attempt;
   const Eigen::VectorXd attempt_r = r;
   const std::vector<ContactStatus> attempt_status = status != nullptr ? *status : std::vector<ContactStatus>{};
