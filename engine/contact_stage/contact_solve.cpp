@@ -56,8 +56,7 @@ namespace {
 PgsStatistics solve_one(const PgsSolver& pgs, const FrictionContactProblem& problem, Vector& r,
                         std::vector<ContactStatus>& status, SolverCounters& c) {
   const bool may_fall_back = problem.storage == DelassusStorage::sparse && problem.size() <= kDenseFallbackRows;
-  Vector start;
-  if (may_fall_back) start = r;
+  const Vector warm = r;  // the warm start (r's entry value)
   PgsStatistics stats = pgs.solve(problem, r, &status);
   if (!stats.converged && may_fall_back) {
     FrictionContactProblem dense = problem;
@@ -67,7 +66,7 @@ PgsStatistics solve_one(const PgsSolver& pgs, const FrictionContactProblem& prob
     const PgsStatistics sparse_stats = stats;
     Vector sparse_r = r;
     std::vector<ContactStatus> sparse_status = status;
-    r = start;  // the dense solve from the warm start: from the sparse iterate it may stall too
+    r = warm;  // the dense solve from the warm start: from the sparse iterate it may stall too
     PgsParameters dense_path = pgs.parameters();  // the dense path itself, not the route back to sparse
     dense_path.route_sparse = false;
     stats = PgsSolver(dense_path).solve(dense, r, &status);
@@ -78,6 +77,21 @@ PgsStatistics solve_one(const PgsSolver& pgs, const FrictionContactProblem& prob
     }
     stats.iterations += sparse_stats.iterations;
     ++c.dense_fallbacks;
+  }
+  if (!stats.converged && !warm.isZero(0.0)) {  // taken again cold (header); the better of the two kept
+    Vector cold = Vector::Zero(r.size());
+    std::vector<ContactStatus> cold_status;
+    const PgsStatistics again = pgs.solve(problem, cold, &cold_status);
+    ++c.cold_restarts;
+    if (again.converged || again.residual < stats.residual) {
+      const int warm_iterations = stats.iterations;
+      stats = again;
+      stats.iterations += warm_iterations;
+      r = cold;
+      status = cold_status;
+    } else {
+      stats.iterations += again.iterations;
+    }
   }
   return stats;
 }

@@ -32,6 +32,11 @@ void warm_start(const std::vector<ActiveContact>& previous, const std::vector<Ac
 // hyperstatic stack that the dense polish finishes (and the dense solve started from the sparse one's
 // stalled iterate stalls as well). If neither converges, the iterate of smaller residual is kept and
 // reported unconverged. SolverCounters::dense_fallbacks counts them.
+// A solve from a nonzero warm start that still does not converge is then taken again from r = 0 (the
+// better of the two kept; SolverCounters::cold_restarts): Gauss–Seidel on a hyperstatic frictional set
+// can stall from the last step's impulses where it converges from zero (scenes/sphere-drop's generator,
+// 8 spheres, seed 1: 5.5e-5 after 20 000 sweeps warm, 6e-12 in 200 cold; over six counts and seeds the
+// solves left above 1e-6 went from 13 and two stopped runs to 2 and one).
 constexpr int kDenseFallbackRows = 4096;
 [[nodiscard]] std::string solve_contacts(const PgsSolver& pgs, const FrictionContactProblem& problem,
                                          double failure_residual, double t_next, Vector& r,

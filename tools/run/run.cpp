@@ -257,6 +257,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
       .value("first_not_converged_time", c.first_not_converged_time)
       .value("max_residual", c.max_residual)
       .value("rejected_local_solutions", c.rejected_local_solutions)
+      .value("cold_restarts", c.cold_restarts)
       .end_object();
   json.entries(report.stepper_statistics);
   json.begin_object("contacts")
