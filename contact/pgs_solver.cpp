@@ -283,4 +283,17 @@ void PgsStatistics::finish_polish(const PolishBudget& budget, bool improved) {
   polish_cut = polish_cut || budget.exhausted;
 }
 
+void PgsStatistics::add_work(const PgsStatistics& other) {
+  rejected_local_solutions += other.rejected_local_solutions;
+  polished = polished || other.polished;
+  polishes += other.polishes;
+  sweep_work += other.sweep_work;
+  polish_work += other.polish_work;
+  polish_factorizations += other.polish_factorizations;
+  polish_cut = polish_cut || other.polish_cut;
+  routed_to_sparse = routed_to_sparse || other.routed_to_sparse;
+  near_symmetric_sweeps += other.near_symmetric_sweeps;
+  transposed = transposed || other.transposed;
+}
+
 }  // namespace csim

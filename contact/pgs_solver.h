@@ -140,6 +140,10 @@ struct PgsStatistics {
   // polish_budget × sweep_work + polish_allowance − polish_work); finish_polish records what it spent.
   PolishBudget start_polish(const PgsParameters& parameters);
   void finish_polish(const PolishBudget& budget, bool improved);
+  // The work of another solve of the same problem or of a part of it (a relaxed attempt, an island, a
+  // fallback) added to this one's: counts and flops summed, flags or-ed. Not the sweeps (iterations),
+  // residual or convergence, which the caller combines by its own rule.
+  void add_work(const PgsStatistics& other);
 };
 
 // The work arrays of a solve with equality rows (their condensation, equality_condensation.cpp): a solver keeps

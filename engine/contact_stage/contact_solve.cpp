@@ -52,46 +52,47 @@ std::string account(const PgsStatistics& stats, int dimension, double failure_re
 
 namespace {
 
-// One problem: PGS, then for a sparse one that did not converge the dense fallback (header).
+// An unconverged solve (stats, r, status) against a second solve of `problem` by `solver` from `start`:
+// the second is kept if it converged or its residual is no larger; the sweeps and work of both counted.
+void solve_again(const PgsSolver& solver, const FrictionContactProblem& problem, Vector start, Vector& r,
+                 std::vector<ContactStatus>& status, PgsStatistics& stats) {
+  std::vector<ContactStatus> again_status;
+  PgsStatistics again = solver.solve(problem, start, &again_status);
+  const int sweeps = stats.iterations + again.iterations;
+  if (again.converged || again.residual <= stats.residual) {
+    again.add_work(stats);
+    stats = again;
+    r.swap(start);
+    status.swap(again_status);
+  } else {
+    stats.add_work(again);
+  }
+  stats.iterations = sweeps;
+}
+
+// One problem: PGS, then for a sparse one that did not converge the dense fallback, then for a solve
+// still unconverged from a nonzero warm start the cold restart (header).
 PgsStatistics solve_one(const PgsSolver& pgs, const FrictionContactProblem& problem, Vector& r,
                         std::vector<ContactStatus>& status, SolverCounters& c) {
   const bool may_fall_back = problem.storage == DelassusStorage::sparse && problem.size() <= kDenseFallbackRows;
-  const Vector warm = r;  // the warm start (r's entry value)
+  const bool warm = !r.isZero(0.0);
+  Vector start;  // the warm start, kept only for the dense fallback (no copy a solve otherwise)
+  if (may_fall_back) start = r;
   PgsStatistics stats = pgs.solve(problem, r, &status);
   if (!stats.converged && may_fall_back) {
+    // From the warm start: from the sparse iterate the dense solve may stall too.
     FrictionContactProblem dense = problem;
     dense.storage = DelassusStorage::dense;
     dense.W = Matrix(problem.W_sparse);
     dense.W_sparse.resize(0, 0);
-    const PgsStatistics sparse_stats = stats;
-    Vector sparse_r = r;
-    std::vector<ContactStatus> sparse_status = status;
-    r = warm;  // the dense solve from the warm start: from the sparse iterate it may stall too
     PgsParameters dense_path = pgs.parameters();  // the dense path itself, not the route back to sparse
     dense_path.route_sparse = false;
-    stats = PgsSolver(dense_path).solve(dense, r, &status);
-    if (!stats.converged && sparse_stats.residual < stats.residual) {  // the better of two unconverged
-      stats.residual = sparse_stats.residual;
-      r = sparse_r;
-      status = sparse_status;
-    }
-    stats.iterations += sparse_stats.iterations;
+    solve_again(PgsSolver(dense_path), dense, std::move(start), r, status, stats);
     ++c.dense_fallbacks;
   }
-  if (!stats.converged && !warm.isZero(0.0)) {  // taken again cold (header); the better of the two kept
-    Vector cold = Vector::Zero(r.size());
-    std::vector<ContactStatus> cold_status;
-    const PgsStatistics again = pgs.solve(problem, cold, &cold_status);
+  if (!stats.converged && warm) {
+    solve_again(pgs, problem, Vector::Zero(r.size()), r, status, stats);
     ++c.cold_restarts;
-    if (again.converged || again.residual < stats.residual) {
-      const int warm_iterations = stats.iterations;
-      stats = again;
-      stats.iterations += warm_iterations;
-      r = cold;
-      status = cold_status;
-    } else {
-      stats.iterations += again.iterations;
-    }
   }
   return stats;
 }
@@ -124,14 +125,7 @@ PgsStatistics solve_islands(const PgsSolver& pgs, const FrictionContactProblem& 
     scatter_island(contacts, d, island_r, &island_status, r, &status);
     every_island_converged = every_island_converged && s.converged;
     total.iterations = std::max(total.iterations, s.iterations);
-    total.rejected_local_solutions += s.rejected_local_solutions;
-    total.polished = total.polished || s.polished;
-    total.polishes += s.polishes;
-    total.sweep_work += s.sweep_work;
-    total.polish_work += s.polish_work;
-    total.polish_factorizations += s.polish_factorizations;
-    total.polish_cut = total.polish_cut || s.polish_cut;
-    total.routed_to_sparse = total.routed_to_sparse || s.routed_to_sparse;
+    total.add_work(s);
   }
   total.residual = PgsSolver::residual(problem, r);
   total.converged = every_island_converged && total.residual <= pgs.parameters().tolerance;
