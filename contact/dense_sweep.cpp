@@ -21,7 +21,7 @@ namespace {
 
 using pgs_local::Matrix;
 using pgs_local::Vector;
-using pgs_local::solve_local;
+using pgs_local::law_term;
 using pgs_local::velocity_scale;
 
 // ‖(W r)_c‖², (m/s)², of the contact whose rows start at `first`, from its frozen velocity (above) and
@@ -66,13 +66,9 @@ void add_contact_sums(const FrictionContactProblem& problem, const Eigen::Matrix
     const Vector<D> r_c = r.template segment<D>(first);
     sums.product += product_squared<D>(problem, first, b_c, W_cc, r_c);
     if (c >= settled_from) continue;
-    Vector<D> r_local;
-    solve_local<D>(W_cc, b_c, problem.mu[c], r_local, r_c);
-    if (!r_local.allFinite()) {
-      sums.law = std::numeric_limits<double>::infinity();
-      return;
-    }
-    sums.law += (W_cc * (r_c - r_local)).squaredNorm();
+    const double term = law_term<D>(W_cc, b_c, problem.mu[c], r_c);
+    sums.law += term;
+    if (std::isinf(term)) return;
   }
 }
 
@@ -87,13 +83,9 @@ void add_contact_sums_by_columns(const FrictionContactProblem& problem, const Ei
     const Vector<D> Wr_c = product.template segment<D>(first);
     const Vector<D> b_c = problem.b.template segment<D>(first) + (Wr_c - W_cc * r_c);
     sums.product += Wr_c.squaredNorm();
-    Vector<D> r_local;
-    solve_local<D>(W_cc, b_c, problem.mu[c], r_local, r_c);
-    if (!r_local.allFinite()) {
-      sums.law = std::numeric_limits<double>::infinity();
-      return;
-    }
-    sums.law += (W_cc * (r_c - r_local)).squaredNorm();
+    const double term = law_term<D>(W_cc, b_c, problem.mu[c], r_c);
+    sums.law += term;
+    if (std::isinf(term)) return;
   }
 }
 

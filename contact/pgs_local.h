@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 namespace csim::pgs_local {
@@ -75,6 +76,17 @@ struct SweepResult {
   // every local solve returned the impulse it started from; a rejected contact is never settled.
   int settled_from = 0;
 };
+
+// One contact's term of the full residual's law part (pgs_solver.h), ‖W_cc (r_c − local_c)‖², local_c
+// the contact's local solution at its frozen free velocity `frozen`; infinite when that solution is not
+// finite.
+template <int D>
+double law_term(const Matrix<D>& W_cc, const Vector<D>& frozen, const Eigen::Vector2d& mu, const Vector<D>& r_c) {
+  Vector<D> r_local;
+  solve_local<D>(W_cc, frozen, mu, r_local, r_c);
+  if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
+  return (W_cc * (r_c - r_local)).squaredNorm();
+}
 
 // One contact's Gauss–Seidel update within a sweep: its local problem (W_cc, the frozen free velocity
 // `frozen` = b_c + Σ_{d≠c} W_cd r_d) solved exactly, the impulse r_c (D entries from r_c's start)

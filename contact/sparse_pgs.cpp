@@ -17,7 +17,6 @@ namespace {
 using pgs_local::Matrix;
 using pgs_local::SweepResult;
 using pgs_local::Vector;
-using pgs_local::solve_local;
 using pgs_local::update_contact;
 using pgs_local::velocity_scale;
 
@@ -145,10 +144,9 @@ double relative_residual(const FrictionContactProblem& problem, const BlockRows<
     const Vector<D> r_c = r.template segment<D>(D * c);
     product += product_squared<D>(problem, c, b_c, W_cc, r_c);
     if (c >= settled_from) continue;
-    Vector<D> r_local;
-    solve_local<D>(W_cc, b_c, problem.mu[c], r_local, r_c);
-    if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
-    law += (W_cc * (r_c - r_local)).squaredNorm();
+    const double term = pgs_local::law_term<D>(W_cc, b_c, problem.mu[c], r_c);
+    if (std::isinf(term)) return term;
+    law += term;
   }
   const double residual = std::sqrt(law) / velocity_scale(problem.b.norm(), std::sqrt(product));
   return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
@@ -319,13 +317,7 @@ PgsStatistics solve_relaxed_first(const FrictionContactProblem& problem, const B
     total.residual = attempt.residual;
   }
   total.iterations += attempt.iterations;
-  total.rejected_local_solutions += attempt.rejected_local_solutions;
-  total.polished = total.polished || attempt.polished;
-  total.polishes += attempt.polishes;
-  total.sweep_work += attempt.sweep_work;
-  total.polish_work += attempt.polish_work;
-  total.polish_factorizations += attempt.polish_factorizations;
-  total.polish_cut = total.polish_cut || attempt.polish_cut;
+  total.add_work(attempt);
   return total;
 }
 
