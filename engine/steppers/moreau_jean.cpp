@@ -155,8 +155,10 @@ void MoreauJean::detect(const State& state) {
   const bool linear_closing = parameters_.close_gaps && !operators_.nonlinear();
   for (int k = 0; k < stage_.candidate_count(); ++k) {
     // A linear step that closes gaps makes every inelastic candidate a row (see the header, step 2).
-    const bool rows_every_inelastic =
-        linear_closing && world_.contact_laws[stage_.candidates()[k].law].restitution == 0.0;
+    if (linear_closing && world_.contact_laws[stage_.candidates()[k].law].restitution == 0.0) {
+      stage_.activate(k);
+      continue;
+    }
     // The normal velocity the contact would have over a free step (θ-weighted), so that a body at rest
     // under a load that presses it on the surface is caught at the first step, whatever the round-off
     // in its gap; in two halves from its forward column, u_n(v_θ,free) = u_n(v_k) + θ y_nᵀ z. A step
@@ -165,7 +167,7 @@ void MoreauJean::detect(const State& state) {
                                  ? stage_.predicted_gap(k, state.v, kActivationGamma * h) +
                                        kActivationGamma * h * theta * halves_->free_dot(d * k)
                                  : stage_.predicted_gap(k, v_predicted_, kActivationGamma * h);
-    if (rows_every_inelastic || predicted <= stage_.touching() ||
+    if (predicted <= stage_.touching() ||
         (reach_velocity_.size() > 0 && stage_.predicted_gap(k, reach_velocity_, h) <= stage_.touching()))
       stage_.activate(k);
   }
