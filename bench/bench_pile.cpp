@@ -1,6 +1,6 @@
 // A settled pile of rigid spheres: the cost of a Moreau–Jean step with a few hundred frictional contacts
 // between many bodies (run by hand: build/bench/bench_pile [spheres] [steps] [repeats] [auto|dense|sparse]
-// [moreau-jean|generalized-alpha]).
+// [moreau-jean|generalized-alpha] [sleep speed, m/s]).
 //
 // The pile (bench/pile_scene.h): spheres packed in a box, settled by construction; a 9 × 8 base gives
 // 72 + 56 + 42 + 30 = 200 spheres in four layers, other counts fill the layers in order. Each sphere
@@ -10,6 +10,9 @@
 // tolerance 1e-8 and at most 20 000 sweeps. Printed: the spheres, the contacts of the last step, ms per
 // step (median and min–max over the repeats) with the stepper's phase timers of the last repeat, or
 // where the contact solver stopped the run.
+// With a sleep speed (Moreau–Jean): integrator.sleep_speed at that value and sleep_time 0.05 s, so that
+// the pile, at rest from the start, falls asleep after 50 steps (engine/steppers/sleeping_islands.h);
+// printed also the bodies asleep at the end.
 // generalized-alpha: the same pile of point masses (pile_scene.h), ρ∞ = 0.8, its W from its own response
 // (engine/steppers/generalized_alpha_response.h).
 #include "bench/pile_scene.h"
@@ -32,6 +35,7 @@ int main(int argc, char** argv) {
   const int repeats = argc > 3 ? std::atoi(argv[3]) : 3;
   const std::string storage = argc > 4 ? argv[4] : "auto";  // contact_solver.storage: auto, dense or sparse
   const std::string integrator = argc > 5 ? argv[5] : "moreau-jean";
+  const std::string sleep_speed = argc > 6 ? argv[6] : "0";
   if (integrator != "moreau-jean" && integrator != "generalized-alpha") {
     std::printf("integrator: moreau-jean or generalized-alpha, not '%s'\n", integrator.c_str());
     return 2;
@@ -42,7 +46,9 @@ int main(int argc, char** argv) {
   std::string text = csim::bench::scene_text(spheres, radius, steps, 9, 8);
   if (integrator == "generalized-alpha") text = csim::bench::generalized_alpha_text(text);
   std::ofstream(file) << text;
-  const std::unique_ptr<csim::Scene> scene = csim::load_scene(file, {"contact_solver.storage=" + storage});
+  std::vector<std::string> overrides{"contact_solver.storage=" + storage};
+  if (sleep_speed != "0") overrides.insert(overrides.end(), {"integrator.sleep_speed=" + sleep_speed, "integrator.sleep_time=0.05"});
+  const std::unique_ptr<csim::Scene> scene = csim::load_scene(file, overrides);
   std::remove(file.c_str());
 
   std::vector<double> ms;
@@ -67,5 +73,6 @@ int main(int argc, char** argv) {
               per * t.free_velocity, per * t.detection, per * t.assembly, per * t.solve, per * t.update, c.sparse_solves,
               c.dense_fallbacks, c.solves > 0 ? static_cast<double>(c.total_iterations) / c.solves : 0.0, c.not_converged,
               c.max_residual);
+  if (sleep_speed != "0") std::printf("bodies asleep at the end: %d\n", report.state.counters.bodies_asleep);
   return 0;
 }

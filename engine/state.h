@@ -52,6 +52,7 @@ struct SolverCounters {
   long newton_backtracks = 0;     // Moreau–Jean: iterates taken again on a shorter step after an element inverted
   long newton_redetections = 0;   // Moreau–Jean: steps whose Newton moved farther than their contact detection reached
   long newton_activated_contacts = 0;  // Moreau–Jean: contacts activated by Newton's motion, not the prediction
+  int bodies_asleep = 0;          // Moreau–Jean with sleeping bodies: asleep after the last step
   long detections_retaken = 0;    // Moreau–Jean in two halves: steps whose motion outran their detection's margin
   long sparse_solves = 0;         // Moreau–Jean: solves whose W was stored sparse by blocks (contact_stage.h)
   long dense_fallbacks = 0;       // of those, solved again stored dense (contact_solve.h)
@@ -71,10 +72,11 @@ struct EnergyBalance {
   double contact_dissipation = 0.0;               // −Σ rᵀ H v_θ (contacts and constraints)
   double numerical_dissipation = 0.0;
   double damping_dissipation = 0.0;               // h Σ v_θᵀ C v_θ (Rayleigh damping)
+  double sleep_dissipation = 0.0;                 // kinetic energy of bodies put to sleep (Moreau–Jean)
   double max_abs_residual = 0.0;                  // worst |balance| over the run
   double residual() const {
     return kinetic + elastic - initial_kinetic - initial_elastic - work_of_loads + contact_dissipation +
-           numerical_dissipation + damping_dissipation;
+           numerical_dissipation + damping_dissipation + sleep_dissipation;
   }
 };
 

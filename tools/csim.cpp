@@ -203,6 +203,7 @@ void print_summary(const csim::Scene& scene, const csim::RunReport& report) {
               e.kinetic, e.elastic, e.work_of_loads, e.contact_dissipation,
               closing ? " (what closes the balance)" : "", e.numerical_dissipation);
   if (e.damping_dissipation != 0.0) std::printf("damping dissipation %.6g J, ", e.damping_dissipation);
+  if (e.sleep_dissipation != 0.0) std::printf("put to sleep %.3g J, ", e.sleep_dissipation);
   if (closing) std::printf("no independent balance\n");
   else std::printf("balance residual %.2e J\n", e.residual());
 }

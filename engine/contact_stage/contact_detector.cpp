@@ -218,9 +218,11 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   contacts.clear();
   rows.clear();
   if (!collision_) return;
+  bool moving = false;  // some object of an awake moving body: otherwise no pair is examined (set_asleep)
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
     const BodyInstance& b = world_.bodies[object_body_[o]];
-    if (b.body->fixed()) continue;
+    if (b.body->fixed() || (asleep_ && (*asleep_)[object_body_[o]])) continue;
+    moving = true;
     if (object_shape_[o] < 0) {
       b.body->surface_node_positions(b.positions(q), collision_->surface_nodes(static_cast<int>(o)), node_positions_[o]);
       collision_->set_node_positions(static_cast<int>(o), node_positions_[o]);
@@ -229,6 +231,7 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
     collision_->set_pose(static_cast<int>(o),
                          b.body->pose(b.positions(q)) * b.shapes[object_shape_[o]].local_pose);
   }
+  if (!moving && asleep_) return;
   collision_->update(margin);
   collision_->find_contacts(points_);
 

@@ -40,6 +40,11 @@ class ContactDetector {
   // is kept: the contact's impulse or force is given in it.
   void move_contact(const Vector& q0, const Vector& dq, ContactPoint& c) const;
 
+  // Bodies asleep (engine/steppers/sleeping_islands.h: one entry a body, nonzero while asleep; null:
+  // none), read at every detection: a pair of two resting bodies (asleep or fixed) is not examined, and
+  // an asleep body's pose is not updated (it is held).
+  void set_asleep(const std::vector<char>* asleep) { asleep_ = asleep; }
+
   // The bound on how far any material point moves in time h at velocities v (m), for margins: convex in
   // v (a sum of norms, or a largest entry, a body; the largest of the bodies').
   double travel_bound(const Vector& v, double h) const;
@@ -48,6 +53,7 @@ class ContactDetector {
   // The law under which bodies a and b touch, −1 when none does or the law that governs them says
   // they never collide (ContactLaw::collides).
   int touching_law(int a, int b) const {
+    if (asleep_ && resting(a) && resting(b)) return -1;
     const int l = laws_.law(a, b);
     return l >= 0 && world_.contact_laws[l].collides ? l : -1;
   }
@@ -57,8 +63,11 @@ class ContactDetector {
   // contact_rows' to round-off.
   void shape_contact_rows(const Vector& q, int body_a, int body_b, const ContactPoint& c, SparseRow* rows) const;
 
+  bool resting(int body) const { return (*asleep_)[body] || world_.bodies[body].body->fixed(); }
+
   const World& world_;
   int dimension_;
+  const std::vector<char>* asleep_ = nullptr;
   std::unique_ptr<CollisionWorld> collision_;
   std::vector<int> object_body_;   // collision object → body index
   std::vector<int> object_shape_;  // collision object → shape index in its body, −1 for a deformable surface

@@ -39,6 +39,7 @@ class ContactStage {
   bool empty() const { return detector_.empty(); }  // no body can touch another
   int dimension() const { return dimension_; }
   const ContactDetector& detector() const { return detector_; }
+  void set_asleep(const std::vector<char>* asleep) { detector_.set_asleep(asleep); }  // ContactDetector's
 
   // Candidates with gap ≤ margin + touching() (m) at q; none active yet.
   void detect(const Vector& q, double margin);

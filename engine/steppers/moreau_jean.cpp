@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace csim {
 
@@ -28,8 +29,14 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
       two_halves_(parameters_.two_halves && operators_.sparse() && !operators_.nonlinear() &&
                   world_.prescribed.empty() && ties_.empty()),
       stage_(world, parameters.solver, make_iteration()),
+      sleep_(world, parameters.sleep),
       length_(world.length_scale()) {
   stage_.set_delassus_choice(parameters_.delassus_storage);
+  if (sleep_.enabled()) {
+    if (operators_.nonlinear())  // the scene loader refuses it first (integrator.sleep_speed)
+      throw std::invalid_argument("sleeping bodies need a linear World (no finite-strain body)");
+    stage_.set_asleep(&sleep_.asleep());
+  }
   build_equalities(parameters_.step);
 }
 
@@ -81,6 +88,12 @@ void MoreauJean::summarize_statistics(const State& state, SummaryEntries& out) c
   // Kept for the scripts that read it (docs/contract.md): every inelastic candidate is now a row from
   // the start, so no step's motion closes an inactive one.
   if (!operators_.nonlinear()) out.add("closing_activations", 0L);
+  if (sleep_.enabled())
+    out.begin_group("sleep")
+        .add("asleep_at_end", sleep_.asleep_count())
+        .add("islands_put_to_sleep", sleep_.islands_put_to_sleep())
+        .add("islands_woken", sleep_.islands_woken())
+        .end_group();
 }
 
 void MoreauJean::initialize(State& state) {
@@ -147,6 +160,8 @@ void MoreauJean::check_free_velocity(const Vector& v_free, double t) const {
 void MoreauJean::detect(const State& state) {
   const double h = parameters_.step, theta = parameters_.theta;
   stage_.detect(state.q, detection_margin(state));
+  // An asleep island that a moving body reaches wakes, and its pairs are then detected too.
+  while (sleep_.wake_touched(stage_.candidates())) stage_.detect(state.q, detection_margin_);
   if (two_halves_) {  // every candidate's forward column (the equalities' too, without contacts)
     halves_->gather_candidates(stage_.candidates(), stage_.candidate_rows(), stage_.dimension(), &equalities_.rows);
     if (stage_.empty()) return;
@@ -283,6 +298,8 @@ void MoreauJean::update(State& state) {
   }
   v_theta_ = (1.0 - theta) * state.v + theta * v_next_;
   integrate_positions(state.q, v_theta_, q_next_);
+  sleep_.hold(v_next_, state.q, q_next_);  // (v_k = 0 there, so v_θ = 0 too)
+  if (sleep_.any_asleep()) v_theta_ = (1.0 - theta) * state.v + theta * v_next_;
 }
 
 // q + h v_θ body by body (a 3D rigid body's rotation through its quaternion; fixed bodies have no coordinates).
@@ -401,6 +418,17 @@ void MoreauJean::step(State& state) {
   finish_step(state);
 }
 
+// The islands at rest fall asleep (sleeping_islands.h): the kinetic energy their zeroed velocities held
+// is booked as dissipated by it, so that the balance still closes.
+void MoreauJean::settle(State& state) {
+  const bool fell_asleep = sleep_.settle(parameters_.step, state.t, state.contacts, state.v);
+  state.counters.bodies_asleep = sleep_.asleep_count();
+  if (!fell_asleep) return;
+  const double kinetic = dynamics_.kinetic_energy(state.v);
+  state.energy.sleep_dissipation += state.energy.kinetic - kinetic;
+  state.energy.kinetic = kinetic;
+}
+
 // The new state: a non-finite check, the prescriptions' reactions, K v_{k+1} kept for the next step,
 // the counters and the contact set (the next step's warm start).
 void MoreauJean::finish_step(State& state) {
@@ -429,6 +457,7 @@ void MoreauJean::finish_step(State& state) {
   ++c.steps;
   state.t = static_cast<double>(c.steps) * h;  // no accumulated round-off
   stage_.hand_over(state.contacts);
+  if (sleep_.enabled()) settle(state);  // the list then holds the asleep islands' contacts too
   c.count_contacts(state.contacts);
   clock_.lap(state.timers.update);
 }

@@ -26,7 +26,10 @@
 //                      (tie_rows.h), linearized at each iterate, which hold at Newton's convergence;
 //   4. solve           projected Gauss–Seidel on {W, b, μ}, warm-started by contact key;
 //   5. update          v_{k+1} = v_free + A⁻¹ Hᵀ r,  q_{k+1} = q_k + h((1−θ) v_k + θ v_{k+1});
-//   6. post            energy balance, reactions, counters, non-finite check.
+//   6. post            energy balance, reactions, counters, non-finite check; then, when asked for, the
+//                      islands at rest put to sleep (sleeping_islands.h: an asleep body keeps v = 0 and
+//                      its position, takes no part in steps 2–5, and is woken before step 3 by a contact
+//                      with a moving body, the detection then taken again). A linear World only.
 //
 // Two halves. A sparse linear World (no finite-strain body, prescription or tie) takes the solves of
 // steps 1 and 5 in two halves, so that a step reads the factor L twice, not three times
@@ -73,6 +76,7 @@
 #include "engine/steppers/moreau_jean_parameters.h"
 #include "engine/steppers/phase_clock.h"
 #include "engine/steppers/secant_relaxation.h"
+#include "engine/steppers/sleeping_islands.h"
 #include "engine/steppers/stepper.h"
 #include "engine/world.h"
 
@@ -89,6 +93,7 @@ class MoreauJean final : public Stepper {
   void step(State& state) override;
   void summarize_settings(SummaryEntries& out) const override;
   void summarize_statistics(const State& state, SummaryEntries& out) const override;
+  const SleepingIslands& sleeping() const { return sleep_; }
 
  private:
   static constexpr double kActivationGamma = 0.5;  // γ of step 2's rule g + γ h u_n ≤ 0
@@ -113,6 +118,7 @@ class MoreauJean final : public Stepper {
   void integrate_positions(const Vector& q, const Vector& v_theta, Vector& out) const;
   void account_energy(State& state);
   void finish_step(State& state);
+  void settle(State& state);
   // A large World with a constant K: K v_{k+1}, which the energy balance forms, is the next step's
   // K v_k while v is the one this stepper left and K has not been refactored (one product with K a step
   // instead of two).
@@ -129,6 +135,7 @@ class MoreauJean final : public Stepper {
   bool two_halves_;                          // whether this World takes them (see the header)
   ForwardColumnsOperator* halves_ = nullptr;  // the stage's operator of A, in two halves
   ContactStage stage_;
+  SleepingIslands sleep_;             // bodies at rest asleep (sleeping_islands.h); off unless asked for
   double length_;                     // m: Newton's length scale (World::length_scale)
   double detection_margin_ = 0.0;     // m: the last detection's margin
   Vector reach_velocity_;             // Newton: a converged v_θ that outran the detection, which then covers it

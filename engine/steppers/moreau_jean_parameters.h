@@ -4,6 +4,7 @@
 
 #include "contact/pgs_solver.h"
 #include "engine/contact_stage/iteration_operator.h"
+#include "engine/steppers/sleeping_islands.h"
 
 namespace csim {
 
@@ -11,6 +12,7 @@ namespace csim {
 struct MoreauJeanOptions {
   double theta = 0.5;             // θ ∈ [½, 1]
   bool close_gaps = true;         // inelastic contacts close their open gap within the step (step 3)
+  SleepParameters sleep;          // integrator.sleep_speed, sleep_time (sleeping_islands.h); off by default
 };
 
 struct MoreauJeanParameters : MoreauJeanOptions {

@@ -22,7 +22,8 @@ ProbeEvaluator::ProbeEvaluator(const World& world, const RunSettings& run) : wor
     static const std::pair<const char*, Term> term_names[] = {
         {"kinetic", Term::kinetic}, {"elastic", Term::elastic}, {"mechanical", Term::mechanical},
         {"work", Term::work}, {"contact_dissipation", Term::contact_dissipation},
-        {"numerical_dissipation", Term::numerical_dissipation}, {"damping_dissipation", Term::damping_dissipation}};
+        {"numerical_dissipation", Term::numerical_dissipation}, {"damping_dissipation", Term::damping_dissipation},
+        {"sleep_dissipation", Term::sleep_dissipation}};
     Term term = Term::balance;
     for (const auto& [name, t] : term_names)
       if (p.energy_term == name) term = t;
@@ -82,6 +83,7 @@ double ProbeEvaluator::unscaled(std::size_t i, const State& state) const {
         case Term::contact_dissipation: return e.contact_dissipation;
         case Term::numerical_dissipation: return e.numerical_dissipation;
         case Term::damping_dissipation: return e.damping_dissipation;
+        case Term::sleep_dissipation: return e.sleep_dissipation;
         case Term::balance: return e.residual();
       }
       return e.residual();

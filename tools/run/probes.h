@@ -42,7 +42,7 @@ class ProbeEvaluator {
   // A probe's energy term or force component, resolved once from its name: a probe is evaluated at
   // every step, so no string is compared there.
   enum class Term { kinetic, elastic, mechanical, work, contact_dissipation, numerical_dissipation,
-                    damping_dissipation, balance };
+                    damping_dissipation, sleep_dissipation, balance };
   enum class Component { normal, x, y, z, direction, tangential, closed, stick, slip };
 
   double unscaled(std::size_t i, const State& state) const;

@@ -281,6 +281,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
         .value("contact_dissipation", e.contact_dissipation)
         .value("numerical_dissipation", e.numerical_dissipation)
         .value("damping_dissipation", e.damping_dissipation)
+        .value("sleep_dissipation", e.sleep_dissipation)
         .value("balance_residual", e.residual())
         .value("max_abs_balance_residual", e.max_abs_residual)
         .value("relative_balance_residual", e.max_abs_residual / scale);

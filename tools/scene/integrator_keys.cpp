@@ -28,6 +28,8 @@ const std::vector<KeyReaders>& key_table() {
       {"newton_max_iterations", {moreau_jean, quasi_static}},
       {"max_cutbacks", {quasi_static}},
       {"close_gaps", {moreau_jean}},
+      {"sleep_speed", {moreau_jean}},
+      {"sleep_time", {moreau_jean}},
       {"rho_infinity", {generalized_alpha}},
   };
   return table;

@@ -85,6 +85,8 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
     if (run.moreau_jean.theta < 0.5 || run.moreau_jean.theta > 1.0)
       integrator.fail_at("theta", "theta must lie in [0.5, 1]");
     run.moreau_jean.close_gaps = integrator.boolean("close_gaps", defaults.close_gaps);
+    run.moreau_jean.sleep.speed = integrator.non_negative("sleep_speed", defaults.sleep.speed);
+    run.moreau_jean.sleep.time = integrator.non_negative("sleep_time", defaults.sleep.time);
   }
   if (reads("rho_infinity")) {
     run.generalized_alpha.rho_infinity = integrator.number("rho_infinity", GeneralizedAlphaOptions{}.rho_infinity);
@@ -122,9 +124,17 @@ void read_integrator(const SceneNode& root, RunSettings& run, const GivenIntegra
   run.contact_solver.tolerance = solver.number("tolerance", 1e-12);
   if (!(run.contact_solver.tolerance > 0.0)) solver.fail_at("tolerance", "must be > 0");
   run.contact_solver.max_iterations = static_cast<int>(solver.whole_number("max_iterations", 1000, 1));
-  run.contact_solver.relax_sparse = !solver.has("omega");  // a given omega is used as it is (pgs_solver.h)
-  run.contact_solver.omega = solver.number("omega", 1.0);
-  if (!(run.contact_solver.omega > 0.0 && run.contact_solver.omega < 2.0)) solver.fail_at("omega", "must lie in (0, 2)");
+  // `auto` (the default, written into the tree as such: a first reading for a --set on a default
+  // must not turn it into a given omega) or a number, used as it is (pgs_solver.h).
+  run.contact_solver.relax_sparse = !solver.has("omega") || solver.child("omega").as_string() == "auto";
+  if (run.contact_solver.relax_sparse) {
+    solver.string("omega", "auto");
+    run.contact_solver.omega = 1.0;
+  } else {
+    run.contact_solver.omega = solver.number("omega");
+    if (!(run.contact_solver.omega > 0.0 && run.contact_solver.omega < 2.0))
+      solver.fail_at("omega", "must be auto or lie in (0, 2)");
+  }
   const std::string storage = solver.string("storage", "auto");
   if (storage == "auto") run.delassus_storage = DelassusChoice::automatic;
   else if (storage == "dense") run.delassus_storage = DelassusChoice::dense;
@@ -222,6 +232,12 @@ void build_scene(Scene* scene, const GivenIntegratorKeys& given) {
 
   read_time(root, scene->run);
   read_integrator(root, scene->run, given);
+  if (scene->run.integrator == Integrator::moreau_jean && scene->run.moreau_jean.sleep.enabled())
+    for (const BodyInstance& b : world.bodies)
+      if (b.body->nonlinear())
+        root.child("integrator").fail_at(
+            "sleep_speed", "sleeping bodies need a linear World, and body '" + b.name +
+                               "' is finite-strain: remove integrator.sleep_speed (or set it to 0)");
   // Penalty friction keeps a per-contact history that only the quasi-static stepper carries.
   for (const ContactLaw& law : world.contact_laws)
     if (law.elastic_slip > 0.0 && scene->run.integrator != Integrator::quasi_static)

@@ -81,12 +81,12 @@ ProbeDefinition read_probe(const std::string& name, const SceneNode& node, const
     p.kind = ProbeDefinition::Kind::energy;
     p.energy_term = spec.as_string();
     const char* terms[] = {"kinetic",   "elastic", "mechanical", "work", "contact_dissipation", "numerical_dissipation",
-                           "damping_dissipation", "balance"};
+                           "damping_dissipation", "sleep_dissipation", "balance"};
     bool known = false;
     for (const char* t : terms) known = known || p.energy_term == t;
     if (!known)
       spec.fail("unknown energy term (expected kinetic, elastic, mechanical, work, contact_dissipation, "
-                "numerical_dissipation, damping_dissipation or balance)");
+                "numerical_dissipation, damping_dissipation, sleep_dissipation or balance)");
     // The quasi-static stepper has no kinetic energy and does not account the work of prescribed
     // motions or friction's dissipation: these terms would read 0 and the balance the elastic energy.
     const bool stored = p.energy_term == "kinetic" || p.energy_term == "elastic" || p.energy_term == "mechanical";

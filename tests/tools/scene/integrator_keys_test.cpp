@@ -115,5 +115,30 @@ TEST_F(IntegratorKeysTest, DumpOfEachIntegratorHoldsOnlyItsKeysAndReloads) {
   }
 }
 
+// A --set on a key left to its default reads the scene twice, the first reading writing every default
+// into the tree: the contact solver's omega must come out of it as `auto` (the relaxed attempt), not
+// as a given number (which would switch the attempt off and change a pile's solves).
+TEST_F(IntegratorKeysTest, ASetOnADefaultKeyLeavesTheRelaxedAttemptOn) {
+  const auto plain = load_scene(write(scene_with("")), {});
+  const auto set = load_scene(write(scene_with("")), {"integrator.close_gaps=true"});
+  EXPECT_TRUE(plain->run.contact_solver.relax_sparse);
+  EXPECT_TRUE(set->run.contact_solver.relax_sparse);
+  const auto given = load_scene(write(scene_with("")), {"contact_solver.omega=1.0"});
+  EXPECT_FALSE(given->run.contact_solver.relax_sparse);
+  EXPECT_EQ(given->run.contact_solver.omega, 1.0);
+  EXPECT_TRUE(load_scene(write(dump_config(*set)), {})->run.contact_solver.relax_sparse);
+  const std::string bad = error_of(write(scene_with("contact_solver: {omega: fast}")));
+  EXPECT_TRUE(contains(bad, "contact_solver.omega")) << bad;
+}
+
+TEST_F(IntegratorKeysTest, SleepingIsMoreauJeansAndOffByDefault) {
+  EXPECT_FALSE(load_scene(write(scene_with("")), {})->run.moreau_jean.sleep.enabled());
+  const auto scene = load_scene(write(scene_with("integrator: {sleep_speed: 1e-3, sleep_time: 0.2}")), {});
+  EXPECT_EQ(scene->run.moreau_jean.sleep.speed, 1e-3);
+  EXPECT_EQ(scene->run.moreau_jean.sleep.time, 0.2);
+  const std::string message = error_with("integrator: {type: generalized-alpha, sleep_speed: 1e-3}");
+  EXPECT_TRUE(contains(message, "integrator.sleep_speed")) << message;
+}
+
 }  // namespace
 }  // namespace csim
