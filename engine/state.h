@@ -56,6 +56,7 @@ struct SolverCounters {
   long detections_retaken = 0;    // Moreau–Jean in two halves: steps whose motion outran their detection's margin
   long sparse_solves = 0;         // Moreau–Jean: solves whose W was stored sparse by blocks (contact_stage.h)
   long dense_fallbacks = 0;       // of those, solved again stored dense (contact_solve.h)
+  long sweeps_only_retries = 0;   // solves then taken again by the sweeps alone, from zero (contact_solve.h)
   long cold_restarts = 0;         // solves taken again from r = 0 after failing from their warm start (contact_solve.h)
   long max_delassus_entries = 0;  // the most entries of W stored by a solve (m² dense, the nonzeros sparse)
   long cutbacks = 0;              // quasi-static load steps taken again as two halves after Newton failed

@@ -94,6 +94,14 @@ PgsStatistics solve_one(const PgsSolver& pgs, const FrictionContactProblem& prob
     solve_again(pgs, problem, Vector::Zero(r.size()), r, status, stats);
     ++c.cold_restarts;
   }
+  if (!stats.converged && pgs.parameters().polish) {
+    PgsParameters sweeps_only = pgs.parameters();  // Gauss–Seidel's own iterate, from zero (header)
+    sweeps_only.polish = false;
+    sweeps_only.relax_sparse = false;
+    sweeps_only.omega = 1.0;
+    solve_again(PgsSolver(sweeps_only), problem, Vector::Zero(r.size()), r, status, stats);
+    ++c.sweeps_only_retries;
+  }
   return stats;
 }
 

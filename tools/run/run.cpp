@@ -258,6 +258,7 @@ std::string summary_json(const Scene& scene, const RunReport& report) {
       .value("max_residual", c.max_residual)
       .value("rejected_local_solutions", c.rejected_local_solutions)
       .value("cold_restarts", c.cold_restarts)
+      .value("sweeps_only_retries", c.sweeps_only_retries)
       .end_object();
   json.entries(report.stepper_statistics);
   json.begin_object("contacts")

@@ -3,6 +3,8 @@
 // --seed 1, t = 0.49 s; 20 contacts, 60 rows, a hyperstatic frictional set), dumped with the warm start
 // the step gave it (the previous impulses by contact key). From that start Gauss–Seidel and its polish
 // stall above 1e-6 for 20 000 sweeps; from zero they converge.
+// The second problem: 27 spheres (--count 27 --seed 1, t = 0.587 s; 64 contacts, 192 rows), where the
+// polish stalls Gauss–Seidel from the warm start and from zero alike, and the sweeps alone converge.
 #include "contact/pgs_solver.h"
 #include "engine/contact_stage/contact_solve.h"
 #include "tests/contact/test_problems.h"
@@ -14,8 +16,8 @@
 namespace csim {
 namespace {
 
-Vector warm_start_file(int size) {
-  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/settling_pile_8_spheres_3d_warm_start.txt");
+Vector warm_start_file(int size, const std::string& name = "settling_pile_8_spheres_3d_warm_start.txt") {
+  std::ifstream file(CSIM_SOURCE_DIR "/tests/contact/data/" + name);
   std::vector<double> values;
   for (double value; file >> value;) values.push_back(value);
   EXPECT_EQ(static_cast<int>(values.size()), size);
@@ -44,6 +46,31 @@ TEST(ContactSolve, ASolveThatStallsFromItsWarmStartIsTakenAgainFromZero) {
   EXPECT_EQ(counters.not_converged, 0);
   EXPECT_LE(PgsSolver::residual(problem, r), 1e-6);
   EXPECT_GT(counters.total_iterations, alone.iterations);  // the stalled solve's sweeps are counted
+}
+
+TEST(ContactSolve, ASolveThatThePolishStallsFromAnyStartIsTakenAgainBySweepsAlone) {
+  const FrictionContactProblem problem = test::problem_file("settling_pile_27_spheres_3d.txt");
+  PgsParameters parameters;
+  parameters.tolerance = 1e-6;
+  parameters.max_iterations = 20000;
+  const PgsSolver solver(parameters);
+  const std::string start = "settling_pile_27_spheres_3d_warm_start.txt";
+
+  // The premise: PgsSolver with its polish stalls above 1e-5 from the warm start and from zero.
+  Vector warm = warm_start_file(problem.size(), start);
+  ASSERT_GT(solver.solve(problem, warm).residual, 1e-5);
+  Vector zero = Vector::Zero(problem.size());
+  ASSERT_GT(solver.solve(problem, zero).residual, 1e-5);
+
+  Vector r = warm_start_file(problem.size(), start);
+  std::vector<ActiveContact> active(problem.contacts);
+  SolverCounters counters;
+  EXPECT_EQ(solve_contacts(solver, problem, 1e-6, 0.587, r, active, counters), "");
+  EXPECT_EQ(counters.cold_restarts, 1);
+  EXPECT_EQ(counters.sweeps_only_retries, 1);
+  EXPECT_EQ(counters.not_converged, 0);
+  EXPECT_LE(PgsSolver::residual(problem, r), 1e-6);
+  EXPECT_GT(counters.total_iterations, 40000);  // the two stalled solves' sweeps are counted
 }
 
 }  // namespace
