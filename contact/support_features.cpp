@@ -13,9 +13,6 @@ namespace csim {
 namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-// A hull vertex within this of a face's plane (relative to the hull's size) lies on that face:
-// make_convex splits a flat face into triangles of one plane to about 1e-10 of the size.
-constexpr double kCoplanar = 1e-9;
 
 void add_point(const Eigen::Isometry3d& pose, const Eigen::Vector3d& local, int id, bool material,
                SupportFeature& out) {
@@ -78,55 +75,22 @@ void box_face_feature(const Box& box, const Eigen::Isometry3d& pose, const BoxFa
 
 // ---- convex hull ----------------------------------------------------------------------------------
 
-Eigen::Vector3d triangle_normal(const Convex& hull, const std::array<int, 3>& f) {
-  const auto& p = hull.vertices;
-  return (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).normalized();
-}
-
-// The hull's face most along `direction` (local frame): the triangle of largest normal·direction and
-// every vertex on its plane, in cyclic order about their mean (the face is convex). Returns the
-// triangle's cosine.
+// The hull's face most along `direction` (world): the polygon (cached by make_convex) of largest
+// normal·direction, the first on ties. Returns that cosine.
 double hull_face(const Convex& hull, const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction,
                  SupportFeature& out) {
   out.clear();
   const Eigen::Vector3d local = pose.linear().transpose() * direction;
   std::size_t best = 0;
   double best_cosine = -2.0;
-  for (std::size_t f = 0; f < hull.faces.size(); ++f) {
-    const double c = triangle_normal(hull, hull.faces[f]).dot(local);
+  for (std::size_t f = 0; f < hull.polygons.size(); ++f) {
+    const double c = hull.polygons[f].normal.dot(local);
     if (c > best_cosine) best_cosine = c, best = f;
   }
-  const Eigen::Vector3d normal = triangle_normal(hull, hull.faces[best]);
-  const Eigen::Vector3d& origin = hull.vertices[hull.faces[best][0]];
-  double extent = 0.0;
-  for (const Eigen::Vector3d& x : hull.vertices) extent = std::max(extent, (x - origin).norm());
-  std::vector<int> on_face;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int v = 0; v < static_cast<int>(hull.vertices.size()); ++v) {
-    if (std::abs(normal.dot(hull.vertices[v] - origin)) <= kCoplanar * extent) {
-      on_face.push_back(v);
-      mean += hull.vertices[v];
-    }
-  }
-  mean /= static_cast<double>(on_face.size());
-  // In-plane axes: by angle about the mean, counter-clockwise seen from outside.
-  const Eigen::Vector3d u = (hull.vertices[on_face[0]] - mean).normalized();
-  const Eigen::Vector3d w = normal.cross(u);
-  std::vector<std::pair<double, int>> by_angle;
-  for (int v : on_face) {
-    const Eigen::Vector3d d = hull.vertices[v] - mean;
-    by_angle.emplace_back(std::atan2(w.dot(d), u.dot(d)), v);
-  }
-  std::sort(by_angle.begin(), by_angle.end());
-  for (const auto& [angle, v] : by_angle) add_point(pose, hull.vertices[v], v, true, out);
-  out.normal = pose.linear() * normal;
-  double area = 0.0;  // shoelace about the mean
-  for (std::size_t k = 0; k < on_face.size(); ++k) {
-    const Eigen::Vector3d a = hull.vertices[by_angle[k].second] - mean;
-    const Eigen::Vector3d b = hull.vertices[by_angle[(k + 1) % on_face.size()].second] - mean;
-    area += 0.5 * normal.dot(a.cross(b));
-  }
-  out.size = area;
+  const ConvexFace& face = hull.polygons[best];
+  for (int v : face.vertices) add_point(pose, hull.vertices[v], v, true, out);
+  out.normal = pose.linear() * face.normal;
+  out.size = face.area;
   return best_cosine;
 }
 
