@@ -79,7 +79,7 @@ void check_shape(const Shape& shape, bool fixed, bool planar) {
     if (!(cylinder->radius > 0.0 && cylinder->half_length > 0.0))
       throw std::invalid_argument("Cylinder radius and half length must be > 0");
   } else if (const auto* convex = std::get_if<Convex>(&shape)) {
-    if (convex->vertices.size() < 4 || convex->faces.size() < 4)
+    if (convex->vertices.size() < 4 || convex->faces.size() < 4 || convex->polygons.size() < 4)
       throw std::invalid_argument("Convex needs a hull of at least 4 vertices and 4 faces (make_convex)");
   } else if (const auto* mesh = std::get_if<TriangleMesh>(&shape)) {
     if (mesh->triangles.empty()) throw std::invalid_argument("a TriangleMesh needs at least one triangle");

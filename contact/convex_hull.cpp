@@ -100,6 +100,52 @@ bool is_corner(const std::vector<Eigen::Vector3d>& p, const std::vector<Face>& f
   return false;
 }
 
+// Adds the hull's polygons and edges (shape.h) from its triangles. A polygon is every vertex on a
+// triangle's plane, within kCoplanar × the hull's extent (the construction splits a flat face into
+// triangles of one plane to about 1e-10 of it, and on a convex hull the vertices on a face's plane are
+// that face's), in counter-clockwise order about their mean seen from outside; the triangles of that
+// plane facing the same way are taken with it. Its normal and area are Newell's (twice the area times
+// the normal is the sum of the cross products of consecutive vertices about the mean).
+void add_polygons(Convex& hull, double extent) {
+  constexpr double kCoplanar = 1e-9;
+  const std::vector<Eigen::Vector3d>& p = hull.vertices;
+  const auto triangle_normal = [&](const Face& f) { return (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).normalized(); };
+  std::vector<bool> taken(hull.faces.size(), false);
+  for (std::size_t f = 0; f < hull.faces.size(); ++f) {
+    if (taken[f]) continue;
+    const Eigen::Vector3d normal = triangle_normal(hull.faces[f]);
+    const Eigen::Vector3d& origin = p[hull.faces[f][0]];
+    const auto on_plane = [&](int v) { return std::abs(normal.dot(p[v] - origin)) <= kCoplanar * extent; };
+    for (std::size_t g = f; g < hull.faces.size(); ++g) {
+      const Face& t = hull.faces[g];
+      if (on_plane(t[0]) && on_plane(t[1]) && on_plane(t[2]) && triangle_normal(t).dot(normal) > 0.0) taken[g] = true;
+    }
+    std::vector<int> on_face;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int v = 0; v < static_cast<int>(p.size()); ++v)
+      if (on_plane(v)) on_face.push_back(v), mean += p[v];
+    mean /= static_cast<double>(on_face.size());
+    // In-plane axes: by angle about the mean, counter-clockwise seen from outside.
+    const Eigen::Vector3d u = (p[on_face[0]] - mean).normalized();
+    const Eigen::Vector3d w = normal.cross(u);
+    std::vector<std::pair<double, int>> by_angle;
+    for (int v : on_face) by_angle.emplace_back(std::atan2(w.dot(p[v] - mean), u.dot(p[v] - mean)), v);
+    std::sort(by_angle.begin(), by_angle.end());
+    ConvexFace& face = hull.polygons.emplace_back();
+    Eigen::Vector3d newell = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < by_angle.size(); ++k) {
+      const int a = by_angle[k].second, b = by_angle[(k + 1) % by_angle.size()].second;
+      face.vertices.push_back(a);
+      newell += (p[a] - mean).cross(p[b] - mean);
+      hull.edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+    face.normal = newell.normalized();
+    face.area = 0.5 * newell.norm();
+  }
+  std::sort(hull.edges.begin(), hull.edges.end());
+  hull.edges.erase(std::unique(hull.edges.begin(), hull.edges.end()), hull.edges.end());
+}
+
 }  // namespace
 
 Convex make_convex(const std::vector<Eigen::Vector3d>& points) {
@@ -119,6 +165,7 @@ Convex make_convex(const std::vector<Eigen::Vector3d>& points) {
   Convex hull;
   for (int i : corners) hull.vertices.push_back(points[i]);
   hull.faces = hull_faces(hull.vertices, tolerance);
+  add_polygons(hull, (upper - lower).norm());
   return hull;
 }
 

@@ -19,8 +19,8 @@
 
 namespace csim {
 
-// The hull of `points` (m): its vertices in the order given (interior points dropped) and its
-// triangles, counter-clockwise seen from outside. Throws std::invalid_argument with the reason for
+// The hull of `points` (m): its vertices in the order given (interior points dropped), its
+// triangles, counter-clockwise seen from outside, and its polygons and edges (shape.h). Throws std::invalid_argument with the reason for
 // fewer than 4 points, a non-finite coordinate or points without volume (all on one plane).
 Convex make_convex(const std::vector<Eigen::Vector3d>& points);
 

@@ -2,9 +2,10 @@
 // as Box2D and Bullet's btPolyhedralContactClipping do). Internal to contact/; lengths in m.
 //
 // The reference is a convex polygon (3 or more points) or a segment (2 points: a plane scene's box face,
-// or a capsule's or cylinder's side), with the unit normal `normal` pointing out of it towards the
-// incident shape. The incident feature is a convex polygon or a segment (support_features.h). The
-// contact points are the vertices of the overlap of the two, projected along `normal`:
+// a capsule's or cylinder's side, a box's or hull's edge), with the unit normal `normal` pointing out
+// of it towards the incident shape. The incident feature is a convex polygon or a segment
+// (support_features.h). The contact points are the vertices of the overlap of the two, projected
+// along `normal`:
 //   - each incident point over the reference (within its side planes, each through a reference edge
 //     and `normal`; a reference segment's side planes are the planes across it at its ends);
 //   - each reference point under the incident feature (inside an incident polygon, or between the ends

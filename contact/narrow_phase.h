@@ -13,16 +13,18 @@
 //                     touching, fcl::distance (GJK, libccd) when separated. Where a face of either box
 //                     lies along it, the clipping of convex_manifold.h gives the manifold (up to 4
 //                     points, 2 in plane scenes; it says why not FCL's), even of one point (a vertex
-//                     with its exact gap); an edge–edge contact keeps FCL's single point.
+//                     with its exact gap), and two parallel edges give their overlap's ends; crossed
+//                     edges keep FCL's single point.
 //   box, capsule, cylinder and convex hull with each other (box–box aside)
 //                     FCL: GJK distance when separated, its penetration query when overlapping, and
 //                     a measurement at a small separation when touching (gjk_pairs.h), names the
 //                     normal; where a face of either shape (a box's or hull's face, a cylinder's cap)
 //                     lies along it, or two parallel segments across it (capsules' cores, cylinders'
-//                     side generators), the clipping of convex_manifold.h gives up to 4 points. So a
-//                     cylinder standing on a box or on a cylinder's cap, a hull's face on a box or on
-//                     another hull, a capsule or a cylinder lying on a face or beside a parallel
-//                     capsule or cylinder. Fewer than 2 points (a vertex, an edge or a rim on a face,
+//                     side generators, boxes' and hulls' edges), the clipping of convex_manifold.h
+//                     gives up to 4 points. So a cylinder standing on a box or on a cylinder's cap, a
+//                     hull's face on a box or on another hull, a capsule or a cylinder lying on a face
+//                     or beside a parallel capsule or cylinder, a box's or hull's edge along a capsule's
+//                     or cylinder's side. Fewer than 2 points (a vertex, an edge or a rim on a face,
 //                     crossed segments, a tilted capsule or cylinder): GJK's one point (feature 0).
 //   sphere with box, capsule, cylinder and convex hull (sphere–box aside)
 //                     GJK as above, one point: a sphere touches at one point.

@@ -31,12 +31,23 @@ struct Cylinder {
   double half_length = 0.0;  // m, > 0
 };
 
+// A face of a convex hull: the polygon of its coplanar triangles (shape frame).
+struct ConvexFace {
+  std::vector<int> vertices;                            // indices into Convex::vertices, counter-clockwise seen from outside
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();     // outward, unit
+  double area = 0.0;                                    // m²
+};
+
 // The convex hull of `vertices` (shape frame, m), with its boundary as triangles `faces` (indices into
 // vertices, counter-clockwise seen from outside). Built by make_convex (contact/convex_hull.h), which
-// keeps only the hull's vertices. 3D scenes only.
+// keeps only the hull's vertices and derives `polygons` and `edges` from the triangles once, so that a
+// contact query (contact/support_features.h) reads them rather than merging triangles again. 3D
+// scenes only.
 struct Convex {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<std::array<int, 3>> faces;
+  std::vector<ConvexFace> polygons;           // the faces, coplanar triangles merged
+  std::vector<std::array<int, 2>> edges;      // the polygons' edges, each once (lower index first), sorted
 };
 
 // A one-sided surface of triangles (shape frame, m): each triangle counter-clockwise seen from the

@@ -13,9 +13,6 @@ namespace csim {
 namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-// A hull vertex within this of a face's plane (relative to the hull's size) lies on that face:
-// make_convex splits a flat face into triangles of one plane to about 1e-10 of the size.
-constexpr double kCoplanar = 1e-9;
 
 void add_point(const Eigen::Isometry3d& pose, const Eigen::Vector3d& local, int id, bool material,
                SupportFeature& out) {
@@ -76,58 +73,74 @@ void box_face_feature(const Box& box, const Eigen::Isometry3d& pose, const BoxFa
   out.size = 4.0 * h[i] * h[j];
 }
 
-// ---- convex hull ----------------------------------------------------------------------------------
-
-Eigen::Vector3d triangle_normal(const Convex& hull, const std::array<int, 3>& f) {
-  const auto& p = hull.vertices;
-  return (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).normalized();
+// The box's edge across `direction` farthest along it: along the box axis k with |R_k·d| ≤
+// kAcrossAlignment, on the side of each other axis that d points to. False when no axis is across d,
+// and in plane scenes (a box's section has no edge across the plane's normals but its corners).
+bool box_edge(const Box& box, const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction, bool planar,
+              SupportFeature& out) {
+  if (planar) return false;
+  const Eigen::Vector3d cosines = pose.linear().transpose() * direction;
+  int k = 0;
+  cosines.cwiseAbs().minCoeff(&k);
+  if (std::abs(cosines[k]) > kAcrossAlignment) return false;
+  out.clear();
+  std::array<int, 3> signs{};
+  for (int i = 0; i < 3; ++i) signs[i] = cosines[i] > 0.0 ? 1 : -1;
+  for (int end : {-1, 1}) {
+    signs[k] = end;
+    const int v = box_vertex_index(signs);
+    add_point(pose, box_vertex(box, v, false), v, true, out);
+  }
+  out.size = 2.0 * box.half_extents[k];
+  return true;
 }
 
-// The hull's face most along `direction` (local frame): the triangle of largest normal·direction and
-// every vertex on its plane, in cyclic order about their mean (the face is convex). Returns the
-// triangle's cosine.
+// ---- convex hull ----------------------------------------------------------------------------------
+
+// The hull's face most along `direction` (world): the polygon (cached by make_convex) of largest
+// normal·direction, the first on ties. Returns that cosine.
 double hull_face(const Convex& hull, const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction,
                  SupportFeature& out) {
   out.clear();
   const Eigen::Vector3d local = pose.linear().transpose() * direction;
   std::size_t best = 0;
   double best_cosine = -2.0;
-  for (std::size_t f = 0; f < hull.faces.size(); ++f) {
-    const double c = triangle_normal(hull, hull.faces[f]).dot(local);
+  for (std::size_t f = 0; f < hull.polygons.size(); ++f) {
+    const double c = hull.polygons[f].normal.dot(local);
     if (c > best_cosine) best_cosine = c, best = f;
   }
-  const Eigen::Vector3d normal = triangle_normal(hull, hull.faces[best]);
-  const Eigen::Vector3d& origin = hull.vertices[hull.faces[best][0]];
-  double extent = 0.0;
-  for (const Eigen::Vector3d& x : hull.vertices) extent = std::max(extent, (x - origin).norm());
-  std::vector<int> on_face;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int v = 0; v < static_cast<int>(hull.vertices.size()); ++v) {
-    if (std::abs(normal.dot(hull.vertices[v] - origin)) <= kCoplanar * extent) {
-      on_face.push_back(v);
-      mean += hull.vertices[v];
-    }
-  }
-  mean /= static_cast<double>(on_face.size());
-  // In-plane axes: by angle about the mean, counter-clockwise seen from outside.
-  const Eigen::Vector3d u = (hull.vertices[on_face[0]] - mean).normalized();
-  const Eigen::Vector3d w = normal.cross(u);
-  std::vector<std::pair<double, int>> by_angle;
-  for (int v : on_face) {
-    const Eigen::Vector3d d = hull.vertices[v] - mean;
-    by_angle.emplace_back(std::atan2(w.dot(d), u.dot(d)), v);
-  }
-  std::sort(by_angle.begin(), by_angle.end());
-  for (const auto& [angle, v] : by_angle) add_point(pose, hull.vertices[v], v, true, out);
-  out.normal = pose.linear() * normal;
-  double area = 0.0;  // shoelace about the mean
-  for (std::size_t k = 0; k < on_face.size(); ++k) {
-    const Eigen::Vector3d a = hull.vertices[by_angle[k].second] - mean;
-    const Eigen::Vector3d b = hull.vertices[by_angle[(k + 1) % on_face.size()].second] - mean;
-    area += 0.5 * normal.dot(a.cross(b));
-  }
-  out.size = area;
+  const ConvexFace& face = hull.polygons[best];
+  for (int v : face.vertices) add_point(pose, hull.vertices[v], v, true, out);
+  out.normal = pose.linear() * face.normal;
+  out.size = face.area;
   return best_cosine;
+}
+
+// The hull's edge across `direction` (world) that reaches farthest along it: of the edges whose
+// direction e has |e·d| ≤ kAcrossAlignment and whose ends both lie within kAcrossAlignment × the
+// edge's length (plus 1e-9 of the hull's reach) of the hull's support height, the one of the largest
+// summed height of its ends (the first on ties). False when there is none (a vertex is the support).
+bool hull_edge(const Convex& hull, const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction,
+               SupportFeature& out) {
+  const Eigen::Vector3d local = pose.linear().transpose() * direction;
+  double top = -std::numeric_limits<double>::infinity(), reach = 0.0;
+  for (const Eigen::Vector3d& x : hull.vertices) top = std::max(top, x.dot(local)), reach = std::max(reach, x.norm());
+  int best = -1;
+  double best_height = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < hull.edges.size(); ++k) {
+    const Eigen::Vector3d& a = hull.vertices[hull.edges[k][0]];
+    const Eigen::Vector3d& b = hull.vertices[hull.edges[k][1]];
+    const double length = (b - a).norm();
+    const double slack = kAcrossAlignment * length + 1e-9 * reach;
+    const double ha = a.dot(local), hb = b.dot(local);
+    if (std::abs(hb - ha) > kAcrossAlignment * length || ha < top - slack || hb < top - slack) continue;
+    if (ha + hb > best_height) best_height = ha + hb, best = static_cast<int>(k);
+  }
+  if (best < 0) return false;
+  out.clear();
+  for (int v : hull.edges[best]) add_point(pose, hull.vertices[v], v, true, out);
+  out.size = (hull.vertices[hull.edges[best][1]] - hull.vertices[hull.edges[best][0]]).norm();
+  return true;
 }
 
 // ---- cylinder and capsule -------------------------------------------------------------------------
@@ -175,6 +188,28 @@ bool face_along(const Shape& shape, const Eigen::Isometry3d& pose, const Eigen::
   return false;
 }
 
+bool segment_across(const Shape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction,
+                    bool planar, SupportFeature& out) {
+  if (const auto* box = std::get_if<Box>(&shape)) return box_edge(*box, pose, direction, planar, out);
+  if (const auto* hull = std::get_if<Convex>(&shape)) return hull_edge(*hull, pose, direction, out);
+  const Eigen::Vector3d axis = pose.linear().col(2);
+  const double along = axis.dot(direction);
+  if (std::abs(along) > kAcrossAlignment) return false;
+  if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+    // The generator farthest along `direction`: from the axis along direction's part across it.
+    const Eigen::Vector3d outward = (direction - along * axis).normalized();
+    pushed_out_segment(pose, cylinder->half_length, cylinder->radius, outward, 2 * kRimPoints, out);
+    return true;
+  }
+  if (const auto* capsule = std::get_if<Capsule>(&shape)) {
+    if (capsule->half_length <= 0.0) return false;
+    // The cap spheres' points farthest along `direction`: exact at any angle of the axis.
+    pushed_out_segment(pose, capsule->half_length, capsule->radius, direction, 0, out);
+    return true;
+  }
+  return false;
+}
+
 bool incident_feature(const Shape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction,
                       bool planar, SupportFeature& out) {
   if (const auto* box = std::get_if<Box>(&shape)) {
@@ -185,26 +220,14 @@ bool incident_feature(const Shape& shape, const Eigen::Isometry3d& pose, const E
     hull_face(*hull, pose, direction, out);
     return true;
   }
-  const Eigen::Vector3d axis = pose.linear().col(2);
-  const double along = axis.dot(direction);
   if (const auto* cylinder = std::get_if<Cylinder>(&shape)) {
+    const double along = pose.linear().col(2).dot(direction);
     if (1.0 - std::abs(along) <= kFaceAlignment) {
       cylinder_cap(*cylinder, pose, along > 0.0 ? 1 : 0, out);
       return true;
     }
-    if (std::abs(along) > kAcrossAlignment) return false;
-    // The generator farthest along `direction`: from the axis along direction's part across it.
-    const Eigen::Vector3d outward = (direction - along * axis).normalized();
-    pushed_out_segment(pose, cylinder->half_length, cylinder->radius, outward, 2 * kRimPoints, out);
-    return true;
   }
-  if (const auto* capsule = std::get_if<Capsule>(&shape)) {
-    if (std::abs(along) > kAcrossAlignment || capsule->half_length <= 0.0) return false;
-    // The cap spheres' points farthest along `direction`: exact at any angle of the axis.
-    pushed_out_segment(pose, capsule->half_length, capsule->radius, direction, 0, out);
-    return true;
-  }
-  return false;
+  return segment_across(shape, pose, direction, planar, out);
 }
 
 int feature_id_bound(const Shape& shape) {

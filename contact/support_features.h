@@ -6,7 +6,8 @@
 // stays the same from one step to the next while the same part of the shape touches (the warm
 // start is keyed by it), and its arm (the world vector from the shape's origin) where it is a
 // material point of the shape:
-//   box       vertex v of box_vertex's numbering (narrow_phase.h), material; ids < 8;
+//   box       vertex v of box_vertex's numbering (narrow_phase.h), material, a face's corners and an
+//             edge's ends alike; ids < 8;
 //   cylinder  rim point j of rim k, kRimPoints·k + j (the numbering and points of cylinder–halfspace,
 //             halfspace_pairs.h), material; the ends of a side generator 2·kRimPoints + k (not
 //             material: the generator slides round the side as the cylinder rolls); ids < 2·kRimPoints + 2.
@@ -17,7 +18,9 @@
 //             when the whole cap lies over a face.
 //   capsule   the surface point over the core segment's end k (k = 0 at local z = −half_length), as
 //             capsule–halfspace's features; not material (it rolls over the cap); ids < 2;
-//   hull      its vertex index (among those make_convex kept), material; ids < vertex count.
+//   hull      its vertex index (among those make_convex kept), material, a face's corners and an
+//             edge's ends alike; ids < vertex count.
+// So a feature's ids stay the same while the same face, edge, rim or side touches, whatever the pose.
 //
 // Alignment: a face is along a direction d when 1 − n·d ≤ kFaceAlignment for its outward unit normal n
 // (about 1.4e-3 rad: FCL's normal is a face normal exactly when it comes from a SAT, and within 1e-6
@@ -61,6 +64,16 @@ bool face_along(const Shape& shape, const Eigen::Isometry3d& pose, const Eigen::
 // when across it. False where the shape touches at one point (a sphere, a tilted capsule or cylinder).
 bool incident_feature(const Shape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction,
                       bool planar, SupportFeature& out);
+
+// The segment of the shape across `direction` (unit) that reaches farthest along it, when the shape
+// offers one: a capsule's core pushed out by its radius along `direction` and a cylinder's side
+// generator, when their axis is across `direction`; a box's or a hull's edge whose direction e has
+// |e·direction| ≤ kAcrossAlignment and that is the support along `direction` (a hull's: both its ends
+// within kAcrossAlignment × its length of the support height). Meant where no face is along
+// `direction` (face_along): a face's edge is then the support. False otherwise, for spheres, and for
+// a box in a plane scene.
+bool segment_across(const Shape& shape, const Eigen::Isometry3d& pose, const Eigen::Vector3d& direction,
+                    bool planar, SupportFeature& out);
 
 // One more than the largest id the shape's features carry.
 int feature_id_bound(const Shape& shape);

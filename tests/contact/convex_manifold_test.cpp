@@ -1,6 +1,7 @@
 // Manifolds of the convex pairs other than box–box (contact/convex_manifold.h) through CollisionWorld,
 // against closed forms: the points of a shape resting on a face are its feature's points over that
-// face, each at its height above it; two parallel capsules touch along the overlap of their cores.
+// face, each at its height above it; two parallel capsules, or a box's edge and a parallel capsule's
+// core or cylinder's side, touch along the overlap of the two segments.
 // Tolerances: kExact (1e-12 m) where the normal is a face normal (the gaps are then heights of
 // points); kFcl (1e-9 m) where FCL's normal enters (two parallel segments), kCurved (1e-5) for that
 // normal when the capsules overlap (the penetration query's start, gjk_pairs.h).
@@ -252,6 +253,190 @@ TEST(ConvexManifold, ParallelCapsulesTouchAtTheEndsOfTheirOverlap) {
         std::sort(xs.begin(), xs.end());
         EXPECT_NEAR(xs[0], centre - 0.35, tolerance);
         EXPECT_NEAR(xs[1], 0.5, tolerance);
+      }
+    }
+  }
+}
+
+// ---- a box's or hull's edge along a capsule's or cylinder's side -----------------------------------
+//
+// The lower shape lies along the local x, radius 0.2, core (or axis) x ∈ [−0.5, 0.5] at the origin.
+// The upper box, half extents (hx, 0.1, 0.1), is turned 45° about its x so that an edge along x is
+// its lowest line, 0.1 √2 below its centre; its centre at (cx, 0, 0.2 + 0.1 √2 + gap). No face is
+// along the normal (+z local): the edge and the core (or the side generator) are two parallel segments
+// and touch along their overlap, each point at (x, 0, 0.2) on the lower shape and (x, 0, 0.2 + gap) on
+// the box. The longer segment is the reference:
+//   hx = 0.3, cx = 0.1: the edge x ∈ [−0.2, 0.4], shorter than the core, lies over it: its two ends;
+//   hx = 0.6, cx = 0.4: the edge x ∈ [−0.2, 1.0], the longer: its end at −0.2 and the core's end at 0.5.
+// Features (convex_manifold.h): the box is the first shape (V = max(8, lower's bound)); a point of the
+// edge is the box's vertex v, a point of the core its end k (a cylinder's generator end 16 + k).
+
+struct EdgeCase {
+  double half_x, centre_x, low_x, high_x;
+};
+constexpr EdgeCase kEdgeCases[] = {{0.3, 0.1, -0.2, 0.4}, {0.6, 0.4, -0.2, 0.5}};
+const Eigen::Isometry3d kOnEdge = rotation(kPi / 4, {1, 0, 0});
+
+Placed box_on_edge(const EdgeCase& e, double gap, const Eigen::Isometry3d& turn = Eigen::Isometry3d::Identity()) {
+  return at(Box{{e.half_x, 0.1, 0.1}}, {e.centre_x, 0.0, 0.2 + 0.1 * std::sqrt(2.0) + gap}, turn * kOnEdge);
+}
+
+// The normal across two parallel segments is their lines' common perpendicular and the gaps are
+// heights along it (convex_manifold.h): closed forms, kExact (FCL's GJK normal would be 1e-6 to 1e-5
+// rad off here, gjk_pairs.h), overlapping or not.
+// Checks the two points of `upper` along `lower`'s side; returns their features, sorted.
+std::vector<int> expect_line_contact(const Placed& lower, const Placed& upper, const EdgeCase& e, double gap,
+                                     bool reversed) {
+  const double tolerance = kExact;
+  const auto contacts = detect(lower, upper, 0.1, reversed);
+  EXPECT_EQ(contacts.size(), 2u);
+  std::vector<double> xs;
+  std::vector<int> features;
+  for (const ContactPoint& c : contacts) {
+    EXPECT_NEAR(c.gap, gap, tolerance);
+    expect_near(reversed ? Eigen::Vector3d(-c.normal) : c.normal, kUp, tolerance);
+    const Eigen::Vector3d on_lower = local(reversed ? c.point_b : c.point_a);
+    const Eigen::Vector3d on_upper = local(reversed ? c.point_a : c.point_b);
+    EXPECT_NEAR(on_lower.y(), 0.0, tolerance);
+    EXPECT_NEAR(on_lower.z(), 0.2, tolerance);
+    EXPECT_NEAR(on_upper.x(), on_lower.x(), tolerance);
+    EXPECT_NEAR(on_upper.y(), 0.0, tolerance);
+    EXPECT_NEAR(on_upper.z(), 0.2 + gap, tolerance);
+    xs.push_back(on_lower.x());
+    features.push_back(c.key.feature);
+  }
+  std::sort(xs.begin(), xs.end());
+  std::sort(features.begin(), features.end());
+  if (xs.size() == 2) {
+    EXPECT_NEAR(xs[0], e.low_x, tolerance);
+    EXPECT_NEAR(xs[1], e.high_x, tolerance);
+  }
+  return features;
+}
+
+// The box's vertices on its lowest edge (turned 45° about x, the edge at local y = 0, z lowest):
+// y and z both −0.1 in the box frame, so ids 0 (x = −hx) and 1 (x = +hx) of box_vertex's numbering.
+Eigen::Vector3d lowest_edge_end(const Placed& box, int v) {
+  return local(box.pose * box_vertex(std::get<Box>(box.shape), v, false));
+}
+
+TEST(ConvexManifold, BoxEdgeAlongACapsulesSideTouchesAtTheEndsOfTheirOverlap) {
+  const Placed capsule = at(Capsule{0.2, 0.5}, {0, 0, 0}, kAlongX);
+  for (double gap : kGaps) {
+    SCOPED_TRACE(gap);
+    for (const EdgeCase& e : kEdgeCases) {
+      SCOPED_TRACE(e.half_x);
+      const Placed box = box_on_edge(e, gap);
+      expect_near(lowest_edge_end(box, 0), {e.centre_x - e.half_x, 0.0, 0.2 + gap}, kExact);
+      expect_near(lowest_edge_end(box, 1), {e.centre_x + e.half_x, 0.0, 0.2 + gap}, kExact);
+      for (bool reversed : {false, true}) {
+        const std::vector<int> features = expect_line_contact(capsule, box, e, gap, reversed);
+        // V = 8, P = 128. The core (length 1) the reference: the edge's ends 0, 1 as incident points,
+        // offset by P. The edge (length 1.2) the reference: its end 0 (8 + 0) and the core's end 1.
+        if (e.half_x < 0.5) EXPECT_EQ(features, (std::vector<int>{128, 129}));
+        else EXPECT_EQ(features, (std::vector<int>{1, 8}));
+      }
+    }
+  }
+}
+
+TEST(ConvexManifold, BoxEdgeAlongACylindersSideTouchesAtTheEndsOfTheirOverlap) {
+  // The same with the cylinder's highest side generator (its end 0.5 the cylinder's rim).
+  const Placed cylinder = at(Cylinder{0.2, 0.5}, {0, 0, 0}, kAlongX);
+  for (double gap : kGaps) {
+    SCOPED_TRACE(gap);
+    for (const EdgeCase& e : kEdgeCases) {
+      SCOPED_TRACE(e.half_x);
+      for (bool reversed : {false, true}) {
+        const std::vector<int> features = expect_line_contact(cylinder, box_on_edge(e, gap), e, gap, reversed);
+        // V = 18, P = 512; the generator's end k has id 16 + k.
+        if (e.half_x < 0.5) EXPECT_EQ(features, (std::vector<int>{512, 513}));
+        else EXPECT_EQ(features, (std::vector<int>{17, 18}));
+      }
+    }
+  }
+}
+
+TEST(ConvexManifold, CubeHullEdgeAlongACapsulesSideIsTheBoxesContact) {
+  // A hull of a box's corners (given in box_vertex's order, so its vertex ids are the box's) on its
+  // edge: the same points as the box. The capsule is now the first shape (capsule < convex in the
+  // Shape variant): the core the reference, the hull's vertices 0, 1 as incident points; the edge the
+  // reference, P + V + 0 = 136 for its end and the core's end 1 as an incident point, P + 1 = 129.
+  const Placed capsule = at(Capsule{0.2, 0.5}, {0, 0, 0}, kAlongX);
+  for (const EdgeCase& e : kEdgeCases) {
+    std::vector<Eigen::Vector3d> corners;
+    for (int i = 0; i < 8; ++i) corners.push_back(box_vertex(Box{{e.half_x, 0.1, 0.1}}, i, false));
+    Placed hull = box_on_edge(e, 1e-3);
+    hull.shape = make_convex(corners);
+    for (bool reversed : {false, true}) {
+      const std::vector<int> features = expect_line_contact(capsule, hull, e, 1e-3, reversed);
+      if (e.half_x < 0.5) EXPECT_EQ(features, (std::vector<int>{0, 1}));
+      else EXPECT_EQ(features, (std::vector<int>{129, 136}));
+    }
+  }
+}
+
+TEST(ConvexManifold, BoxEdgeKeepsItsFeaturesUnderSmallMotions) {
+  // The warm start's keys: tilts of 1e-7 rad about each axis and shifts of 1e-4 m along the core keep
+  // the same two features (the same edge, the same reference).
+  const Placed capsule = at(Capsule{0.2, 0.5}, {0, 0, 0}, kAlongX);
+  for (const EdgeCase& e : kEdgeCases) {
+    const std::vector<int> resting = expect_line_contact(capsule, box_on_edge(e, 1e-4), e, 1e-4, false);
+    for (const Eigen::Vector3d& axis : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1)})
+      for (double tilt : {1e-7, -1e-7}) {
+        std::vector<int> features;
+        for (const ContactPoint& c : detect(capsule, box_on_edge(e, 1e-4, rotation(tilt, axis)), 0.1))
+          features.push_back(c.key.feature);
+        std::sort(features.begin(), features.end());
+        EXPECT_EQ(features, resting) << axis.transpose() << " " << tilt;
+      }
+    for (double shift : {1e-4, -1e-4}) {
+      std::vector<int> features;
+      for (const ContactPoint& c : detect(capsule, box_on_edge(e, 1e-4, translation(shift, 0, 0)), 0.1))
+        features.push_back(c.key.feature);
+      std::sort(features.begin(), features.end());
+      EXPECT_EQ(features, resting) << shift;
+    }
+  }
+}
+
+TEST(ConvexManifold, BoxEdgeAcrossACapsuleOrACylinderKeepsGjksSinglePoint) {
+  // The edge turned 0.5 rad about the vertical from the core: crossed segments touch at one point,
+  // over the core, at the gap (the common normal of the two lines is the vertical).
+  for (const Shape& lower : {Shape(Capsule{0.2, 0.5}), Shape(Cylinder{0.2, 0.5})})
+    for (double gap : {0.05, 1e-3}) {
+      const Placed crossed = box_on_edge(kEdgeCases[0], gap, rotation(0.5, {0, 0, 1}));
+      for (bool reversed : {false, true}) {
+        const auto contacts = detect(at(lower, {0, 0, 0}, kAlongX), crossed, 0.1, reversed);
+        ASSERT_EQ(contacts.size(), 1u);
+        EXPECT_EQ(contacts[0].key.feature, 0);
+        EXPECT_NEAR(contacts[0].gap, gap, kFcl);
+      }
+    }
+}
+
+TEST(ConvexManifold, ParallelBoxEdgesTouchAtTheEndsOfTheirOverlap) {
+  // Two boxes on their edges, one above the other: the lower (half extents 0.5, 0.1, 0.1, turned so
+  // that an edge along x is its highest line, at local z = 0.1 √2 + 0.2 − 0.2 = its centre + 0.1 √2)
+  // and the upper of kEdgeCases: separated by gap (box–box through GJK when apart), the ends of the
+  // edges' overlap, at the gap (kExact: the normal is the edges' common perpendicular).
+  const Placed lower = at(Box{{0.5, 0.1, 0.1}}, {0, 0, 0.2 - 0.1 * std::sqrt(2.0)}, kOnEdge);
+  for (double gap : {0.05, 1e-3}) {
+    for (const EdgeCase& e : kEdgeCases) {
+      SCOPED_TRACE(e.half_x);
+      for (bool reversed : {false, true}) {
+        const auto contacts = detect(lower, box_on_edge(e, gap), 0.1, reversed);
+        ASSERT_EQ(contacts.size(), 2u);
+        std::vector<double> xs;
+        for (const ContactPoint& c : contacts) {
+          EXPECT_NEAR(c.gap, gap, kExact);
+          const Eigen::Vector3d on_lower = local(reversed ? c.point_b : c.point_a);
+          expect_near(on_lower, {on_lower.x(), 0.0, 0.2}, kExact);
+          xs.push_back(on_lower.x());
+        }
+        std::sort(xs.begin(), xs.end());
+        EXPECT_NEAR(xs[0], e.low_x, kExact);
+        EXPECT_NEAR(xs[1], e.high_x, kExact);
       }
     }
   }

@@ -498,6 +498,47 @@ TEST(ConvexHull, CubeWithInteriorPointsKeepsItsCornersAndHasTheCubesMassProperti
   EXPECT_LE((m.inertia_per_density - Eigen::Matrix3d(expected.asDiagonal())).cwiseAbs().maxCoeff(), 1e-15);
 }
 
+TEST(ConvexHull, CubesPolygonsAreItsSixFacesAndItsEdgesTwelve) {
+  // make_convex merges each face's two triangles: 6 quadrilaterals, each with the outward axis as
+  // normal, the product of its two sides as area, its corners counter-clockwise seen from outside;
+  // 12 edges, 4 along each axis, of the side's length.
+  const Eigen::Vector3d h(0.5, 0.4, 0.3);
+  std::vector<Eigen::Vector3d> corners;
+  for (int i = 0; i < 8; ++i) corners.push_back(box_vertex(Box{h}, i, false));
+  const Convex hull = make_convex(corners);
+  ASSERT_EQ(hull.polygons.size(), 6u);
+  std::vector<bool> seen(6, false);
+  for (const ConvexFace& face : hull.polygons) {
+    ASSERT_EQ(face.vertices.size(), 4u);
+    int axis = 0;
+    face.normal.cwiseAbs().maxCoeff(&axis);
+    const double sign = face.normal[axis] > 0.0 ? 1.0 : -1.0;
+    expect_near(face.normal, sign * Eigen::Vector3d::Unit(axis), 1e-15);
+    seen[2 * axis + (sign > 0.0 ? 1 : 0)] = true;
+    EXPECT_NEAR(face.area, 4.0 * h[(axis + 1) % 3] * h[(axis + 2) % 3], 1e-15);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const Eigen::Vector3d& a = hull.vertices[face.vertices[k]];
+      const Eigen::Vector3d& b = hull.vertices[face.vertices[(k + 1) % 4]];
+      const Eigen::Vector3d& c = hull.vertices[face.vertices[(k + 2) % 4]];
+      EXPECT_NEAR(a[axis], sign * h[axis], 1e-15);              // on the face
+      EXPECT_GT((b - a).cross(c - b).dot(face.normal), 0.0);   // counter-clockwise from outside
+    }
+  }
+  EXPECT_EQ(seen, std::vector<bool>(6, true));
+  ASSERT_EQ(hull.edges.size(), 12u);
+  Eigen::Vector3i along = Eigen::Vector3i::Zero();
+  for (const auto& edge : hull.edges) {
+    EXPECT_LT(edge[0], edge[1]);
+    const Eigen::Vector3d d = (hull.vertices[edge[1]] - hull.vertices[edge[0]]).cwiseAbs();
+    int axis = 0;
+    d.maxCoeff(&axis);
+    EXPECT_NEAR(d[axis], 2.0 * h[axis], 1e-15);
+    EXPECT_NEAR(d.sum(), d[axis], 1e-15);  // along one axis
+    ++along[axis];
+  }
+  EXPECT_EQ(along, Eigen::Vector3i(4, 4, 4));
+}
+
 TEST(ConvexHull, FacesAreOutwardAndEveryPointIsInside) {
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 60; ++i) {  // a deterministic scatter: points of a sphere and inside it
@@ -510,8 +551,11 @@ TEST(ConvexHull, FacesAreOutwardAndEveryPointIsInside) {
     const Eigen::Vector3d n = (hull.vertices[f[1]] - hull.vertices[f[0]]).cross(hull.vertices[f[2]] - hull.vertices[f[0]]);
     for (const Eigen::Vector3d& x : points) EXPECT_LE(n.normalized().dot(x - hull.vertices[f[0]]), 1e-9);
   }
-  // A closed surface: Euler's V − E + F = 2 with E = 3F/2.
+  // A closed surface: Euler's V − E + F = 2 with E = 3F/2; and for the polygons and edges kept.
   EXPECT_EQ(static_cast<int>(hull.vertices.size()) - static_cast<int>(hull.faces.size()) / 2, 2);
+  EXPECT_EQ(static_cast<int>(hull.vertices.size()) - static_cast<int>(hull.edges.size()) +
+                static_cast<int>(hull.polygons.size()),
+            2);
   EXPECT_GT(convex_mass_properties(hull).volume, 0.0);
 }
 
