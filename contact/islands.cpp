@@ -62,6 +62,28 @@ std::vector<std::vector<int>> find_islands(const FrictionContactProblem& problem
   return islands;
 }
 
+namespace {
+
+// The island's share of W's body-block factors (friction_contact_problem.h), the bodies numbered as in
+// the whole problem.
+void island_body_blocks(const FrictionContactProblem& problem, const std::vector<int>& contacts,
+                        FrictionContactProblem& island) {
+  const BodyBlockDelassus& whole = problem.body_blocks;
+  if (whole.empty()) return;
+  BodyBlockDelassus& part = island.body_blocks;
+  const std::size_t side = static_cast<std::size_t>(problem.dimension) * BodyBlockDelassus::kBodySize;
+  part.bodies = whole.bodies;
+  part.body.reserve(contacts.size());
+  part.scaled_rows.reserve(2 * side * contacts.size());
+  for (const int c : contacts) {
+    part.body.push_back(whole.body[c]);
+    part.scaled_rows.insert(part.scaled_rows.end(), whole.scaled_rows.begin() + 2 * side * c,
+                            whole.scaled_rows.begin() + 2 * side * (c + 1));
+  }
+}
+
+}  // namespace
+
 FrictionContactProblem island_problem(const FrictionContactProblem& problem, const std::vector<int>& contacts,
                                       DelassusStorage storage) {
   const int d = problem.dimension, n = static_cast<int>(contacts.size());
@@ -90,6 +112,7 @@ FrictionContactProblem island_problem(const FrictionContactProblem& problem, con
     W.makeCompressed();
     if (storage == DelassusStorage::sparse) {
       island.W_sparse = std::move(W);
+      island_body_blocks(problem, contacts, island);
     } else {
       island.W = Eigen::MatrixXd(W);
     }

@@ -127,7 +127,7 @@ class MoreauJean final : public Stepper {
   // C v_{k+1} that close their gaps at t_{k+1}.
   TieRows ties_;
   bool two_halves_;                          // whether this World takes them (see the header)
-  ForwardColumnsOperator* halves_ = nullptr;  // the stage's operator of A, in two halves
+  TwoHalvesOperator* halves_ = nullptr;  // the stage's operator of A, in two halves
   ContactStage stage_;
   double length_;                     // m: Newton's length scale (World::length_scale)
   double detection_margin_ = 0.0;     // m: the last detection's margin
