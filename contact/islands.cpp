@@ -39,7 +39,18 @@ std::vector<std::vector<int>> find_islands(const FrictionContactProblem& problem
     return islands;
   }
   DisjointSets sets(n);
-  if (problem.storage == DelassusStorage::sparse) {
+  if (const BodyBlockDelassus& blocks = problem.body_blocks; !blocks.empty()) {
+    // W by its body-block factors: contacts that move a common body, read from the bodies (O(contacts)
+    // where W's pattern is O(stored entries)); a block of W that cancels to zero between two contacts of
+    // one body still joins them, as the definition above has it.
+    std::vector<int> first_contact(static_cast<std::size_t>(blocks.bodies), -1);
+    for (int c = 0; c < n; ++c)
+      for (const int b : blocks.body[c]) {
+        if (b < 0) continue;
+        if (first_contact[b] < 0) first_contact[b] = c;
+        else sets.join(first_contact[b], c);
+      }
+  } else if (problem.storage == DelassusStorage::sparse) {
     const SparseDelassus& W = problem.W_sparse;
     for (int row = 0; row < W.outerSize(); ++row)
       for (SparseDelassus::InnerIterator it(W, row); it; ++it)

@@ -80,6 +80,13 @@ struct BlockRows {
   std::vector<Matrix<D>> block;
   // The residual's W r through the factors (its own, so that it never disturbs the sweeps' velocities).
   mutable std::optional<BodyBlockVelocities<D>> residual_velocities;
+  // 3D: each diagonal block's stick inverse (coulomb_local.h), formed once per solve for every sweep's
+  // local solves.
+  std::vector<StickInverse> stick;
+  const StickInverse* stick_of(int c) const {
+    if constexpr (D == 3) return &stick[c];
+    else return nullptr;
+  }
 
   BlockRows(const SparseDelassus& W_in, const BodyBlockDelassus* factors_in) : W(W_in), factors(factors_in) {
     const int* outer = W.outerIndexPtr();
@@ -110,6 +117,10 @@ struct BlockRows {
       }
     }
     first_block[contacts] = static_cast<int>(block.size());
+    if constexpr (D == 3) {
+      stick.resize(static_cast<std::size_t>(contacts));
+      for (int c = 0; c < contacts; ++c) stick[c] = stick_inverse(diagonal[c]);
+    }
   }
 };
 
@@ -137,7 +148,7 @@ SweepResult sweep(const FrictionContactProblem& problem, const BlockRows<D>& W, 
   for (int c = 0; c < problem.contacts; ++c) {
     const int first = D * c;
     update_contact<D>(c, W.diagonal[c], frozen_free_velocity<D>(problem, W, r, c), problem.b.template segment<D>(first),
-                      problem.mu[c], omega, r.data() + first, result, rejected);
+                      problem.mu[c], omega, r.data() + first, result, rejected, W.stick_of(c));
   }
   return result;
 }
@@ -154,7 +165,8 @@ SweepResult sweep_by_bodies(const FrictionContactProblem& problem, const BlockRo
     const Vector<D> r_old = r.template segment<D>(first);
     const Vector<D> b_c = problem.b.template segment<D>(first);
     const Vector<D> frozen = b_c + velocities.velocity(c) - W.diagonal[c] * r_old;
-    update_contact<D>(c, W.diagonal[c], frozen, b_c, problem.mu[c], omega, r.data() + first, result, rejected);
+    update_contact<D>(c, W.diagonal[c], frozen, b_c, problem.mu[c], omega, r.data() + first, result, rejected,
+                      W.stick_of(c));
     const Vector<D> change = r.template segment<D>(first) - r_old;
     if (change != Vector<D>::Zero()) velocities.add(c, change);
   }
@@ -175,7 +187,7 @@ double relative_residual_by_bodies(const FrictionContactProblem& problem, const 
     product += Wr_c.squaredNorm();
     if (c >= settled_from) continue;
     const Vector<D> frozen = problem.b.template segment<D>(D * c) + Wr_c - W_cc * r_c;
-    const double term = pgs_local::law_term<D>(W_cc, frozen, problem.mu[c], r_c);
+    const double term = pgs_local::law_term<D>(W_cc, frozen, problem.mu[c], r_c, W.stick_of(c));
     if (std::isinf(term)) return term;
     law += term;
   }
@@ -195,7 +207,7 @@ double relative_residual(const FrictionContactProblem& problem, const BlockRows<
     const Vector<D> r_c = r.template segment<D>(D * c);
     product += product_squared<D>(problem, c, b_c, W_cc, r_c);
     if (c >= settled_from) continue;
-    const double term = pgs_local::law_term<D>(W_cc, b_c, problem.mu[c], r_c);
+    const double term = pgs_local::law_term<D>(W_cc, b_c, problem.mu[c], r_c, W.stick_of(c));
     if (std::isinf(term)) return term;
     law += term;
   }

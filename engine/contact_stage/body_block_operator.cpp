@@ -199,9 +199,16 @@ bool BodyBlockOperator::sparse_delassus(const ProblemRows& rows, SparseDelassus&
     for (int i = 0; i < D; ++i) outer[D * c + i] = static_cast<int>(position + static_cast<long>(i) * width);
     for (int n = starts[c]; n < starts[c + 1]; ++n) {
       const int d = neighbours[n];
-      // Block (d, c) is block (c, d) transposed to the bit (header): each is formed where it is stored.
-      if (D == 2) block<2>(c, d, block_values);
-      else block<3>(c, d, block_values);
+      if (d >= c) {
+        if (D == 2) block<2>(c, d, block_values);
+        else block<3>(c, d, block_values);
+      } else {  // block (d, c), stored already, transposed: the same bits as forming (c, d) (header)
+        const auto begin = neighbours.begin() + starts[d], end = neighbours.begin() + starts[d + 1];
+        const long at_d = outer[D * d] + static_cast<long>(D) * (std::lower_bound(begin, end, c) - begin);
+        const long width_d = static_cast<long>(D) * (starts[d + 1] - starts[d]);
+        for (int i = 0; i < D; ++i)
+          for (int j = 0; j < D; ++j) block_values[D * i + j] = value[at_d + j * width_d + i];
+      }
       const long column_offset = static_cast<long>(D) * (n - starts[c]);
       for (int i = 0; i < D; ++i)
         for (int j = 0; j < D; ++j) {
