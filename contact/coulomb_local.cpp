@@ -407,7 +407,7 @@ bool slips_to_round_off(const Eigen::Matrix3d& W_scaled, const Eigen::Vector3d& 
 }
 
 ContactStatus solve_local_3d_from(const Eigen::Matrix3d& W, const Eigen::Vector3d& q, const Eigen::Vector2d& mu,
-                                  Eigen::Vector3d& r, const Eigen::Vector3d* start) {
+                                  Eigen::Vector3d& r, const Eigen::Vector3d* start, const StickInverse* given) {
   if (!W.allFinite() || !q.allFinite() || mu.hasNaN()) {
     r.setConstant(kNaN);
     return ContactStatus::open;
@@ -438,12 +438,12 @@ ContactStatus solve_local_3d_from(const Eigen::Matrix3d& W, const Eigen::Vector3
     return status;
   }
 
-  // Stick: W r = −q. Hadamard's bound det ≤ W_nn W_t1t1 W_t2t2 gives the scale of "singular".
-  Eigen::Matrix3d W_inverse;
-  double det = 0.0;
-  bool stick_computable = false;
-  W.computeInverseAndDetWithCheck(W_inverse, det, stick_computable,
-                                  1e-14 * std::abs(W(0, 0) * W(1, 1) * W(2, 2)));
+  // Stick: W r = −q (stick_inverse, or the one given).
+  StickInverse computed;
+  if (given == nullptr) computed = stick_inverse(W);
+  const StickInverse& stick = given != nullptr ? *given : computed;
+  const Eigen::Matrix3d& W_inverse = stick.inverse;
+  const bool stick_computable = stick.computable;
   Eigen::Vector3d r_stick = Eigen::Vector3d::Zero();
   if (stick_computable) {
     r_stick.noalias() = -W_inverse * q;
@@ -527,14 +527,27 @@ ContactStatus solve_local_3d_from(const Eigen::Matrix3d& W, const Eigen::Vector3
 
 }  // namespace
 
+StickInverse stick_inverse(const Eigen::Matrix3d& W) {
+  // Hadamard's bound det ≤ W_nn W_t1t1 W_t2t2 gives the scale of "singular".
+  StickInverse stick;
+  double det = 0.0;
+  W.computeInverseAndDetWithCheck(stick.inverse, det, stick.computable, 1e-14 * std::abs(W(0, 0) * W(1, 1) * W(2, 2)));
+  return stick;
+}
+
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const StickInverse& stick, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r, const Eigen::Vector3d& start) {
+  return solve_local_3d_from(W, q, mu, r, &start, &stick);
+}
+
 ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
                              const Eigen::Vector2d& mu, Eigen::Vector3d& r) {
-  return solve_local_3d_from(W, q, mu, r, nullptr);
+  return solve_local_3d_from(W, q, mu, r, nullptr, nullptr);
 }
 
 ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
                              const Eigen::Vector2d& mu, Eigen::Vector3d& r, const Eigen::Vector3d& start) {
-  return solve_local_3d_from(W, q, mu, r, &start);
+  return solve_local_3d_from(W, q, mu, r, &start, nullptr);
 }
 
 }  // namespace csim

@@ -47,4 +47,17 @@ ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
 ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const Eigen::Vector3d& q,
                              const Eigen::Vector2d& mu, Eigen::Vector3d& r, const Eigen::Vector3d& start);
 
+// The stick case's inverse of a 3D W (W r = −q), with the test that says whether it is computable
+// (det above 1e-14 of Hadamard's bound W_nn W_t1t1 W_t2t2), as solve_local_3d forms it. Projected
+// Gauss–Seidel solves each contact's local problem with the same W_cc at every sweep, and forms it once
+// per solve instead (pgs_local.h): the same bits, a third of a stick solve's instructions.
+struct StickInverse {
+  Eigen::Matrix3d inverse = Eigen::Matrix3d::Zero();
+  bool computable = false;
+};
+StickInverse stick_inverse(const Eigen::Matrix3d& W);
+// solve_local_3d from `start`, with `stick` = stick_inverse(W): the same result to the bit.
+ContactStatus solve_local_3d(const Eigen::Matrix3d& W, const StickInverse& stick, const Eigen::Vector3d& q,
+                             const Eigen::Vector2d& mu, Eigen::Vector3d& r, const Eigen::Vector3d& start);
+
 }  // namespace csim

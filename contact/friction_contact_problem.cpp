@@ -148,6 +148,16 @@ std::string inconsistency(const FrictionContactProblem& problem) {
   if (static_cast<int>(problem.mu.size()) != problem.contacts)
     return "mu has " + std::to_string(problem.mu.size()) + " entries, expected " +
            std::to_string(problem.contacts);
+  if (const BodyBlockDelassus& blocks = problem.body_blocks; !blocks.empty()) {
+    if (!sparse || problem.equalities > 0) return "body_blocks are given for a sparse W without equality rows only";
+    const std::size_t contacts = static_cast<std::size_t>(problem.contacts);
+    if (blocks.body.size() != contacts ||
+        blocks.scaled_rows.size() != 2 * contacts * problem.dimension * BodyBlockDelassus::kBodySize)
+      return "body_blocks do not have one entry per contact";
+    for (const std::array<int, 2>& bodies : blocks.body)
+      for (const int b : bodies)
+        if (b < -1 || b >= blocks.bodies) return "body_blocks name a body outside [0, bodies)";
+  }
   return "";
 }
 

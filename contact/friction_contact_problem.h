@@ -27,6 +27,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
+#include <array>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -40,6 +41,29 @@ namespace csim {
 enum class DelassusStorage { dense, sparse };
 using SparseDelassus = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
+// W by its factors, when the stepper's iteration matrix A is block diagonal by body (rigid bodies and
+// point masses, nothing coupling two bodies): A_b = L_b L_bᵀ for each body b, and each contact c's rows on
+// each of its (at most two) moving bodies scaled as K_cb = H_cb L_b⁻ᵀ (dimension × kBodySize, a body's
+// velocity components padded with zeros to kBodySize), so that
+//   W_cd = Σ_{b moved by both} K_cb K_dbᵀ,   (W r)_c = Σ_b K_cb w_b,   w_b = Σ_d K_dbᵀ r_d,
+// w_b being L_bᵀ times the velocity change A_b⁻¹ H_bᵀ r of body b. Projected Gauss–Seidel on a sparse
+// problem then applies W through w instead of reading W's block rows (sparse_pgs.h), as sequential-impulse
+// solvers do: a contact's update reads and writes two bodies' w, whatever the number of its neighbours.
+// Units: K in kg^(-1/2) (rows of H in m/s per body velocity, times L⁻ᵀ), w in kg^(1/2)·m/s.
+struct BodyBlockDelassus {
+  static constexpr int kBodySize = 6;
+  int bodies = 0;                               // bodies are numbered [0, bodies)
+  std::vector<std::array<int, 2>> body;         // each contact's two bodies, −1 for none (a fixed body)
+  std::vector<double> scaled_rows;              // contact c, side s: K_cb at (2c + s) · dimension · kBodySize,
+                                                // by rows (dimension rows of kBodySize)
+  bool empty() const { return body.empty(); }
+  void clear() {
+    bodies = 0;
+    body.clear();
+    scaled_rows.clear();
+  }
+};
+
 struct FrictionContactProblem {
   int dimension = 3;        // 2 (plane problems) or 3
   int contacts = 0;         // number of contacts
@@ -50,6 +74,9 @@ struct FrictionContactProblem {
   SparseDelassus W_sparse;  // storage sparse: the same operator, same size and row order; W is then empty
   Eigen::VectorXd b;        // free term: local free velocity (m/s) or free gap and slip (m), same size
   std::vector<Eigen::Vector2d> mu;  // per contact (μ1, μ2), dimensionless, ≥ 0; dimension 2 uses μ1 only
+  // Optional, storage sparse without equality rows only: W's factors (above), one entry per contact, for
+  // the solver to apply W through; W_sparse is then still the operator they form, for whatever reads it.
+  BodyBlockDelassus body_blocks;
 
   int size() const { return dimension * contacts + equalities; }
 };

@@ -39,7 +39,18 @@ std::vector<std::vector<int>> find_islands(const FrictionContactProblem& problem
     return islands;
   }
   DisjointSets sets(n);
-  if (problem.storage == DelassusStorage::sparse) {
+  if (const BodyBlockDelassus& blocks = problem.body_blocks; !blocks.empty()) {
+    // W by its body-block factors: contacts that move a common body, read from the bodies (O(contacts)
+    // where W's pattern is O(stored entries)); a block of W that cancels to zero between two contacts of
+    // one body still joins them, as the definition above has it.
+    std::vector<int> first_contact(static_cast<std::size_t>(blocks.bodies), -1);
+    for (int c = 0; c < n; ++c)
+      for (const int b : blocks.body[c]) {
+        if (b < 0) continue;
+        if (first_contact[b] < 0) first_contact[b] = c;
+        else sets.join(first_contact[b], c);
+      }
+  } else if (problem.storage == DelassusStorage::sparse) {
     const SparseDelassus& W = problem.W_sparse;
     for (int row = 0; row < W.outerSize(); ++row)
       for (SparseDelassus::InnerIterator it(W, row); it; ++it)
@@ -61,6 +72,28 @@ std::vector<std::vector<int>> find_islands(const FrictionContactProblem& problem
   }
   return islands;
 }
+
+namespace {
+
+// The island's share of W's body-block factors (friction_contact_problem.h), the bodies numbered as in
+// the whole problem.
+void island_body_blocks(const FrictionContactProblem& problem, const std::vector<int>& contacts,
+                        FrictionContactProblem& island) {
+  const BodyBlockDelassus& whole = problem.body_blocks;
+  if (whole.empty()) return;
+  BodyBlockDelassus& part = island.body_blocks;
+  const std::size_t side = static_cast<std::size_t>(problem.dimension) * BodyBlockDelassus::kBodySize;
+  part.bodies = whole.bodies;
+  part.body.reserve(contacts.size());
+  part.scaled_rows.reserve(2 * side * contacts.size());
+  for (const int c : contacts) {
+    part.body.push_back(whole.body[c]);
+    part.scaled_rows.insert(part.scaled_rows.end(), whole.scaled_rows.begin() + 2 * side * c,
+                            whole.scaled_rows.begin() + 2 * side * (c + 1));
+  }
+}
+
+}  // namespace
 
 FrictionContactProblem island_problem(const FrictionContactProblem& problem, const std::vector<int>& contacts,
                                       DelassusStorage storage) {
@@ -90,6 +123,7 @@ FrictionContactProblem island_problem(const FrictionContactProblem& problem, con
     W.makeCompressed();
     if (storage == DelassusStorage::sparse) {
       island.W_sparse = std::move(W);
+      island_body_blocks(problem, contacts, island);
     } else {
       island.W = Eigen::MatrixXd(W);
     }

@@ -1,7 +1,8 @@
 // Islands of a frictional contact problem: the connected components of W's block pattern. Two contacts
 // are coupled when their block of W is nonzero, that is when they share a body that moves; contacts on
 // bodies that touch nothing else in common form separate islands (a pile's columns, boxes apart on a
-// floor: the fixed floor couples nothing). W is block diagonal over the islands, so the problem splits
+// floor: the fixed floor couples nothing; a problem with W's body-block factors, friction_contact_problem.h,
+// is split by its contacts' bodies). W is block diagonal over the islands, so the problem splits
 // into independent ones, each solved alone (Bullet's and MuJoCo's islands; Siconos' interaction graph).
 //
 // Why it pays: Gauss–Seidel's stopping test and the polish's factorizations then see one island at a

@@ -22,13 +22,15 @@ using Matrix = Eigen::Matrix<double, D, D>;
 // boundary to the same precision is at the stick/slip threshold, where both descriptions hold.
 constexpr double kBoundaryTolerance = 1e-9;
 
-// `start`: the contact's impulse before this solve (a 3D slip is searched from its direction first).
+// `start`: the contact's impulse before this solve (a 3D slip is searched from its direction first);
+// `stick`: W's stick inverse (coulomb_local.h) when the caller keeps it, 3D only (null: formed here).
 template <int D>
 ContactStatus solve_local(const Matrix<D>& W, const Vector<D>& q, const Eigen::Vector2d& mu, Vector<D>& r,
-                          const Vector<D>& start) {
+                          const Vector<D>& start, const StickInverse* stick = nullptr) {
   if constexpr (D == 2) {
     return solve_local_2d(W, q, mu(0), r);
   } else {
+    if (stick != nullptr) return solve_local_3d(W, *stick, q, mu, r, start);
     return solve_local_3d(W, q, mu, r, start);
   }
 }
@@ -81,9 +83,10 @@ struct SweepResult {
 // the contact's local solution at its frozen free velocity `frozen`; infinite when that solution is not
 // finite.
 template <int D>
-double law_term(const Matrix<D>& W_cc, const Vector<D>& frozen, const Eigen::Vector2d& mu, const Vector<D>& r_c) {
+double law_term(const Matrix<D>& W_cc, const Vector<D>& frozen, const Eigen::Vector2d& mu, const Vector<D>& r_c,
+                const StickInverse* stick = nullptr) {
   Vector<D> r_local;
-  solve_local<D>(W_cc, frozen, mu, r_local, r_c);
+  solve_local<D>(W_cc, frozen, mu, r_local, r_c, stick);
   if (!r_local.allFinite()) return std::numeric_limits<double>::infinity();
   return (W_cc * (r_c - r_local)).squaredNorm();
 }
@@ -92,13 +95,15 @@ double law_term(const Matrix<D>& W_cc, const Vector<D>& frozen, const Eigen::Vec
 // `frozen` = b_c + Σ_{d≠c} W_cd r_d) solved exactly, the impulse r_c (D entries from r_c's start)
 // relaxed by omega, and the sweep's sums in `result` updated; `b_c` is the contact's own free term, from which
 // (W r)_c = (frozen − b_c) + W_cc r_c. A non-finite local result is rejected (counted, r_c kept).
+// `stick`: W_cc's stick inverse, when the caller keeps it (solve_local).
 template <int D>
 void update_contact(int c, const Matrix<D>& W_cc, const Vector<D>& frozen, const Vector<D>& b_c,
-                    const Eigen::Vector2d& mu, double omega, double* r_c, SweepResult& result, int& rejected) {
+                    const Eigen::Vector2d& mu, double omega, double* r_c, SweepResult& result, int& rejected,
+                    const StickInverse* stick = nullptr) {
   Eigen::Map<Vector<D>> r_contact(r_c);
   const Vector<D> r_old = r_contact;
   Vector<D> r_local;
-  solve_local<D>(W_cc, frozen, mu, r_local, r_old);
+  solve_local<D>(W_cc, frozen, mu, r_local, r_old, stick);
   if (!r_local.allFinite()) {
     ++rejected;
     result.settled_from = c + 1;

@@ -1,5 +1,6 @@
 #include "contact/sparse_pgs.h"
 
+#include "contact/body_block_velocities.h"
 #include "contact/pgs_iteration.h"
 #include "contact/pgs_local.h"
 #include "contact/sparse_active_set.h"
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace csim {
@@ -66,28 +68,42 @@ SparseDelassus completed_layout(const SparseDelassus& W, int d) {
 // other D × D blocks with their contacts, contiguous. A frozen velocity is then a few small dense
 // products, one column index a block, where the compressed rows load one index an entry (1000 dropped
 // spheres: about a third fewer instructions a sweep).
+// With W's body-block factors (friction_contact_problem.h) only the diagonal blocks are copied: W r is
+// then applied through the bodies (body_block_velocities.h), never by W's rows.
 template <int D>
 struct BlockRows {
   const SparseDelassus& W;
+  const BodyBlockDelassus* factors = nullptr;
   std::vector<Matrix<D>> diagonal;
   std::vector<int> first_block;  // contact c's blocks: [first_block[c], first_block[c + 1])
   std::vector<int> block_contact;
   std::vector<Matrix<D>> block;
+  // The residual's W r through the factors (its own, so that it never disturbs the sweeps' velocities).
+  mutable std::optional<BodyBlockVelocities<D>> residual_velocities;
+  // 3D: each diagonal block's stick inverse (coulomb_local.h), formed once per solve for every sweep's
+  // local solves.
+  std::vector<StickInverse> stick;
+  const StickInverse* stick_of(int c) const {
+    if constexpr (D == 3) return &stick[c];
+    else return nullptr;
+  }
 
-  explicit BlockRows(const SparseDelassus& W_in) : W(W_in) {
+  BlockRows(const SparseDelassus& W_in, const BodyBlockDelassus* factors_in) : W(W_in), factors(factors_in) {
     const int* outer = W.outerIndexPtr();
     const int* inner = W.innerIndexPtr();
     const double* value = W.valuePtr();
     const int contacts = static_cast<int>(W.rows()) / D;
     diagonal.resize(static_cast<std::size_t>(contacts));
     first_block.resize(static_cast<std::size_t>(contacts) + 1);
-    const std::size_t blocks = static_cast<std::size_t>(W.nonZeros()) / (D * D);
+    const std::size_t blocks = factors != nullptr ? 0 : static_cast<std::size_t>(W.nonZeros()) / (D * D);
     block_contact.reserve(blocks);
     block.reserve(blocks);
+    if (factors != nullptr) residual_velocities.emplace(*factors);
     for (int c = 0; c < contacts; ++c) {
       const int n = D * c;
       first_block[c] = static_cast<int>(block.size());
       for (int pos = outer[n]; pos < outer[n + 1]; pos += D) {
+        if (factors != nullptr && inner[pos] != n) continue;
         const int offset = pos - outer[n];
         Matrix<D> entries;
         for (int i = 0; i < D; ++i)
@@ -101,6 +117,10 @@ struct BlockRows {
       }
     }
     first_block[contacts] = static_cast<int>(block.size());
+    if constexpr (D == 3) {
+      stick.resize(static_cast<std::size_t>(contacts));
+      for (int c = 0; c < contacts; ++c) stick[c] = stick_inverse(diagonal[c]);
+    }
   }
 };
 
@@ -128,15 +148,58 @@ SweepResult sweep(const FrictionContactProblem& problem, const BlockRows<D>& W, 
   for (int c = 0; c < problem.contacts; ++c) {
     const int first = D * c;
     update_contact<D>(c, W.diagonal[c], frozen_free_velocity<D>(problem, W, r, c), problem.b.template segment<D>(first),
-                      problem.mu[c], omega, r.data() + first, result, rejected);
+                      problem.mu[c], omega, r.data() + first, result, rejected, W.stick_of(c));
   }
   return result;
+}
+
+// The same sweep with W applied through its body-block factors: `velocities` holds w of r on entry and
+// on exit; a contact's frozen velocity is b_c + (W r)_c − W_cc r_c, and its change of impulse is added to
+// its bodies' w at once (Gauss–Seidel: the next contact sees it).
+template <int D>
+SweepResult sweep_by_bodies(const FrictionContactProblem& problem, const BlockRows<D>& W, double omega,
+                            Eigen::VectorXd& r, int& rejected, BodyBlockVelocities<D>& velocities) {
+  SweepResult result;
+  for (int c = 0; c < problem.contacts; ++c) {
+    const int first = D * c;
+    const Vector<D> r_old = r.template segment<D>(first);
+    const Vector<D> b_c = problem.b.template segment<D>(first);
+    const Vector<D> frozen = b_c + velocities.velocity(c) - W.diagonal[c] * r_old;
+    update_contact<D>(c, W.diagonal[c], frozen, b_c, problem.mu[c], omega, r.data() + first, result, rejected,
+                      W.stick_of(c));
+    const Vector<D> change = r.template segment<D>(first) - r_old;
+    if (change != Vector<D>::Zero()) velocities.add(c, change);
+  }
+  return result;
+}
+
+// The full relative residual (pgs_solver.h) with W applied through its body-block factors.
+template <int D>
+double relative_residual_by_bodies(const FrictionContactProblem& problem, const BlockRows<D>& W,
+                                   const Eigen::VectorXd& r, int settled_from) {
+  BodyBlockVelocities<D>& velocities = *W.residual_velocities;
+  velocities.assign(r);
+  double law = 0.0, product = 0.0;
+  for (int c = 0; c < problem.contacts; ++c) {
+    const Vector<D> Wr_c = velocities.velocity(c);
+    const Matrix<D>& W_cc = W.diagonal[c];
+    const Vector<D> r_c = r.template segment<D>(D * c);
+    product += Wr_c.squaredNorm();
+    if (c >= settled_from) continue;
+    const Vector<D> frozen = problem.b.template segment<D>(D * c) + Wr_c - W_cc * r_c;
+    const double term = pgs_local::law_term<D>(W_cc, frozen, problem.mu[c], r_c, W.stick_of(c));
+    if (std::isinf(term)) return term;
+    law += term;
+  }
+  const double residual = std::sqrt(law) / velocity_scale(problem.b.norm(), std::sqrt(product));
+  return std::isnan(residual) ? std::numeric_limits<double>::infinity() : residual;
 }
 
 // The full relative residual (pgs_solver.h); the contacts from settled_from on are known to add zero.
 template <int D>
 double relative_residual(const FrictionContactProblem& problem, const BlockRows<D>& W, const Eigen::VectorXd& r,
                          int settled_from) {
+  if (W.factors != nullptr) return relative_residual_by_bodies<D>(problem, W, r, settled_from);
   double law = 0.0, product = 0.0;
   for (int c = 0; c < problem.contacts; ++c) {
     const Vector<D> b_c = frozen_free_velocity<D>(problem, W, r, c);
@@ -144,7 +207,7 @@ double relative_residual(const FrictionContactProblem& problem, const BlockRows<
     const Vector<D> r_c = r.template segment<D>(D * c);
     product += product_squared<D>(problem, c, b_c, W_cc, r_c);
     if (c >= settled_from) continue;
-    const double term = pgs_local::law_term<D>(W_cc, b_c, problem.mu[c], r_c);
+    const double term = pgs_local::law_term<D>(W_cc, b_c, problem.mu[c], r_c, W.stick_of(c));
     if (std::isinf(term)) return term;
     law += term;
   }
@@ -244,8 +307,9 @@ bool polish(const FrictionContactProblem& problem, const BlockRows<D>& W, Eigen:
 // by 0.999 or more and is polished on schedule; so is any solve that ends unconverged.
 constexpr double kStalled = 0.99;
 
-// The sparse path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's block rows,
-// the polish above, skipped on schedule while the sweeps converge at a steady rate.
+// The sparse path's pieces for the iteration (pgs_iteration.h): sweeps and residuals on W's block rows
+// (or through its body-block factors, `velocities` then holding w of the iterate), the polish above,
+// skipped on schedule while the sweeps converge at a steady rate.
 template <int D>
 struct SparsePath {
   const FrictionContactProblem& problem;
@@ -254,16 +318,22 @@ struct SparsePath {
   pgs_local::ContractionWindow window{};
   bool attempt = false;  // the relaxed attempt (solve_relaxed_first), given up once a window stalls
   int sweeps = 0;
+  std::optional<BodyBlockVelocities<D>> velocities{};
 
+  // The products by W counted as W's stored entries, whichever way W is applied: the polish's budget
+  // (pgs_solver.h) stays a multiple of the same measure.
   double sweep_flops() const { return 2.0 * static_cast<double>(W.W.nonZeros()); }
-  SweepResult sweep(Eigen::VectorXd& r, int& rejected) const {
+  SweepResult sweep(Eigen::VectorXd& r, int& rejected) {
+    if (velocities) return sweep_by_bodies<D>(problem, W, parameters.omega, r, rejected, *velocities);
     return csim::sweep<D>(problem, W, parameters.omega, r, rejected);
   }
   double residual(const Eigen::VectorXd& r, int settled_from) const {
     return relative_residual<D>(problem, W, r, settled_from);
   }
-  bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) const {
-    return csim::polish<D>(problem, W, r, residual, parameters.tolerance, budget);
+  bool polish(Eigen::VectorXd& r, double& residual, PolishBudget& budget) {
+    const bool replaced = csim::polish<D>(problem, W, r, residual, parameters.tolerance, budget);
+    if (replaced && velocities) velocities->assign(r);
+    return replaced;
   }
   void observe(const SweepResult& swept, double scale) {
     window.add(swept.increment_squared, scale);
@@ -284,6 +354,10 @@ PgsStatistics solve_dimension(const FrictionContactProblem& problem, const Block
                               bool attempt = false) {
   SparsePath<D> path{problem, W, parameters};
   path.attempt = attempt;
+  if (W.factors != nullptr) {
+    path.velocities.emplace(*W.factors);
+    path.velocities->assign(r);
+  }
   return pgs_local::iterate<D>(problem, parameters, path, r, status);
 }
 
@@ -347,16 +421,18 @@ PgsStatistics solve_sparse(const FrictionContactProblem& problem, const PgsParam
                            std::vector<ContactStatus>* status, SparseDelassus& completed) {
   const SparseDelassus& W = laid_out(problem, completed);
   if (problem.contacts == 0) return pgs_local::without_contacts(status);
-  if (problem.dimension == 2) return solve_sparse_dimension<2>(problem, BlockRows<2>(W), parameters, r, status);
-  return solve_sparse_dimension<3>(problem, BlockRows<3>(W), parameters, r, status);
+  const BodyBlockDelassus* factors = problem.body_blocks.empty() ? nullptr : &problem.body_blocks;
+  if (problem.dimension == 2)
+    return solve_sparse_dimension<2>(problem, BlockRows<2>(W, factors), parameters, r, status);
+  return solve_sparse_dimension<3>(problem, BlockRows<3>(W, factors), parameters, r, status);
 }
 
 double sparse_residual(const FrictionContactProblem& problem, const Eigen::VectorXd& r) {
   SparseDelassus completed;
   const SparseDelassus& W = laid_out(problem, completed);
   if (problem.contacts == 0) return 0.0;
-  if (problem.dimension == 2) return relative_residual<2>(problem, BlockRows<2>(W), r, problem.contacts);
-  return relative_residual<3>(problem, BlockRows<3>(W), r, problem.contacts);
+  if (problem.dimension == 2) return relative_residual<2>(problem, BlockRows<2>(W, nullptr), r, problem.contacts);
+  return relative_residual<3>(problem, BlockRows<3>(W, nullptr), r, problem.contacts);
 }
 
 SparseDelassus block_sparse(const Eigen::MatrixXd& W, int dimension) {

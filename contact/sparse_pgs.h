@@ -4,8 +4,17 @@
 //
 //   - A sweep reads, for each contact, its D rows of W_sparse (compressed rows: contiguous), skipping
 //     its own diagonal block, so it costs O(stored entries); the diagonal blocks are copied out once
-//     per solve. No m × m matrix is formed anywhere on this path. Rows are what the law reads, so an
-//     unsymmetric W needs no transpose.
+//     per solve, and in 3D their stick inverses formed once (coulomb_local.h). No m × m matrix is formed
+//     anywhere on this path. Rows are what the law reads, so an unsymmetric W needs no transpose.
+//   - With W's body-block factors (problem.body_blocks, friction_contact_problem.h: an A block diagonal
+//     by body, rigid bodies and point masses) the sweeps apply W matrix-free, as sequential-impulse
+//     solvers do: the bodies' scaled velocities w = Σ_c K_cᵀ r_c are kept, a contact's velocity is
+//     b_c + K_c w (its two bodies' 2 · D · 6 products), and its change of impulse is added to its
+//     bodies' w after its local solve. The residual is the same quantity, b + W r from K (w formed
+//     again from r for each); the polish, the sweep work counted (2 per stored entry of W_sparse, so
+//     that the polish's budget is unchanged) and every other reader of W use W_sparse. Per contact
+//     update the products cost about what reading 8 neighbour blocks costs; the gain grows with the
+//     contacts a body has (bench/lumped_vs_bullet.md, the dropped spheres).
 //   - W_sparse is used as it is when its pattern is made of whole D × D blocks in sorted compressed
 //     rows and holds every diagonal block; otherwise a copy so completed (explicit zeros) is made once
 //     per solve.

@@ -1,5 +1,6 @@
 #include "engine/structural_operators.h"
 
+#include "contact/friction_contact_problem.h"
 #include "engine/linear_algebra/dense_inverse.h"
 #include "engine/linear_algebra/small_dense_products.h"
 #include "engine/steppers/proximal.h"
@@ -41,6 +42,20 @@ SparseMatrix evaluate_sized(const Expression& expression, bool lower) {
   return result;
 }
 
+// True if every body has at most BodyBlockDelassus::kBodySize unknowns and M couples no two bodies.
+bool mass_within_bodies(const World& world, const SparseMatrix& mass) {
+  std::vector<int> body_of(static_cast<std::size_t>(world.velocity_size), -1);
+  for (std::size_t b = 0; b < world.bodies.size(); ++b) {
+    const BodyInstance& body = world.bodies[b];
+    if (body.body->velocity_size() > BodyBlockDelassus::kBodySize) return false;
+    for (int k = 0; k < body.body->velocity_size(); ++k) body_of[body.velocity_offset + k] = static_cast<int>(b);
+  }
+  for (int j = 0; j < mass.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(mass, j); it; ++it)
+      if (it.value() != 0.0 && (body_of[it.row()] < 0 || body_of[it.row()] != body_of[it.col()])) return false;
+  return true;
+}
+
 }  // namespace
 
 StructuralOperators::StructuralOperators(const Dynamics& dynamics)
@@ -54,6 +69,8 @@ StructuralOperators::StructuralOperators(const Dynamics& dynamics)
   factored_coordinates_.resize(dynamics.spring_stiffness_coordinates().size());
   if (sparse_ && nonlinear_) body_stiffness_.resize(n, n);  // the tangent, at each update
   else dynamics.body_stiffness().swap(body_stiffness_);  // Eigen 3.4's SparseMatrix has no move: swaps
+  block_diagonal_ = sparse_ && !has_stiffness_ && !has_damping_ && !nonlinear_ && !dynamics.has_elastic_bodies() &&
+                    mass_within_bodies(world_, dynamics.mass());
   if (!sparse_) {
     dense_mass_ = Matrix(dynamics.mass());
     dense_stiffness_ = Matrix(body_stiffness_);

@@ -49,6 +49,12 @@ class StructuralOperators {
   // reused: its Delassus operator H A⁻¹ Hᵀ then comes from the forward substitution alone
   // (sparse_ldlt.h). H: rows × unknowns, dense storage.
   bool direct_delassus() const { return sparse_ && nonlinear_; }
+  // A sparse World whose A is M alone (no stiffness, no damping) and M block diagonal by body, each block at
+  // most six unknowns (rigid bodies and point masses): A⁻¹ is then applied body by body
+  // (engine/contact_stage/body_block_operator.h), and the mass blocks are A's.
+  bool block_diagonal() const { return block_diagonal_; }
+  const SparseMatrix& mass() const { return dynamics_.mass(); }
+  const World& world() const { return world_; }
   void delassus(const Matrix& H, Matrix& D) { sparse_factor_.delassus(H, D); }
   // The sparse factor of A (sparse() only), for the Delassus operator of rows kept from step to step
   // (delassus_cache.h).
@@ -67,6 +73,7 @@ class StructuralOperators {
   const Dynamics& dynamics_;
   bool sparse_, has_stiffness_, has_damping_, nonlinear_ = false;
   bool explicit_inverse_;  // a dense lumped World: A⁻¹ kept (dense_inverse_), else dense_factor_
+  bool block_diagonal_ = false;
   bool factored_ = false;
   double factored_damping_ = 0.0, factored_stiffness_ = 0.0, factorization_seconds_ = 0.0;
   long factorizations_ = 0, regularizations_ = 0;

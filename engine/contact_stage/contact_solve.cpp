@@ -85,6 +85,7 @@ PgsStatistics solve_one(const PgsSolver& pgs, const FrictionContactProblem& prob
     dense.storage = DelassusStorage::dense;
     dense.W = Matrix(problem.W_sparse);
     dense.W_sparse.resize(0, 0);
+    dense.body_blocks.clear();  // W's factors go with the sparse storage (friction_contact_problem.h)
     PgsParameters dense_path = pgs.parameters();  // the dense path itself, not the route back to sparse
     dense_path.route_sparse = false;
     solve_again(PgsSolver(dense_path), dense, std::move(start), r, status, stats);

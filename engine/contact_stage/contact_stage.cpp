@@ -83,8 +83,10 @@ void ContactStage::form_delassus() {
       iteration_->sparse_delassus(rows_, problem_.W_sparse, choice_ == DelassusChoice::sparse)) {
     problem_.storage = DelassusStorage::sparse;
     problem_.W.resize(0, 0);
+    if (!iteration_->body_blocks(problem_.body_blocks)) problem_.body_blocks.clear();
     return;
   }
+  problem_.body_blocks.clear();
   problem_.storage = DelassusStorage::dense;
   if (problem_.W_sparse.outerSize() != 0) problem_.W_sparse.resize(0, 0);  // resize allocates: not every step
   iteration_->delassus(rows_, problem_.W);

@@ -12,14 +12,14 @@
 #pragma once
 
 #include "engine/contact_stage/delassus_cache.h"
-#include "engine/contact_stage/iteration_operator.h"
+#include "engine/contact_stage/two_halves_operator.h"
 #include "engine/linear_algebra/block_gram.h"
 #include "engine/linear_algebra/forward_rows.h"
 #include "engine/state.h"
 
 namespace csim {
 
-class ForwardColumnsOperator final : public IterationOperator {
+class ForwardColumnsOperator final : public TwoHalvesOperator {
  public:
   explicit ForwardColumnsOperator(const StructuralOperators& operators) : operators_(operators) {}
 
@@ -32,19 +32,19 @@ class ForwardColumnsOperator final : public IterationOperator {
   void add_response(const ProblemRows& rows, const Vector& r, Vector& v) override;
 
   // Two halves. The forward half of A⁻¹ f (f: N·s, the step's impulse of the smooth forces).
-  void forward_half(const Vector& f);
+  void forward_half(const Vector& f) override;
   // The forward columns of every candidate's rows (rows: d a candidate), then of the equality rows;
   // their dots y_cᵀ z. Until the next call, delassus() takes its rows' columns from these
   // (ProblemRows::candidate_row).
   void gather_candidates(const std::vector<ActiveContact>& candidates, const std::vector<SparseRow>& rows,
-                         int dimension, const Matrix* equalities);
+                         int dimension, const Matrix* equalities) override;
   // Candidate row c's h A⁻¹ f as the row sees it: y_cᵀ z (for a normal row, u_n(v_free − v_k)).
-  double free_dot(int c) const { return candidate_dots_[c]; }
+  double free_dot(int c) const override { return candidate_dots_[c]; }
   const std::vector<double>& free_dots() const { return candidate_dots_; }
   // v ← v_k + A⁻¹ f (the whole free velocity, one backward pass: a step taken again).
-  void free_velocity(const Vector& v_k, Vector& v) const;
+  void free_velocity(const Vector& v_k, Vector& v) const override;
   // v ← v_k + A⁻¹ (f + Hᵀ r) = v_k + Pᵀ L⁻ᵀ D⁻¹ (w + Y r), H the rows of the last delassus().
-  void velocity(const ProblemRows& rows, const Vector& r, const Vector& v_k, Vector& v);
+  void velocity(const ProblemRows& rows, const Vector& r, const Vector& v_k, Vector& v) override;
 
  private:
   int equality_slot(const Matrix& equalities, int e);

@@ -1,5 +1,6 @@
 #include "engine/contact_stage/iteration_operator.h"
 
+#include "engine/contact_stage/body_block_operator.h"
 #include "engine/contact_stage/forward_columns.h"
 #include "engine/linear_algebra/small_dense_products.h"
 #include "engine/structural_operators.h"
@@ -92,6 +93,7 @@ class DirectOperator final : public IterationOperator {
 std::unique_ptr<IterationOperator> make_iteration_operator(StructuralOperators& operators) {
   if (operators.explicit_inverse()) return std::make_unique<DenseInverseOperator>(operators);
   if (operators.direct_delassus()) return std::make_unique<DirectOperator>(operators);
+  if (operators.block_diagonal()) return std::make_unique<BodyBlockOperator>(operators);
   if (operators.sparse()) return std::make_unique<ForwardColumnsOperator>(operators);
   return std::make_unique<SolvedColumnsOperator>(operators);
 }

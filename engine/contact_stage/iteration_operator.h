@@ -40,6 +40,9 @@ class IterationOperator {
   // unknown (or factor row) reached by more than kSparseDensity of the rows' blocks (block_pattern.h).
   static constexpr int kSparseRows = 48;
   static constexpr double kSparseDensity = 0.25;
+  // W's body-block factors (contact/friction_contact_problem.h) of the rows of the last sparse_delassus(),
+  // for an operator of an A block diagonal by body (body_block_operator.h); false otherwise.
+  virtual bool body_blocks(BodyBlockDelassus&) const { return false; }
   // v += A⁻¹ Hᵀ r, H the rows of the last delassus() (r: one impulse a row, N·s; v in m/s).
   virtual void add_response(const ProblemRows& rows, const Vector& r, Vector& v) = 0;
   // u = H v, H the rows of the last delassus() (an operator that holds H dense applies it so).

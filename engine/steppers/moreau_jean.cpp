@@ -1,5 +1,6 @@
 #include "engine/steppers/moreau_jean.h"
 
+#include "engine/contact_stage/body_block_operator.h"
 #include "engine/linear_algebra/same_bits.h"
 
 #include <algorithm>
@@ -40,11 +41,14 @@ MoreauJean::MoreauJean(const World& world, const MoreauJeanParameters& parameter
   build_equalities(parameters_.step);
 }
 
-// The stage's view of A (iteration_operator.h); in two halves, the forward columns' operator, which the
-// step also drives (its forward and backward halves).
+// The stage's view of A (iteration_operator.h); in two halves, the forward columns' operator, or for an A
+// block diagonal by body the body blocks' (body_block_operator.h), which the step also drives (its forward
+// and backward halves).
 std::unique_ptr<IterationOperator> MoreauJean::make_iteration() {
   if (!two_halves_) return make_iteration_operator(operators_);
-  auto halves = std::make_unique<ForwardColumnsOperator>(operators_);
+  std::unique_ptr<TwoHalvesOperator> halves;
+  if (operators_.block_diagonal()) halves = std::make_unique<BodyBlockOperator>(operators_);
+  else halves = std::make_unique<ForwardColumnsOperator>(operators_);
   halves_ = halves.get();
   return halves;
 }

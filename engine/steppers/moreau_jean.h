@@ -37,7 +37,9 @@
 // its forward column y_h = L⁻¹ P hᵀ (every candidate's, for step 2's rule); step 5 is
 // v_{k+1} = v_k + Pᵀ L⁻ᵀ D⁻¹ (w + Y r). Step 2's margin then covers twice the travel of the faster of v_k
 // and the last step's v_θ; a step whose motion went farther is taken again with v_free formed whole
-// (SolverCounters::detections_retaken), so that no contact the motion closes is left undetected.
+// (SolverCounters::detections_retaken), so that no contact the motion closes is left undetected. A World
+// of rigid bodies and point masses alone (A block diagonal by body) takes the same two halves through its
+// body-block operator (body_block_operator.h): no forward column, A⁻¹ applied body by body.
 //
 // Finite-strain bodies (nonlinear internal force f(q), tangent K_T(q)): the step is the implicit
 //   M (v_{k+1} − v_k) = h [f_loads + θ f(q_{k+1}) + (1−θ) f(q_k) − C v_θ] + Hᵀ r,
@@ -133,7 +135,7 @@ class MoreauJean final : public Stepper {
   // C v_{k+1} that close their gaps at t_{k+1}.
   TieRows ties_;
   bool two_halves_;                          // whether this World takes them (see the header)
-  ForwardColumnsOperator* halves_ = nullptr;  // the stage's operator of A, in two halves
+  TwoHalvesOperator* halves_ = nullptr;  // the stage's operator of A, in two halves
   ContactStage stage_;
   SleepingIslands sleep_;             // bodies at rest asleep (sleeping_islands.h); off unless asked for
   double length_;                     // m: Newton's length scale (World::length_scale)

@@ -6,6 +6,7 @@
 // The second problem: 27 spheres (--count 27 --seed 1, t = 0.587 s; 64 contacts, 192 rows), where the
 // polish stalls Gauss–Seidel from the warm start and from zero alike, and the sweeps alone converge.
 #include "contact/pgs_solver.h"
+#include "contact/sparse_pgs.h"
 #include "engine/contact_stage/contact_solve.h"
 #include "tests/contact/test_problems.h"
 
@@ -71,6 +72,43 @@ TEST(ContactSolve, ASolveThatThePolishStallsFromAnyStartIsTakenAgainBySweepsAlon
   EXPECT_EQ(counters.not_converged, 0);
   EXPECT_LE(PgsSolver::residual(problem, r), 1e-6);
   EXPECT_GT(counters.total_iterations, 40000);  // the two stalled solves' sweeps are counted
+}
+
+// A sparse problem given with W's body-block factors (friction_contact_problem.h) whose solve does not
+// converge is taken again with W stored dense, without the factors (the dense fallback, contact_solve.h).
+// Two contacts of one body on the ground; one sweep cannot solve them.
+TEST(ContactSolve, AnUnconvergedSolveWithBodyBlocksFallsBackToADenseW) {
+  FrictionContactProblem problem;
+  problem.dimension = 3;
+  problem.contacts = 2;
+  problem.storage = DelassusStorage::sparse;
+  BodyBlockDelassus& blocks = problem.body_blocks;
+  blocks.bodies = 1;
+  blocks.body = {{0, -1}, {0, -1}};
+  blocks.scaled_rows.assign(2 * 2 * 3 * BodyBlockDelassus::kBodySize, 0.0);
+  Eigen::Matrix<double, 6, 6> K = Eigen::Matrix<double, 6, 6>::Zero();  // both contacts' rows, by rows
+  K << 1, 0, 0, 0, 2, 0,  0, 1, 0, -2, 0, 0,  0, 0, 1, 0, 0, 0,
+       1, 0, 0, 0, -2, 0,  0, 1, 0, 2, 0, 0,  0, 0, 1, 0, 0, 1;
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 6; ++k) blocks.scaled_rows[(2 * c * 3 + i) * 6 + k] = K(3 * c + i, k);
+  problem.W_sparse = block_sparse(K * K.transpose(), 3);
+  problem.b = (Vector(6) << -1.0, 0.3, 0.2, -0.5, -0.2, 0.1).finished();
+  problem.mu.assign(2, Eigen::Vector2d(0.5, 0.5));
+  PgsParameters parameters;
+  parameters.max_iterations = 1;
+  parameters.polish = false;
+  parameters.relax_sparse = false;
+  const PgsSolver solver(parameters);
+  Vector r = Vector::Zero(6);
+  std::vector<ActiveContact> active(2);
+  SolverCounters counters;
+  std::string failure;
+  ASSERT_NO_THROW(failure = solve_contacts(solver, problem, 1e300, 0.0, r, active, counters));
+  EXPECT_EQ(failure, "");
+  EXPECT_EQ(counters.dense_fallbacks, 1);
+  EXPECT_EQ(counters.not_converged, 1);
+  EXPECT_TRUE(r.allFinite());
 }
 
 }  // namespace
