@@ -108,6 +108,9 @@ PgsStatistics solve_one(const PgsSolver& pgs, const FrictionContactProblem& prob
 
 // An island of fewer rows is stored dense: PgsSolver routes no dense W under 150 rows to the sparse path
 // (pgs_solver.h, route_sparse), and small problems are solved fastest dense (docs/contact-problems.md).
+// Not so an island of a problem with body blocks (friction_contact_problem.h): its sweeps through the
+// bodies' velocities beat the dense rows whatever its size (`csim run` of `bench_drop spheres 343 300 1
+// --scene`: 8.24e9 instructions with such islands dense, 7.22e9 with them sparse, same sweeps to 2 %).
 constexpr int kDenseIslandRows = 150;
 
 // Island by island (contact/islands.h), each to tolerance / √(islands): W being block diagonal over them,
@@ -126,7 +129,7 @@ PgsStatistics solve_islands(const PgsSolver& pgs, const FrictionContactProblem& 
   bool every_island_converged = true;
   std::vector<ContactStatus> island_status;
   for (const std::vector<int>& contacts : islands) {
-    const bool small = d * static_cast<int>(contacts.size()) < kDenseIslandRows;
+    const bool small = d * static_cast<int>(contacts.size()) < kDenseIslandRows && problem.body_blocks.empty();
     const DelassusStorage storage = small ? DelassusStorage::dense : problem.storage;
     const FrictionContactProblem island = island_problem(problem, contacts, storage);
     Vector island_r = gather_island(contacts, d, r);
