@@ -39,6 +39,17 @@ struct BodyInstance {
 
   // This body's slice of the World's positions q.
   ConstVectorRef positions(const Vector& q) const { return q.segment(position_offset, body->position_size()); }
+  // A bound on the speed of this body's material points at the World's velocities v (m/s): a rigid
+  // body's |v| + |ω| R (R its bounding radius), a point's |v|, an elastic body's largest nodal component
+  // × √dimension (every component at that speed). Convex in v. Not for a fixed body (no velocities).
+  double point_speed_bound(const Vector& v, int dimension) const {
+    const auto vb = v.segment(velocity_offset, body->velocity_size());
+    if (body->elastic()) return vb.size() > 0 ? vb.cwiseAbs().maxCoeff() * std::sqrt(double(dimension)) : 0.0;
+    const int translations = std::min<int>(dimension, static_cast<int>(vb.size()));
+    double speed = vb.head(translations).norm();
+    if (vb.size() > translations) speed += vb.tail(vb.size() - translations).norm() * body->bounding_radius;
+    return speed;
+  }
 };
 
 // A linear spring between material points of two bodies (or a body and the ground when body_b < 0).

@@ -197,19 +197,8 @@ void ContactDetector::shape_contact_rows(const Vector& q, int body_a, int body_b
 
 double ContactDetector::travel_bound(const Vector& v, double h) const {
   double speed = 0.0;
-  for (const BodyInstance& b : world_.bodies) {
-    if (b.body->fixed()) continue;
-    const auto vb = v.segment(b.velocity_offset, b.body->velocity_size());
-    double s = 0.0;
-    if (b.body->elastic()) {  // nodal velocities: the fastest node, all its components at that speed
-      s = vb.size() > 0 ? vb.cwiseAbs().maxCoeff() * std::sqrt(double(world_.dimension)) : 0.0;
-    } else {
-      const int translations = std::min<int>(world_.dimension, static_cast<int>(vb.size()));
-      s = vb.head(translations).norm();
-      if (vb.size() > translations) s += vb.tail(vb.size() - translations).norm() * b.body->bounding_radius;
-    }
-    speed = std::max(speed, s);
-  }
+  for (const BodyInstance& b : world_.bodies)
+    if (!b.body->fixed()) speed = std::max(speed, b.point_speed_bound(v, world_.dimension));
   return speed * h;
 }
 

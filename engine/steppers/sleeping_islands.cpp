@@ -42,16 +42,6 @@ SleepingIslands::SleepingIslands(const World& world, const SleepParameters& para
       }
 }
 
-// The fastest point of the body (m/s), as ContactDetector::travel_bound bounds it.
-double SleepingIslands::point_speed(int body, const Vector& v) const {
-  const BodyInstance& b = world_.bodies[body];
-  const auto vb = v.segment(b.velocity_offset, b.body->velocity_size());
-  const int translations = std::min<int>(world_.dimension, static_cast<int>(vb.size()));
-  double speed = vb.head(translations).norm();
-  if (vb.size() > translations) speed += vb.tail(vb.size() - translations).norm() * b.body->bounding_radius;
-  return speed;
-}
-
 bool SleepingIslands::wake_touched(const std::vector<ActiveContact>& candidates) {
   if (asleep_count_ == 0) return false;
   bool woke = false;
@@ -96,7 +86,7 @@ bool SleepingIslands::settle(double h, double t, std::vector<ActiveContact>& con
   const int nb = static_cast<int>(asleep_.size());
   for (int i = 0; i < nb; ++i) {
     if (!may_sleep_[i] || asleep_[i]) continue;
-    quiet_time_[i] = point_speed(i, v) <= parameters_.speed ? quiet_time_[i] + h : 0.0;
+    quiet_time_[i] = world_.bodies[i].point_speed_bound(v, world_.dimension) <= parameters_.speed ? quiet_time_[i] + h : 0.0;
   }
   // Islands of the awake moving bodies over this step's contacts (the asleep ones' kept contacts are
   // not among them: they were not detected), and the bodies that keep theirs awake.

@@ -8,7 +8,8 @@
 //
 // The rule, after each step:
 //   - a body is quiet when no point of it moves faster than `speed` (m/s): |v| + |ω| R ≤ speed, R its
-//     bounding radius; its quiet time grows by h, and is reset by a step that is not quiet;
+//     bounding radius (BodyInstance::point_speed_bound); its quiet time grows by h, and is reset by a
+//     step that is not quiet;
 //   - islands: the moving bodies joined by the step's contacts (rows: touching or within the detection's
 //     margin), fixed bodies joining nothing; an island falls asleep when every body in it has been quiet
 //     for `time` (s), it holds no body that may not sleep, and none of its contacts' laws is ramping μ
@@ -67,7 +68,6 @@ class SleepingIslands {
     std::vector<int> bodies;
     std::vector<ActiveContact> contacts;  // sorted by key
   };
-  double point_speed(int body, const Vector& v) const;
   void wake(int island);
   void gather_kept();
 
