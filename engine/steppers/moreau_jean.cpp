@@ -255,10 +255,10 @@ void MoreauJean::update(State& state) {
     v_next_ = v_free_;
     stage_.add_response(v_next_);
   }
+  sleep_.hold_velocities(v_next_);  // v_k = 0 there too, so v_θ = 0
   v_theta_ = (1.0 - theta) * state.v + theta * v_next_;
   integrate_positions(state.q, v_theta_, q_next_);
-  sleep_.hold(v_next_, state.q, q_next_);  // (v_k = 0 there, so v_θ = 0 too)
-  if (sleep_.any_asleep()) v_theta_ = (1.0 - theta) * state.v + theta * v_next_;
+  sleep_.hold_positions(state.q, q_next_);
 }
 
 // q + h v_θ body by body (a 3D rigid body's rotation through its quaternion; fixed bodies have no coordinates).

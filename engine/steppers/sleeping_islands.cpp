@@ -72,12 +72,20 @@ void SleepingIslands::wake(int island) {
   ++woken_;
 }
 
-void SleepingIslands::hold(Vector& v_next, const Vector& q, Vector& q_next) const {
+void SleepingIslands::hold_velocities(Vector& v_next) const {
   if (asleep_count_ == 0) return;
   for (std::size_t i = 0; i < asleep_.size(); ++i) {
     if (!asleep_[i]) continue;
     const BodyInstance& b = world_.bodies[i];
     v_next.segment(b.velocity_offset, b.body->velocity_size()).setZero();
+  }
+}
+
+void SleepingIslands::hold_positions(const Vector& q, Vector& q_next) const {
+  if (asleep_count_ == 0) return;
+  for (std::size_t i = 0; i < asleep_.size(); ++i) {
+    if (!asleep_[i]) continue;
+    const BodyInstance& b = world_.bodies[i];
     q_next.segment(b.position_offset, b.body->position_size()) = q.segment(b.position_offset, b.body->position_size());
   }
 }
@@ -104,20 +112,20 @@ bool SleepingIslands::settle(double h, double t, std::vector<ActiveContact>& con
   for (int i = 0; i < nb; ++i)
     if (blocked_[i]) blocked_[find_root(parent_, i)] = 1;
   // The islands that fall asleep: one entry of islands_ per root, bodies ascending.
-  std::vector<int> new_island(nb, -1);
+  new_island_.assign(nb, -1);
   bool any = false;
   for (int i = 0; i < nb; ++i) {
     if (world_.bodies[i].body->fixed() || asleep_[i]) continue;
     const int root = find_root(parent_, i);
     if (blocked_[root]) continue;
-    if (new_island[root] < 0) {
+    if (new_island_[root] < 0) {
       auto free = std::find_if(islands_.begin(), islands_.end(), [](const Island& s) { return s.bodies.empty(); });
       if (free == islands_.end()) free = islands_.insert(islands_.end(), Island{});
-      new_island[root] = static_cast<int>(free - islands_.begin());
+      new_island_[root] = static_cast<int>(free - islands_.begin());
       ++slept_;
       any = true;
     }
-    const int s = new_island[root];
+    const int s = new_island_[root];
     islands_[s].bodies.push_back(i);
     island_of_[i] = s;
     asleep_[i] = 1;

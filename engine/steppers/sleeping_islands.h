@@ -45,7 +45,6 @@ class SleepingIslands {
   bool enabled() const { return parameters_.enabled(); }
   // Per body: 1 while asleep (the detector's filter reads it, ContactDetector::set_asleep).
   const std::vector<char>& asleep() const { return asleep_; }
-  bool any_asleep() const { return asleep_count_ > 0; }
   int asleep_count() const { return asleep_count_; }
   long islands_put_to_sleep() const { return slept_; }
   long islands_woken() const { return woken_; }
@@ -54,8 +53,9 @@ class SleepingIslands {
   // body. Returns whether any woke (the caller then detects again).
   bool wake_touched(const std::vector<ActiveContact>& candidates);
 
-  // The asleep bodies' velocities set to zero and positions held (q_next's slice = q's).
-  void hold(Vector& v_next, const Vector& q, Vector& q_next) const;
+  // The asleep bodies' velocities set to zero, and their positions held (q_next's slice = q's).
+  void hold_velocities(Vector& v_next) const;
+  void hold_positions(const Vector& q, Vector& q_next) const;  // an integrated zero rate may round
 
   // After a step of length h ending at t (s), with the step's contacts (sorted by key) and velocities v:
   // the quiet times, then the islands that fall asleep (their velocities zeroed in v). Returns whether
@@ -84,6 +84,7 @@ class SleepingIslands {
   bool kept_changed_ = false;        // an island woke since kept_ was gathered
   std::vector<int> parent_;          // settle's union–find over bodies, and the islands kept awake
   std::vector<char> blocked_;
+  std::vector<int> new_island_;      // settle's: by root, the index in islands_ of an island falling asleep
   std::vector<ActiveContact> merged_;
 };
 
