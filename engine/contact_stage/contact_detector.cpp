@@ -209,8 +209,8 @@ void ContactDetector::detect(const Vector& q, double margin, std::vector<ActiveC
   if (!collision_) return;
   bool moving = false;  // some object of an awake moving body: otherwise no pair is examined (set_asleep)
   for (std::size_t o = 0; o < object_body_.size(); ++o) {
+    if (resting(object_body_[o])) continue;
     const BodyInstance& b = world_.bodies[object_body_[o]];
-    if (b.body->fixed() || (asleep_ && (*asleep_)[object_body_[o]])) continue;
     moving = true;
     if (object_shape_[o] < 0) {
       b.body->surface_node_positions(b.positions(q), collision_->surface_nodes(static_cast<int>(o)), node_positions_[o]);

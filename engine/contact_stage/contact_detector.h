@@ -53,7 +53,7 @@ class ContactDetector {
   // The law under which bodies a and b touch, −1 when none does or the law that governs them says
   // they never collide (ContactLaw::collides).
   int touching_law(int a, int b) const {
-    if (asleep_ && resting(a) && resting(b)) return -1;
+    if (asleep_ && resting(a) && resting(b)) return -1;  // guarded: no cost a pair when none sleeps
     const int l = laws_.law(a, b);
     return l >= 0 && world_.contact_laws[l].collides ? l : -1;
   }
@@ -63,7 +63,8 @@ class ContactDetector {
   // contact_rows' to round-off.
   void shape_contact_rows(const Vector& q, int body_a, int body_b, const ContactPoint& c, SparseRow* rows) const;
 
-  bool resting(int body) const { return (*asleep_)[body] || world_.bodies[body].body->fixed(); }
+  // Fixed, or asleep (set_asleep).
+  bool resting(int body) const { return world_.bodies[body].body->fixed() || (asleep_ && (*asleep_)[body]); }
 
   const World& world_;
   int dimension_;
