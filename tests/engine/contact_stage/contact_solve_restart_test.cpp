@@ -25,12 +25,17 @@ Vector warm_start_file(int size, const std::string& name = "settling_pile_8_sphe
   return Eigen::Map<const Vector>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
-TEST(ContactSolve, ASolveThatStallsFromItsWarmStartIsTakenAgainFromZero) {
-  const FrictionContactProblem problem = test::problem_file("settling_pile_8_spheres_3d.txt");
+// The steps' settings of the scenes these problems come from: tolerance 1e-6, at most 20 000 sweeps.
+PgsSolver settling_solver() {
   PgsParameters parameters;
   parameters.tolerance = 1e-6;
   parameters.max_iterations = 20000;
-  const PgsSolver solver(parameters);
+  return PgsSolver(parameters);
+}
+
+TEST(ContactSolve, ASolveThatStallsFromItsWarmStartIsTakenAgainFromZero) {
+  const FrictionContactProblem problem = test::problem_file("settling_pile_8_spheres_3d.txt");
+  const PgsSolver solver = settling_solver();
 
   // The premise: PgsSolver alone, from the warm start, does not converge.
   Vector warm = warm_start_file(problem.size());
@@ -51,10 +56,7 @@ TEST(ContactSolve, ASolveThatStallsFromItsWarmStartIsTakenAgainFromZero) {
 
 TEST(ContactSolve, ASolveThatThePolishStallsFromAnyStartIsTakenAgainBySweepsAlone) {
   const FrictionContactProblem problem = test::problem_file("settling_pile_27_spheres_3d.txt");
-  PgsParameters parameters;
-  parameters.tolerance = 1e-6;
-  parameters.max_iterations = 20000;
-  const PgsSolver solver(parameters);
+  const PgsSolver solver = settling_solver();
   const std::string start = "settling_pile_27_spheres_3d_warm_start.txt";
 
   // The premise: PgsSolver with its polish stalls above 1e-5 from the warm start and from zero.
